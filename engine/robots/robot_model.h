@@ -1,6 +1,7 @@
 #pragma once
 // A robot model in the dashbench.robot/1 format (data/robots/*.json): kinematics, limits and
 // collision bodies. Immutable once loaded and shared by const reference (Pinocchio's model/data split).
+#include <array>
 #include <memory>
 #include <string>
 #include <utility>
@@ -20,6 +21,11 @@ struct DhParameters {
   std::array<double, 6> d{};
   std::array<double, 6> alpha{};
   Pose X_FT = Pose::Identity();  ///< TCP in the flange frame.
+  /// cos/sin of alpha, cached for the FK hot path (values within 1e-15 of 0 or +-1 are snapped).
+  /// parseRobotModel fills them; call updateDerived() after editing alpha by hand.
+  std::array<double, 6> cos_alpha{1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+  std::array<double, 6> sin_alpha{};
+  void updateDerived();
 };
 
 /// Cartesian gantry q = [x, y, z]; see gantry3.json for the frame conventions.
@@ -35,7 +41,12 @@ struct JointLimits {
 };
 
 /// One rigid collision body. For a UR arm it is rigid in DH frame `frame` (0 = base .. 6 = flange).
-/// For a gantry it is a box in frame 0 whose centre moves with the axes flagged in `moves`.
+/// For a gantry it is a box in frame 0 whose centre moves with the axes flagged in `moves`; its body
+/// frame (bodyFrames() in kinematics.h) sits at that moved centre with the base's orientation, so
+/// box_center is zero and the file's centre (at q = 0) is kept in gantry_base_center. Either way the
+/// shape's world pose is bodyFrames()[i] * Translation(box_center).
+/// is_gripper: the body is rigid with the TCP (UR: frame 6, the flange-mounted gripper; gantry:
+/// moves with x, y and z), unless the file's optional "gripper": true/false says otherwise.
 struct CollisionBody {
   enum class Kind { kCapsule, kBox };
   std::string name;
@@ -45,6 +56,7 @@ struct CollisionBody {
   Vec3 box_center = Vec3::Zero();  ///< when kind == kBox, in the body frame
   Vec3 box_half_extents = Vec3::Zero();
   std::array<bool, 3> moves{false, false, false};  ///< gantry only: follows x, y, z
+  Vec3 gantry_base_center = Vec3::Zero();  ///< gantry only: box centre in frame 0 at q = 0
   bool is_gripper = false;  ///< never counts against the object this robot holds
 };
 

@@ -5,10 +5,34 @@ namespace dash::cli {
 
 int runServe(const std::vector<std::string>& words);
 extern const char* const kServeHelp;
+int runDb(const std::vector<std::string>& words);
+extern const char* const kDbHelp;
+int runCheckScene(const std::vector<std::string>& words);
+extern const char* const kCheckSceneHelp;
+int runScenario(const std::vector<std::string>& words);
+extern const char* const kScenarioHelp;
+int runValidate(const std::vector<std::string>& words);
+extern const char* const kValidateHelp;
+int runPlan(const std::vector<std::string>& words);
+extern const char* const kPlanHelp;
+int runFk(const std::vector<std::string>& words);
+extern const char* const kFkHelp;
+int runIk(const std::vector<std::string>& words);
+extern const char* const kIkHelp;
 
 const std::vector<Command>& allCommands() {
   static const std::vector<Command> commands = {
       {"serve", "start the HTTP server and web dashboard", kServeHelp, runServe},
+      {"db", "query, export, merge and inspect results databases", kDbHelp, runDb},
+      {"check-scene", "check a scene file: collisions, stable resting, graspable objects", kCheckSceneHelp,
+       runCheckScene},
+      {"scenario", "generate a scene of a scenario family (sorting, wall, shelf-wall, stocking, lab)",
+       kScenarioHelp, runScenario},
+      {"plan", "plan a scene with Lazy-DaSH (or DaSH); write the plan, or print the task-level schedule",
+       kPlanHelp, runPlan},
+      {"validate", "check a plan file against its scene and the plan contract", kValidateHelp, runValidate},
+      {"fk", "forward kinematics of a robot model (flange and TCP poses)", kFkHelp, runFk},
+      {"ik", "all inverse-kinematics solutions of a robot model for a TCP pose", kIkHelp, runIk},
   };
   return commands;
 }

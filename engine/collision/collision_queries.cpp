@@ -1,0 +1,299 @@
+#include "engine/collision/collision_queries.h"
+
+#include <fcl/narrowphase/collision.h>
+
+#include "engine/collision/collision_internal.h"
+#include "engine/core/check.h"
+#include "engine/robots/kinematics.h"
+
+namespace dash {
+
+namespace detail {
+
+namespace {
+
+inline std::size_t at(int i) { return static_cast<std::size_t>(i); }
+
+void setReport(CollisionReport* report, const CollisionElement& a, const CollisionElement& b) {
+  if (report != nullptr) *report = CollisionReport{.a = a, .b = b};
+}
+
+}  // namespace
+
+bool shapesCollide(CollisionContext& context, const fcl::CollisionGeometry<double>& a, const Pose& X_WA,
+                   const fcl::CollisionGeometry<double>& b, const Pose& X_WB) {
+  ++context.counters().narrowphase_calls;
+  const fcl::CollisionRequestd request;  // one contact, no contact details: a yes/no answer
+  fcl::CollisionResultd result;
+  return fcl::collide(&a, X_WA, &b, X_WB, request, result) > 0;
+}
+
+void poseRobot(const CollisionWorld& world, CollisionContext& context, int r, const JointVector& q,
+               const HeldObject& held) {
+  const RobotGeometry& rg = world.robot(r);
+  DASH_DEMAND_MSG(q.size() == rg.model->dof(), "configuration size does not match the robot");
+  auto& posed = context.scratch().robots[at(r)];
+  bodyFrames(*rg.model, rg.robot->X_WB, q, posed.frames);
+  posed.aabb.setEmpty();
+  for (std::size_t b = 0; b < rg.bodies.size(); ++b) {
+    const BodyGeometry& g = rg.bodies[b];
+    const Pose& X_WF = posed.frames[b];
+    Aabb& box = posed.body_aabb[b];
+    if (g.is_capsule) {
+      const Vec3 p_a = X_WF * g.a;
+      const Vec3 p_b = X_WF * g.b;
+      box = Aabb(p_a.cwiseMin(p_b).array() - g.radius, p_a.cwiseMax(p_b).array() + g.radius);
+    } else {
+      const Vec3 c = X_WF * g.center;
+      const Vec3 extent = X_WF.linear().cwiseAbs() * g.half_extents;
+      box = Aabb(c - extent, c + extent);
+    }
+    posed.aabb.extend(box);
+  }
+  posed.held_object = held.object;
+  if (held.holding()) {
+    DASH_DEMAND(held.object < world.objectCount());
+    posed.X_WO_held = forwardKinematics(*rg.model, rg.robot->X_WB, q).X_WT * held.X_TO;
+    posed.held_aabb = boxAabb(posed.X_WO_held, world.object(held.object).half_extents);
+  }
+}
+
+void prepareResting(const CollisionWorld& world, CollisionContext& context, const ObjectLayout& layout,
+                    std::span<const RobotState> states) {
+  DASH_DEMAND_MSG(layout.size() == world.objectCount(), "object layout does not match the scene");
+  auto& s = context.scratch();
+  s.resting.assign(layout.present.begin(), layout.present.end());
+  for (const RobotState& state : states) {
+    if (state.held.holding()) s.resting[at(state.held.object)] = 0;
+  }
+  s.resting_list.clear();
+  for (int j = 0; j < layout.size(); ++j) {
+    if (s.resting[at(j)] == 0) continue;
+    s.resting_list.push_back(j);
+    s.object_pose[at(j)] = layout.X_WO[at(j)];
+    s.object_aabb[at(j)] = boxAabb(layout.X_WO[at(j)], world.object(j).half_extents);
+  }
+}
+
+CandidateView fullCandidates(const CollisionWorld& world, CollisionContext& context, int r, CheckScope scope) {
+  CandidateView view;
+  const RobotGeometry& rg = world.robot(r);
+  if (scope != CheckScope::kObjectsOnly) {
+    view.obstacles = rg.nearby_obstacles;
+    view.held_obstacles = world.allObstacles();
+    view.self_pairs = rg.model->self_collision_pairs;
+    view.held_vs_bodies = rg.non_gripper_bodies;
+  }
+  if (scope != CheckScope::kStaticOnly) {
+    view.objects = context.scratch().resting_list;
+  }
+  return view;
+}
+
+bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int r, const CandidateView& candidates,
+                     CollisionReport* report) {
+  const RobotGeometry& rg = world.robot(r);
+  auto& s = context.scratch();
+  const auto& posed = s.robots[at(r)];
+  const int bodies = static_cast<int>(rg.bodies.size());
+  // Obstacles first (the likeliest hits), each behind the whole-robot box, then each body's box.
+  for (const int i : candidates.obstacles) {
+    const ObstacleGeometry& obstacle = world.obstacles()[at(i)];
+    if (!posed.aabb.intersects(obstacle.aabb)) continue;
+    for (int b = 0; b < bodies; ++b) {
+      if (!posed.body_aabb[at(b)].intersects(obstacle.aabb)) continue;
+      if (shapesCollide(context, *rg.bodies[at(b)].shape, bodyPose(world, posed, r, b), *obstacle.shape, obstacle.X_WO)) {
+        setReport(report, CollisionElement::robotBody(r, b), CollisionElement::obstacle(i));
+        return true;
+      }
+    }
+  }
+  for (const auto& [b1, b2] : candidates.self_pairs) {
+    if (!posed.body_aabb[at(b1)].intersects(posed.body_aabb[at(b2)])) continue;
+    if (shapesCollide(context, *rg.bodies[at(b1)].shape, bodyPose(world, posed, r, b1), *rg.bodies[at(b2)].shape,
+                      bodyPose(world, posed, r, b2))) {
+      setReport(report, CollisionElement::robotBody(r, b1), CollisionElement::robotBody(r, b2));
+      return true;
+    }
+  }
+  for (const int j : candidates.objects) {
+    const Aabb& object_box = s.object_aabb[at(j)];
+    if (!posed.aabb.intersects(object_box)) continue;
+    for (int b = 0; b < bodies; ++b) {
+      if (!posed.body_aabb[at(b)].intersects(object_box)) continue;
+      if (shapesCollide(context, *rg.bodies[at(b)].shape, bodyPose(world, posed, r, b), *world.object(j).shape,
+                        s.object_pose[at(j)])) {
+        setReport(report, CollisionElement::robotBody(r, b), CollisionElement::object(j));
+        return true;
+      }
+    }
+  }
+  if (posed.held_object < 0) return false;
+  const int held = posed.held_object;
+  const auto& held_shape = *world.object(held).shape;
+  const CollisionElement held_element = CollisionElement::heldObject(r, held);
+  for (const int i : candidates.held_obstacles) {
+    const ObstacleGeometry& obstacle = world.obstacles()[at(i)];
+    if (!posed.held_aabb.intersects(obstacle.aabb)) continue;
+    if (shapesCollide(context, held_shape, posed.X_WO_held, *obstacle.shape, obstacle.X_WO)) {
+      setReport(report, held_element, CollisionElement::obstacle(i));
+      return true;
+    }
+  }
+  for (const int b : candidates.held_vs_bodies) {
+    if (!posed.held_aabb.intersects(posed.body_aabb[at(b)])) continue;
+    if (shapesCollide(context, held_shape, posed.X_WO_held, *rg.bodies[at(b)].shape, bodyPose(world, posed, r, b))) {
+      setReport(report, held_element, CollisionElement::robotBody(r, b));
+      return true;
+    }
+  }
+  for (const int j : candidates.objects) {
+    if (!posed.held_aabb.intersects(s.object_aabb[at(j)])) continue;
+    if (shapesCollide(context, held_shape, posed.X_WO_held, *world.object(j).shape, s.object_pose[at(j)])) {
+      setReport(report, held_element, CollisionElement::object(j));
+      return true;
+    }
+  }
+  return false;
+}
+
+namespace {
+
+/// Held object of posed robot `holder` against the bodies of posed robot r. The other robot's gripper
+/// bodies do not count when it holds the same object (a handover).
+bool heldAgainstRobot(const CollisionWorld& world, CollisionContext& context, int holder, int r,
+                      CollisionReport* report) {
+  const auto& s = context.scratch();
+  const auto& h = s.robots[at(holder)];
+  const auto& posed = s.robots[at(r)];
+  if (h.held_object < 0 || !h.held_aabb.intersects(posed.aabb)) return false;
+  const RobotGeometry& rg = world.robot(r);
+  const bool same_object = posed.held_object == h.held_object;
+  for (int b = 0; b < static_cast<int>(rg.bodies.size()); ++b) {
+    if (same_object && rg.bodies[at(b)].is_gripper) continue;
+    if (!h.held_aabb.intersects(posed.body_aabb[at(b)])) continue;
+    if (shapesCollide(context, *world.object(h.held_object).shape, h.X_WO_held, *rg.bodies[at(b)].shape,
+                      bodyPose(world, posed, r, b))) {
+      setReport(report, CollisionElement::heldObject(holder, h.held_object), CollisionElement::robotBody(r, b));
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+bool checkPosedRobotPair(const CollisionWorld& world, CollisionContext& context, int r1, int r2,
+                         CollisionReport* report) {
+  const auto& s = context.scratch();
+  const auto& p1 = s.robots[at(r1)];
+  const auto& p2 = s.robots[at(r2)];
+  const RobotGeometry& g1 = world.robot(r1);
+  const RobotGeometry& g2 = world.robot(r2);
+  if (p1.aabb.intersects(p2.aabb)) {
+    for (int b1 = 0; b1 < static_cast<int>(g1.bodies.size()); ++b1) {
+      if (!p1.body_aabb[at(b1)].intersects(p2.aabb)) continue;
+      for (int b2 = 0; b2 < static_cast<int>(g2.bodies.size()); ++b2) {
+        if (!p1.body_aabb[at(b1)].intersects(p2.body_aabb[at(b2)])) continue;
+        if (shapesCollide(context, *g1.bodies[at(b1)].shape, bodyPose(world, p1, r1, b1), *g2.bodies[at(b2)].shape,
+                          bodyPose(world, p2, r2, b2))) {
+          setReport(report, CollisionElement::robotBody(r1, b1), CollisionElement::robotBody(r2, b2));
+          return true;
+        }
+      }
+    }
+  }
+  if (heldAgainstRobot(world, context, r1, r2, report)) return true;
+  if (heldAgainstRobot(world, context, r2, r1, report)) return true;
+  if (p1.held_object >= 0 && p2.held_object >= 0 && p1.held_object != p2.held_object &&
+      p1.held_aabb.intersects(p2.held_aabb) &&
+      shapesCollide(context, *world.object(p1.held_object).shape, p1.X_WO_held, *world.object(p2.held_object).shape,
+                    p2.X_WO_held)) {
+    setReport(report, CollisionElement::heldObject(r1, p1.held_object),
+              CollisionElement::heldObject(r2, p2.held_object));
+    return true;
+  }
+  return false;
+}
+
+bool checkStates(const CollisionWorld& world, CollisionContext& context, std::span<const RobotState> states,
+                 CheckScope scope, CollisionReport* report) {
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    const RobotState& state = states[i];
+    DASH_DEMAND(state.robot >= 0 && state.robot < world.robotCount());
+    for (std::size_t k = 0; k < i; ++k) DASH_DEMAND_MSG(states[k].robot != state.robot, "a robot appears twice");
+    poseRobot(world, context, state.robot, state.q, state.held);
+  }
+  for (const RobotState& state : states) {
+    if (checkPosedRobot(world, context, state.robot, fullCandidates(world, context, state.robot, scope), report)) {
+      return true;
+    }
+  }
+  if (scope == CheckScope::kObjectsOnly) return false;
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    for (std::size_t k = i + 1; k < states.size(); ++k) {
+      if (checkPosedRobotPair(world, context, states[i].robot, states[k].robot, report)) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace detail
+
+bool robotInCollision(const CollisionWorld& world, CollisionContext& context, const RobotState& state,
+                      const ObjectLayout& layout, CollisionReport* report, CheckScope scope) {
+  ++context.counters().configuration_checks;
+  const std::span<const RobotState> states(&state, 1);
+  detail::prepareResting(world, context, layout, states);
+  return detail::checkStates(world, context, states, scope, report);
+}
+
+bool robotsInCollision(const CollisionWorld& world, CollisionContext& context, std::span<const RobotState> states,
+                       const ObjectLayout& layout, CollisionReport* report, CheckScope scope) {
+  ++context.counters().configuration_checks;
+  detail::prepareResting(world, context, layout, states);
+  return detail::checkStates(world, context, states, scope, report);
+}
+
+bool objectInCollision(const CollisionWorld& world, CollisionContext& context, int object, const Pose& X_WO,
+                       const ObjectLayout& layout, CollisionReport* report) {
+  DASH_DEMAND(object >= 0 && object < world.objectCount());
+  DASH_DEMAND_MSG(layout.size() == world.objectCount(), "object layout does not match the scene");
+  ++context.counters().configuration_checks;
+  const ObjectGeometry& g = world.object(object);
+  const Aabb box = boxAabb(X_WO, g.half_extents);
+  for (std::size_t i = 0; i < world.obstacles().size(); ++i) {
+    const ObstacleGeometry& obstacle = world.obstacles()[i];
+    if (!box.intersects(obstacle.aabb)) continue;
+    if (detail::shapesCollide(context, *g.shape, X_WO, *obstacle.shape, obstacle.X_WO)) {
+      if (report != nullptr) {
+        *report = {.a = CollisionElement::object(object), .b = CollisionElement::obstacle(static_cast<int>(i))};
+      }
+      return true;
+    }
+  }
+  for (int k = 0; k < layout.size(); ++k) {
+    if (k == object || !layout.isPresent(k)) continue;
+    const Pose& X_WK = layout.X_WO[static_cast<std::size_t>(k)];
+    if (!box.intersects(boxAabb(X_WK, world.object(k).half_extents))) continue;
+    if (detail::shapesCollide(context, *g.shape, X_WO, *world.object(k).shape, X_WK)) {
+      if (report != nullptr) *report = {.a = CollisionElement::object(object), .b = CollisionElement::object(k)};
+      return true;
+    }
+  }
+  return false;
+}
+
+bool layoutInCollision(const CollisionWorld& world, CollisionContext& context, const ObjectLayout& layout,
+                       CollisionReport* report) {
+  // Each object against obstacles and the objects after it (each pair once).
+  ObjectLayout later = layout;
+  for (int j = 0; j < layout.size(); ++j) {
+    later.remove(j);
+    if (!layout.isPresent(j)) continue;
+    if (objectInCollision(world, context, j, layout.X_WO[static_cast<std::size_t>(j)], later, report)) return true;
+  }
+  return false;
+}
+
+}  // namespace dash

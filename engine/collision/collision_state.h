@@ -1,0 +1,32 @@
+#pragma once
+// What a collision query is asked about: the configuration of each robot involved and what it holds.
+// Resting objects come from an ObjectLayout (engine/scene/object_layout.h). Plain aggregates.
+#include "engine/geometry/pose.h"
+#include "engine/robots/joint_vector.h"
+#include "engine/scene/object_layout.h"
+
+namespace dash {
+
+/// An object rigidly attached to a robot's TCP: its world pose is X_WT * X_TO (formats.md, grasp).
+struct HeldObject {
+  int object = -1;                ///< index into Scene::objects; -1 = empty hand
+  Pose X_TO = Pose::Identity();   ///< object in the TCP frame
+  bool holding() const { return object >= 0; }
+};
+
+/// One robot's part of a query.
+struct RobotState {
+  int robot = -1;  ///< index into Scene::robots
+  JointVector q;
+  HeldObject held;
+};
+
+/// Which pairs a query looks at. Planners cache the static part on roadmaps (it never changes during
+/// a plan) and check the object part against the layout of the moment (planner-notes.md).
+enum class CheckScope {
+  kAll,          ///< static + objects
+  kStaticOnly,   ///< self pairs, obstacles, held object vs obstacles and the robot's own bodies
+  kObjectsOnly,  ///< robot bodies and held object vs resting objects
+};
+
+}  // namespace dash

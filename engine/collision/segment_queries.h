@@ -1,0 +1,60 @@
+#pragma once
+// Straight joint-space segments q0 -> q1 (the motion between two plan points, formats.md), checked at
+// discrete configurations dense enough that no point of any robot body, of the TCP or of a held object
+// moves more than `resolution` (1 cm) between two checked configurations.
+//
+// The bound is derived from the kinematic chain and holds at every configuration: for joint i, lever_i
+// is the largest distance from its axis to any point that joint moves (RobotGeometry::body_lever, plus
+// the held object's reach from the TCP); a point moves at most sum_i |dq_i| * lever_i along the whole
+// segment, so steps = ceil(sum_i |dq_i| * lever_i / resolution), per body, taking the largest.
+//
+// Cheap tests come first: the end points, then a swept box per body (its boxes at q0 and q1 grown by
+// half its displacement bound, which contains every intermediate pose). Only obstacles, objects and
+// self pairs that meet a swept box are checked at the intermediate configurations, coarse to fine
+// (midpoint first) so that collisions are found early.
+#include <span>
+
+#include "engine/collision/collision_context.h"
+#include "engine/collision/collision_report.h"
+#include "engine/collision/collision_state.h"
+#include "engine/collision/collision_world.h"
+#include "engine/scene/object_layout.h"
+
+namespace dash {
+
+inline constexpr double kSegmentResolution = 0.01;  ///< metres
+
+struct SegmentOptions {
+  CheckScope scope = CheckScope::kAll;
+  bool check_endpoints = true;  ///< false when the caller has already checked both end configurations
+  double resolution = kSegmentResolution;
+};
+
+/// Upper bound on how far any point of robot r's bodies, TCP or held object moves along q0 -> q1.
+double segmentDisplacementBound(const CollisionWorld& world, int robot, const JointVector& q0, const JointVector& q1,
+                                const HeldObject& held);
+
+/// Intervals the segment is cut into: ceil(bound / resolution), at least 1.
+int segmentSteps(const CollisionWorld& world, int robot, const JointVector& q0, const JointVector& q1,
+                 const HeldObject& held, double resolution = kSegmentResolution);
+
+/// One robot moving from start.q to q_end, holding start.held throughout, among resting objects.
+/// On a collision, report->segment_fraction says where (0 = start, 1 = end).
+bool segmentInCollision(const CollisionWorld& world, CollisionContext& context, const RobotState& start,
+                        const JointVector& q_end, const ObjectLayout& layout, CollisionReport* report = nullptr,
+                        const SegmentOptions& options = {});
+
+/// One robot's part of a simultaneous motion.
+struct RobotMotion {
+  RobotState start;
+  JointVector q_end;
+};
+
+/// Several robots moving over the same time interval, each interpolated linearly from start to end
+/// (all at the same fraction at any instant). Robots whose swept boxes meet no other robot's are
+/// checked alone; otherwise all are checked together at the finest step count of any robot.
+bool motionsInCollision(const CollisionWorld& world, CollisionContext& context, std::span<const RobotMotion> motions,
+                        const ObjectLayout& layout, CollisionReport* report = nullptr,
+                        const SegmentOptions& options = {});
+
+}  // namespace dash

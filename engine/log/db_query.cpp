@@ -1,0 +1,350 @@
+#include "engine/log/db_query.h"
+
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "engine/core/stopwatch.h"
+
+namespace dash::log {
+namespace {
+
+constexpr const char* kReadOnlyNote = "; the query console is read-only";
+constexpr int kProgressInstructions = 1000;  // VM steps between two time checks
+constexpr int kMaxCellBytes = 64 << 20;      // SQLITE_LIMIT_LENGTH: no gigabyte strings
+constexpr std::size_t kTableCellWidth = 60;  // wider cells are cut in table output
+
+struct QueryState {
+  std::optional<QueryRefused> refused;
+  Clock::time_point deadline;
+  bool timed_out = false;
+};
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string upper(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// PRAGMAs that only report: allowed with no argument (or a table / index name for the first group).
+const std::set<std::string>& readOnlyPragmas() {
+  static const std::set<std::string> names = {
+      "table_info", "table_xinfo", "index_list", "index_info", "index_xinfo", "foreign_key_list",
+      "foreign_key_check", "integrity_check", "quick_check",
+      // the rest only without an argument (with one they would change a setting)
+      "user_version", "schema_version", "application_id", "page_count", "page_size", "freelist_count", "encoding",
+      "database_list", "collation_list", "function_list", "module_list", "pragma_list", "compile_options",
+      "data_version", "journal_mode", "table_list", "max_page_count", "auto_vacuum"};
+  return names;
+}
+
+bool pragmaTakesName(const std::string& name) {
+  static const std::set<std::string> names = {"table_info", "table_xinfo", "index_list", "index_info", "index_xinfo",
+                                              "foreign_key_list", "foreign_key_check", "integrity_check",
+                                              "quick_check", "table_list"};
+  return names.count(name) != 0;
+}
+
+QueryRefused writeRefused(const std::string& what) {
+  return QueryRefused(QueryGuard::Write, "refused: write statement (" + what + ") is not allowed" + kReadOnlyNote);
+}
+
+std::string writeActionName(int code) {
+  switch (code) {
+    case SQLITE_INSERT: return "INSERT";
+    case SQLITE_UPDATE: return "UPDATE";
+    case SQLITE_DELETE: return "DELETE";
+    case SQLITE_CREATE_INDEX: case SQLITE_CREATE_TEMP_INDEX: return "CREATE INDEX";
+    case SQLITE_CREATE_TABLE: case SQLITE_CREATE_TEMP_TABLE: return "CREATE TABLE";
+    case SQLITE_CREATE_TRIGGER: case SQLITE_CREATE_TEMP_TRIGGER: return "CREATE TRIGGER";
+    case SQLITE_CREATE_VIEW: case SQLITE_CREATE_TEMP_VIEW: return "CREATE VIEW";
+    case SQLITE_CREATE_VTABLE: return "CREATE VIRTUAL TABLE";
+    case SQLITE_DROP_INDEX: case SQLITE_DROP_TEMP_INDEX: return "DROP INDEX";
+    case SQLITE_DROP_TABLE: case SQLITE_DROP_TEMP_TABLE: return "DROP TABLE";
+    case SQLITE_DROP_TRIGGER: case SQLITE_DROP_TEMP_TRIGGER: return "DROP TRIGGER";
+    case SQLITE_DROP_VIEW: case SQLITE_DROP_TEMP_VIEW: return "DROP VIEW";
+    case SQLITE_DROP_VTABLE: return "DROP VIRTUAL TABLE";
+    case SQLITE_ALTER_TABLE: return "ALTER TABLE";
+    case SQLITE_REINDEX: return "REINDEX";
+    case SQLITE_ANALYZE: return "ANALYZE";
+    default: return "action " + std::to_string(code);
+  }
+}
+
+int authorize(void* context, int code, const char* a, const char* b, const char*, const char*) {
+  auto* state = static_cast<QueryState*>(context);
+  switch (code) {
+    case SQLITE_SELECT:
+    case SQLITE_READ:
+    case SQLITE_FUNCTION:
+    case SQLITE_RECURSIVE:
+      return SQLITE_OK;
+    case SQLITE_PRAGMA: {
+      const std::string name = lower(a ? a : "");
+      if (readOnlyPragmas().count(name) != 0 && (b == nullptr || pragmaTakesName(name))) return SQLITE_OK;
+      state->refused = QueryRefused(
+          QueryGuard::Pragma, "refused: PRAGMA " + name + (b ? std::string(" = ") + b : std::string()) +
+                                  " is not allowed" + kReadOnlyNote +
+                                  " (read-only PRAGMAs such as table_info, index_list and user_version are allowed)");
+      return SQLITE_DENY;
+    }
+    case SQLITE_ATTACH:
+    case SQLITE_DETACH:
+      state->refused = QueryRefused(QueryGuard::Attach, std::string("refused: ") +
+                                                            (code == SQLITE_ATTACH ? "ATTACH" : "DETACH") +
+                                                            " is not allowed; the query console reads only this database");
+      return SQLITE_DENY;
+    case SQLITE_TRANSACTION:
+    case SQLITE_SAVEPOINT:
+      state->refused = QueryRefused(QueryGuard::Transaction,
+                                    std::string("refused: transaction control (") + (a ? a : "SAVEPOINT") +
+                                        ") is not allowed; each query runs on its own");
+      return SQLITE_DENY;
+    default:
+      state->refused = writeRefused(writeActionName(code));
+      return SQLITE_DENY;
+  }
+}
+
+int progress(void* context) {
+  auto* state = static_cast<QueryState*>(context);
+  if (Clock::now() < state->deadline) return 0;
+  state->timed_out = true;
+  return 1;
+}
+
+// Skips blanks and SQL comments.
+std::size_t skipBlank(const std::string& s, std::size_t i) {
+  while (i < s.size()) {
+    if (std::isspace(static_cast<unsigned char>(s[i])) || s[i] == ';') {
+      ++i;
+    } else if (s.compare(i, 2, "--") == 0) {
+      i = s.find('\n', i);
+      if (i == std::string::npos) return s.size();
+    } else if (s.compare(i, 2, "/*") == 0) {
+      i = s.find("*/", i + 2);
+      if (i == std::string::npos) return s.size();
+      i += 2;
+    } else {
+      break;
+    }
+  }
+  return i;
+}
+
+// Refuses by the first keyword: some statements (VACUUM INTO, REINDEX) never reach the authorizer.
+void checkFirstKeyword(const std::string& sql) {
+  std::size_t i = skipBlank(sql, 0);
+  std::size_t end = i;
+  while (end < sql.size() && std::isalpha(static_cast<unsigned char>(sql[end]))) ++end;
+  const std::string keyword = upper(sql.substr(i, end - i));
+  if (keyword.empty()) throw InputError("empty query");
+  static const std::set<std::string> reading = {"SELECT", "WITH", "VALUES", "EXPLAIN", "PRAGMA"};
+  if (reading.count(keyword) != 0) return;
+  if (keyword == "ATTACH" || keyword == "DETACH") {
+    throw QueryRefused(QueryGuard::Attach, "refused: " + keyword + " is not allowed; the query console reads only this database");
+  }
+  static const std::set<std::string> transaction = {"BEGIN", "COMMIT", "END", "ROLLBACK", "SAVEPOINT", "RELEASE"};
+  if (transaction.count(keyword) != 0) {
+    throw QueryRefused(QueryGuard::Transaction,
+                       "refused: transaction control (" + keyword + ") is not allowed; each query runs on its own");
+  }
+  throw writeRefused(keyword);
+}
+
+std::string numberText(double v) {
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof(buffer), v).ptr;
+  return std::string(buffer, end);
+}
+
+std::string cellText(const SqlValue& v, const char* null_text) {
+  if (std::holds_alternative<std::monostate>(v)) return null_text;
+  if (const auto* i = std::get_if<std::int64_t>(&v)) return std::to_string(*i);
+  if (const auto* d = std::get_if<double>(&v)) return numberText(*d);
+  return std::get<std::string>(v);
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string fit(std::string s) {
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  if (s.size() > kTableCellWidth) s = s.substr(0, kTableCellWidth - 3) + "...";
+  return s;
+}
+
+}  // namespace
+
+SqlRows runReadOnlyQuery(const std::string& path, const std::string& sql, const QueryLimits& limits) {
+  DASH_THROW_UNLESS(std::filesystem::is_regular_file(path), "no database file at " + path);
+  DASH_THROW_UNLESS(limits.max_rows >= 0, "the row limit must not be negative");
+  DASH_THROW_UNLESS(limits.timeout_seconds > 0, "the time limit must be positive");
+  checkFirstKeyword(sql);
+
+  sql::Connection connection = sql::open(path, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX);
+  sqlite3* db = connection.get();
+  sqlite3_busy_timeout(db, static_cast<int>(std::min(limits.timeout_seconds, 60.0) * 1000));
+  sqlite3_limit(db, SQLITE_LIMIT_LENGTH, kMaxCellBytes);
+  sqlite3_limit(db, SQLITE_LIMIT_ATTACHED, 0);
+  sql::exec(db, "PRAGMA query_only = 1");
+
+  QueryState state;
+  state.deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                      std::chrono::duration<double>(limits.timeout_seconds));
+  sqlite3_set_authorizer(db, authorize, &state);
+  sqlite3_progress_handler(db, kProgressInstructions, progress, &state);
+
+  sqlite3_stmt* raw = nullptr;
+  const char* tail = nullptr;
+  const int rc = sqlite3_prepare_v2(db, sql.c_str(), static_cast<int>(sql.size()), &raw, &tail);
+  if (rc != SQLITE_OK) {
+    sqlite3_finalize(raw);
+    if (state.refused) throw *state.refused;
+    if (state.timed_out) {
+      throw QueryRefused(QueryGuard::TimeLimit, "refused: the query ran past the time limit of " +
+                                                    numberText(limits.timeout_seconds) + " s");
+    }
+    throw InputError(std::string("SQL error: ") + sqlite3_errmsg(db));
+  }
+  if (raw == nullptr) throw InputError("empty query");
+  std::unique_ptr<sqlite3_stmt, int (*)(sqlite3_stmt*)> stmt(raw, sqlite3_finalize);
+  const std::string rest(tail ? tail : "");
+  if (skipBlank(rest, 0) < rest.size()) {
+    throw QueryRefused(QueryGuard::OneStatement,
+                       "refused: more than one statement; the query console runs one statement at a time");
+  }
+  if (!sqlite3_stmt_readonly(raw)) throw writeRefused(upper(std::string(sql.substr(skipBlank(sql, 0), 6))));
+
+  SqlRows out;
+  const int columns = sqlite3_column_count(raw);
+  for (int c = 0; c < columns; ++c) out.columns.emplace_back(sqlite3_column_name(raw, c));
+  while (true) {
+    const int step = sqlite3_step(raw);
+    if (step == SQLITE_DONE) break;
+    if (step != SQLITE_ROW) {
+      if (state.timed_out) {
+        throw QueryRefused(QueryGuard::TimeLimit, "refused: the query ran past the time limit of " +
+                                                      numberText(limits.timeout_seconds) +
+                                                      " s; narrow it or raise the limit (--timeout)");
+      }
+      throw InputError(std::string("SQL error: ") + sqlite3_errmsg(db));
+    }
+    if (static_cast<std::int64_t>(out.rows.size()) >= limits.max_rows) {
+      out.truncated = true;
+      break;
+    }
+    std::vector<SqlValue>& row = out.rows.emplace_back();
+    for (int c = 0; c < columns; ++c) {
+      switch (sqlite3_column_type(raw, c)) {
+        case SQLITE_INTEGER: row.emplace_back(static_cast<std::int64_t>(sqlite3_column_int64(raw, c))); break;
+        case SQLITE_FLOAT: row.emplace_back(sqlite3_column_double(raw, c)); break;
+        case SQLITE_TEXT:
+          row.emplace_back(std::string(reinterpret_cast<const char*>(sqlite3_column_text(raw, c)),
+                                       static_cast<std::size_t>(sqlite3_column_bytes(raw, c))));
+          break;
+        case SQLITE_BLOB:
+          row.emplace_back("<blob " + std::to_string(sqlite3_column_bytes(raw, c)) + " bytes>");
+          break;
+        default: row.emplace_back(std::monostate{});
+      }
+    }
+  }
+  return out;
+}
+
+OutputFormat parseOutputFormat(const std::string& name) {
+  if (name == "table") return OutputFormat::Table;
+  if (name == "csv") return OutputFormat::Csv;
+  if (name == "json") return OutputFormat::Json;
+  throw InputError("unknown format '" + name + "' (table, csv or json)");
+}
+
+std::string formatRows(const SqlRows& rows, OutputFormat format) {
+  std::string out;
+  if (format == OutputFormat::Csv) {
+    for (std::size_t c = 0; c < rows.columns.size(); ++c) {
+      if (c != 0) out += ',';
+      out += csvField(rows.columns[c]);
+    }
+    out += '\n';
+    for (const auto& row : rows.rows) {
+      for (std::size_t c = 0; c < row.size(); ++c) {
+        if (c != 0) out += ',';
+        out += csvField(cellText(row[c], ""));
+      }
+      out += '\n';
+    }
+    return out;
+  }
+  if (format == OutputFormat::Json) {
+    nlohmann::json array = nlohmann::json::array();
+    for (const auto& row : rows.rows) {
+      nlohmann::json object = nlohmann::json::object();
+      for (std::size_t c = 0; c < row.size(); ++c) {
+        const SqlValue& v = row[c];
+        nlohmann::json& cell = object[rows.columns[c]];
+        if (const auto* i = std::get_if<std::int64_t>(&v)) cell = *i;
+        else if (const auto* d = std::get_if<double>(&v)) cell = std::isfinite(*d) ? nlohmann::json(*d) : nlohmann::json();
+        else if (const auto* s = std::get_if<std::string>(&v)) cell = *s;
+      }
+      array.push_back(std::move(object));
+    }
+    return array.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  }
+  // Table: columns padded to their widest (cut) cell.
+  std::vector<std::vector<std::string>> cells;
+  std::vector<std::size_t> widths;
+  for (const auto& name : rows.columns) widths.push_back(fit(name).size());
+  for (const auto& row : rows.rows) {
+    auto& line = cells.emplace_back();
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      line.push_back(fit(cellText(row[c], "NULL")));
+      widths[c] = std::max(widths[c], line.back().size());
+    }
+  }
+  auto emit = [&](const std::vector<std::string>& line) {
+    std::string text;
+    for (std::size_t c = 0; c < line.size(); ++c) {
+      if (c != 0) text += " | ";
+      text += line[c];
+      if (c + 1 < line.size()) text.append(widths[c] - line[c].size(), ' ');
+    }
+    out += text + "\n";
+  };
+  std::vector<std::string> header;
+  for (const auto& name : rows.columns) header.push_back(fit(name));
+  emit(header);
+  std::string rule;
+  for (std::size_t c = 0; c < widths.size(); ++c) {
+    if (c != 0) rule += "-+-";
+    rule.append(widths[c], '-');
+  }
+  out += rule + "\n";
+  for (const auto& line : cells) emit(line);
+  out += '(';
+  out += std::to_string(rows.rows.size());
+  out += rows.rows.size() == 1 ? " row" : " rows";
+  if (rows.truncated) out += "; stopped by the row limit";
+  out += ")\n";
+  return out;
+}
+
+}  // namespace dash::log

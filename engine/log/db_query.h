@@ -1,0 +1,50 @@
+#pragma once
+// The read-only query console behind `dashbench db query` and the server's query endpoint.
+//
+// Guards, each named in the error it raises:
+// - the file is opened with SQLITE_OPEN_READONLY (and PRAGMA query_only);
+// - an authorizer refuses writes (INSERT, UPDATE, DELETE, CREATE, DROP, ALTER, ...), ATTACH and
+//   DETACH, transaction control, and PRAGMAs other than a list of read-only ones;
+// - statements the authorizer never sees (VACUUM INTO, REINDEX) are refused by their first
+//   keyword and by sqlite3_stmt_readonly;
+// - one statement per query;
+// - a progress handler stops a query that runs past the time limit;
+// - a row limit stops the output early (reported as truncated, not as an error).
+#include <cstdint>
+#include <string>
+
+#include "engine/core/check.h"
+#include "engine/log/sqlite_util.h"
+
+namespace dash::log {
+
+enum class QueryGuard { Write, Attach, Pragma, Transaction, OneStatement, TimeLimit };
+
+/// A query refused by a guard, or stopped by the time limit. The message says which.
+class QueryRefused : public InputError {
+ public:
+  QueryRefused(QueryGuard guard, const std::string& message) : InputError(message), guard_(guard) {}
+  QueryGuard guard() const { return guard_; }
+
+ private:
+  QueryGuard guard_;
+};
+
+struct QueryLimits {
+  std::int64_t max_rows = 1000;
+  double timeout_seconds = 10.0;
+};
+
+/// Runs one read-only SQL statement on the file at `path`. Throws QueryRefused for a guard,
+/// InputError for SQL errors (syntax, unknown table) and DbError if the file cannot be opened.
+SqlRows runReadOnlyQuery(const std::string& path, const std::string& sql, const QueryLimits& limits = {});
+
+enum class OutputFormat { Table, Csv, Json };
+/// "table", "csv" or "json"; throws InputError otherwise.
+OutputFormat parseOutputFormat(const std::string& name);
+
+/// Text for a terminal (aligned columns, long cells cut), CSV (RFC 4180) or JSON (an array of
+/// objects; numbers stay numbers).
+std::string formatRows(const SqlRows& rows, OutputFormat format);
+
+}  // namespace dash::log

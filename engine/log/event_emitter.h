@@ -1,0 +1,114 @@
+#pragma once
+// What a planner holds to emit events: the injected sink, the run's clock and the current
+// iteration. One emitter per run; the planner passes it (by reference) to its layers.
+//
+// An emitter without a sink (nullptr) drops everything after one branch, so planners can emit
+// unconditionally. The emitter itself is not thread safe (the iteration and the phase totals are
+// plain members): threads that emit in parallel each use their own emitter over the same sink.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/core/stopwatch.h"
+#include "engine/log/events.h"
+
+namespace dash::log {
+
+/// Seconds spent in each phase, indexed by Phase.
+using PhaseTotals = std::array<double, kPhaseCount>;
+
+class EventEmitter {
+ public:
+  /// `sink` may be nullptr (emit nothing); it must outlive the emitter. The run's clock starts now.
+  explicit EventEmitter(EventSink* sink) : sink_(sink) {}
+
+  bool enabled() const { return sink_ != nullptr; }
+  double now() const { return clock_.seconds(); }
+  int iteration() const { return iteration_; }
+  void setIteration(int iteration) { iteration_ = iteration; }
+
+  void emit(EventPayload payload) {
+    if (sink_ != nullptr) sink_->onEvent(Event{clock_.seconds(), iteration_, std::move(payload)});
+  }
+
+  void vertex(Layer layer, std::uint32_t id, std::string label = {}) {
+    if (sink_ == nullptr) return;
+    emit(RepresentationEvent{.layer = layer, .kind = ElementKind::Vertex, .id = id, .label = std::move(label)});
+  }
+  void hyperarc(Layer layer, std::string type, std::uint32_t id, std::vector<std::uint32_t> head,
+                std::vector<std::uint32_t> tail, std::string label = {}) {
+    if (sink_ == nullptr) return;
+    emit(RepresentationEvent{.layer = layer, .kind = ElementKind::Hyperarc, .arc_type = std::move(type),
+                             .id = id, .head = std::move(head), .tail = std::move(tail),
+                             .label = std::move(label)});
+  }
+  void removed(Layer layer, ElementKind kind, std::uint32_t id) {
+    if (sink_ == nullptr) return;
+    emit(RepresentationEvent{.layer = layer, .kind = kind, .change = ElementChange::Removed, .id = id});
+  }
+  void constraint(ConstraintKind kind, ConstraintAction action, std::uint32_t id, std::string content,
+                  std::vector<std::uint32_t> vertices, std::string conflict = {}) {
+    if (sink_ == nullptr) return;
+    emit(ConstraintEvent{kind, action, id, std::move(content), std::move(vertices), std::move(conflict)});
+  }
+  void taskSpaceExpansion(std::uint32_t object_id, std::string object_label, std::string added,
+                          std::string reason) {
+    if (sink_ == nullptr) return;
+    emit(TaskSpaceExpansionEvent{object_id, std::move(object_label), std::move(added), std::move(reason)});
+  }
+  void counter(std::string name, std::int64_t value) {
+    if (sink_ == nullptr) return;
+    emit(CounterEvent{std::move(name), value});
+  }
+
+  /// Low-level phase boundaries (PhaseTimer is the usual way). beginPhase returns the start time
+  /// to hand to endPhase, which adds the interval to phaseTotals() and returns its length.
+  double beginPhase(Phase phase) {
+    const double t = clock_.seconds();
+    if (sink_ != nullptr) sink_->onEvent(Event{t, iteration_, PhaseEvent{phase, PhaseBoundary::Start, 0.0}});
+    return t;
+  }
+  double endPhase(Phase phase, double start_t) {
+    const double t = clock_.seconds();
+    const double duration = t - start_t;
+    totals_[static_cast<int>(phase)] += duration;
+    if (sink_ != nullptr) sink_->onEvent(Event{t, iteration_, PhaseEvent{phase, PhaseBoundary::End, duration}});
+    return duration;
+  }
+
+  const PhaseTotals& phaseTotals() const { return totals_; }
+
+ private:
+  EventSink* sink_;
+  Stopwatch clock_;
+  int iteration_ = 0;
+  PhaseTotals totals_{};
+};
+
+/// RAII phase interval: emits Start now and End when it goes out of scope (or at stop()), and
+/// accumulates the interval into the emitter's phase totals.
+class PhaseTimer {
+ public:
+  PhaseTimer(EventEmitter& emitter, Phase phase)
+      : emitter_(&emitter), phase_(phase), start_(emitter.beginPhase(phase)) {}
+  ~PhaseTimer() { stop(); }
+  PhaseTimer(const PhaseTimer&) = delete;
+  PhaseTimer& operator=(const PhaseTimer&) = delete;
+
+  /// Ends the interval early; returns its length (0 if already stopped).
+  double stop() {
+    if (emitter_ == nullptr) return 0.0;
+    const double d = emitter_->endPhase(phase_, start_);
+    emitter_ = nullptr;
+    return d;
+  }
+
+ private:
+  EventEmitter* emitter_;
+  Phase phase_;
+  double start_;
+};
+
+}  // namespace dash::log

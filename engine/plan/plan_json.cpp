@@ -1,0 +1,282 @@
+#include "engine/plan/plan_json.h"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "engine/core/check.h"
+
+namespace dash {
+
+namespace {
+
+// ordered_json keeps the file's key order, so robots stay in file order and output follows the contract.
+using Json = nlohmann::ordered_json;
+
+constexpr double kUnitQuaternionTolerance = 1e-6;
+
+/// Every error names the path of the offending field.
+class Reader {
+ public:
+  explicit Reader(const std::string& source) : prefix_(source.empty() ? "" : source + ": ") {}
+
+  [[noreturn]] void fail(const std::string& path, const std::string& message) const {
+    throw InputError(prefix_ + (path.empty() ? std::string("plan") : path) + ": " + message);
+  }
+
+  static std::string join(const std::string& path, const std::string& key) {
+    return path.empty() ? key : path + "." + key;
+  }
+  static std::string index(const std::string& path, std::size_t i) {
+    return path + "[" + std::to_string(i) + "]";
+  }
+
+  /// The value of `key` in `object` (whose path is `path`); fails if missing.
+  const Json& field(const Json& object, const std::string& path, const std::string& key) const {
+    const auto it = object.find(key);
+    if (it == object.end()) fail(join(path, key), "missing field");
+    return *it;
+  }
+
+  void requireObject(const Json& value, const std::string& path) const {
+    if (!value.is_object()) fail(path, "expected an object");
+  }
+
+  const Json& array(const Json& value, const std::string& path) const {
+    if (!value.is_array()) fail(path, "expected an array");
+    return value;
+  }
+
+  double number(const Json& value, const std::string& path) const {
+    if (!value.is_number()) fail(path, "expected a number");
+    const double x = value.get<double>();
+    if (!std::isfinite(x)) fail(path, "number is not finite");
+    return x;
+  }
+
+  double time(const Json& value, const std::string& path) const {
+    const double t = number(value, path);
+    if (t < 0.0) fail(path, "time must not be negative");
+    return t;
+  }
+
+  std::string string(const Json& value, const std::string& path) const {
+    if (!value.is_string()) fail(path, "expected a string");
+    return value.get<std::string>();
+  }
+
+  std::string nonEmptyString(const Json& value, const std::string& path) const {
+    std::string s = string(value, path);
+    if (s.empty()) fail(path, "must not be empty");
+    return s;
+  }
+
+  std::vector<double> numbers(const Json& value, const std::string& path, std::size_t length) const {
+    array(value, path);
+    if (value.size() != length) {
+      fail(path, "expected " + std::to_string(length) + " numbers, got " + std::to_string(value.size()));
+    }
+    std::vector<double> out;
+    out.reserve(length);
+    for (std::size_t i = 0; i < length; ++i) out.push_back(number(value[i], index(path, i)));
+    return out;
+  }
+
+  Pose pose(const Json& value, const std::string& path) const {
+    requireObject(value, path);
+    const auto p = numbers(field(value, path, "p"), join(path, "p"), 3);
+    const std::string q_path = join(path, "q");
+    const auto q = numbers(field(value, path, "q"), q_path, 4);
+    const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (std::abs(norm - 1.0) > kUnitQuaternionTolerance) fail(q_path, "quaternion is not unit length");
+    return makePose(Vec3(p[0], p[1], p[2]), quatFromXYZW({q[0], q[1], q[2], q[3]}));
+  }
+
+ private:
+  std::string prefix_;
+};
+
+RobotTrajectory parseTrajectory(const Reader& r, const std::string& id, const Json& j, const std::string& path) {
+  r.requireObject(j, path);
+  RobotTrajectory traj;
+  traj.robot = id;
+  const std::string names_path = Reader::join(path, "joint_names");
+  const Json& names = r.array(r.field(j, path, "joint_names"), names_path);
+  if (names.empty()) r.fail(names_path, "must not be empty");
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    traj.joint_names.push_back(r.nonEmptyString(names[i], Reader::index(names_path, i)));
+  }
+  constexpr std::size_t kMaxJoints = 6;  // JointVector's inline capacity
+  if (traj.joint_names.size() > kMaxJoints) {
+    r.fail(names_path, "at most " + std::to_string(kMaxJoints) + " joints, got " + std::to_string(names.size()));
+  }
+  const std::string points_path = Reader::join(path, "points");
+  const Json& points = r.array(r.field(j, path, "points"), points_path);
+  if (points.empty()) r.fail(points_path, "must hold at least one point");
+  traj.points.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::string p_path = Reader::index(points_path, i);
+    r.requireObject(points[i], p_path);
+    TrajectoryPoint point;
+    point.t = r.time(r.field(points[i], p_path, "t"), Reader::join(p_path, "t"));
+    const auto q = r.numbers(r.field(points[i], p_path, "q"), Reader::join(p_path, "q"), traj.joint_names.size());
+    point.q = JointVector::Map(q.data(), static_cast<Eigen::Index>(q.size()));
+    traj.points.push_back(std::move(point));
+  }
+  return traj;
+}
+
+PlanEvent parseEvent(const Reader& r, const Json& j, const std::string& path) {
+  r.requireObject(j, path);
+  PlanEvent e;
+  e.t = r.time(r.field(j, path, "t"), Reader::join(path, "t"));
+  const std::string type_path = Reader::join(path, "type");
+  const std::string type = r.string(r.field(j, path, "type"), type_path);
+  e.robot = r.nonEmptyString(r.field(j, path, "robot"), Reader::join(path, "robot"));
+  const std::string object_path = Reader::join(path, "object");
+  if (type == "grasp") {
+    e.type = PlanEvent::Type::kGrasp;
+    e.object = r.nonEmptyString(r.field(j, path, "object"), object_path);
+    e.X_TO = r.pose(r.field(j, path, "X_TO"), Reader::join(path, "X_TO"));
+  } else if (type == "release") {
+    e.type = PlanEvent::Type::kRelease;
+    e.object = r.nonEmptyString(r.field(j, path, "object"), object_path);
+  } else if (type == "inspect") {
+    e.type = PlanEvent::Type::kInspect;
+    const std::string task_path = Reader::join(path, "task");
+    const Json& task = r.field(j, path, "task");
+    if (!task.is_number_integer()) r.fail(task_path, "expected a task index (an integer)");
+    if (task.is_number_unsigned()) {
+      const auto index = task.get<std::uint64_t>();
+      if (index > static_cast<std::uint64_t>(std::numeric_limits<int>::max())) r.fail(task_path, "task index too large");
+      e.task = static_cast<int>(index);
+    } else {
+      r.fail(task_path, "task index must not be negative");
+    }
+    if (const auto it = j.find("object"); it != j.end() && !it->is_null()) e.object = r.nonEmptyString(*it, object_path);
+  } else {
+    r.fail(type_path, "unknown event type \"" + type + "\" (expected grasp, release or inspect)");
+  }
+  return e;
+}
+
+// ---- writing ----
+
+Json poseJson(const Pose& X) {
+  const Vec3 p = X.translation();
+  const auto q = quatXYZW(X);
+  return Json{{"p", {p.x(), p.y(), p.z()}}, {"q", {q[0], q[1], q[2], q[3]}}};
+}
+
+Json vectorJson(const JointVector& q) {
+  Json out = Json::array();
+  for (Eigen::Index i = 0; i < q.size(); ++i) out.push_back(q[i]);
+  return out;
+}
+
+}  // namespace
+
+Plan parsePlan(const std::string& json_text, const std::string& source_name) {
+  const Reader r(source_name);
+  Json root;
+  try {
+    root = Json::parse(json_text);
+  } catch (const Json::parse_error& e) {
+    r.fail("", std::string("invalid JSON: ") + e.what());
+  }
+  r.requireObject(root, "");
+  Plan plan;
+  plan.format = r.string(r.field(root, "", "format"), "format");
+  if (plan.format != kPlanFormat) {
+    r.fail("format", "unknown format \"" + plan.format + "\" (expected \"" + kPlanFormat + "\")");
+  }
+  plan.scene = r.nonEmptyString(r.field(root, "", "scene"), "scene");
+  plan.planner = r.nonEmptyString(r.field(root, "", "planner"), "planner");
+  plan.status = r.nonEmptyString(r.field(root, "", "status"), "status");
+  plan.makespan = r.time(r.field(root, "", "makespan"), "makespan");
+
+  const Json& robots = r.field(root, "", "robots");
+  r.requireObject(robots, "robots");
+  for (const auto& [id, value] : robots.items()) {
+    const std::string path = Reader::join("robots", id);
+    if (id.empty()) r.fail("robots", "a robot id must not be empty");
+    plan.robots.push_back(parseTrajectory(r, id, value, path));
+  }
+  const Json& events = r.array(r.field(root, "", "events"), "events");
+  plan.events.reserve(events.size());
+  for (std::size_t i = 0; i < events.size(); ++i) plan.events.push_back(parseEvent(r, events[i], Reader::index("events", i)));
+  return plan;
+}
+
+Plan loadPlan(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  DASH_THROW_UNLESS(in.good(), path + ": cannot open the plan file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parsePlan(text.str(), path);
+}
+
+std::string planToJson(const Plan& plan) {
+  Json root;
+  root["format"] = plan.format;
+  root["scene"] = plan.scene;
+  root["planner"] = plan.planner;
+  root["status"] = plan.status;
+  root["makespan"] = plan.makespan;
+  Json robots = Json::object();
+  std::set<std::string> seen;
+  for (const auto& traj : plan.robots) {
+    DASH_THROW_UNLESS(seen.insert(traj.robot).second, "plan lists robot \"" + traj.robot + "\" twice");
+    Json points = Json::array();
+    for (const auto& p : traj.points) points.push_back(Json{{"t", p.t}, {"q", vectorJson(p.q)}});
+    robots[traj.robot] = Json{{"joint_names", traj.joint_names}, {"points", points}};
+  }
+  root["robots"] = robots;
+  Json events = Json::array();
+  for (const auto& e : plan.events) {
+    Json j{{"t", e.t}, {"type", eventTypeName(e.type)}, {"robot", e.robot}};
+    switch (e.type) {
+      case PlanEvent::Type::kGrasp:
+        j["object"] = e.object;
+        j["X_TO"] = poseJson(e.X_TO);
+        break;
+      case PlanEvent::Type::kRelease:
+        j["object"] = e.object;
+        break;
+      case PlanEvent::Type::kInspect:
+        if (!e.object.empty()) j["object"] = e.object;
+        j["task"] = e.task;
+        break;
+    }
+    events.push_back(std::move(j));
+  }
+  root["events"] = events;
+  return root.dump(1) + "\n";
+}
+
+void savePlan(const Plan& plan, const std::string& path) {
+  const std::string text = planToJson(plan);
+  std::ofstream out(path, std::ios::binary);
+  DASH_THROW_UNLESS(out.good(), path + ": cannot open the plan file for writing");
+  out << text;
+  out.close();
+  DASH_THROW_UNLESS(out.good(), path + ": cannot write the plan file");
+}
+
+std::string validationReportToJson(const ValidationReport& report) {
+  Json root;
+  root["valid"] = report.valid();
+  root["samples"] = report.samples;
+  Json problems = Json::array();
+  for (const auto& p : report.problems) {
+    problems.push_back(Json{{"kind", problemKindName(p.kind)}, {"t", p.t}, {"t_end", p.t_end}, {"robot", p.robot},
+                            {"object", p.object}, {"other", p.other}, {"message", p.message}});
+  }
+  root["problems"] = problems;
+  return root.dump(1) + "\n";
+}
+
+}  // namespace dash

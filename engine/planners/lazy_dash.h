@@ -1,0 +1,18 @@
+#pragma once
+// Lazy-DaSH (Lazy Decomposable State Space Hypergraph): Motes et al.'s hypergraph planner made lazy
+// at three stages (../shared/paper/lazy-dash.tex, Algorithm 1): the task query defers motion
+// feasibility to the motion layer; the motion hypergraph is built over edge-unvalidated roadmaps and
+// validated in the motion query; conflict resolution replans lazily with motion constraints.
+// Task conflict detection (Algorithm 2) and task space expansion happen before any motion is planned.
+#include "engine/planners/planner.h"
+
+namespace dash {
+
+class LazyDash final : public Planner {
+ public:
+  std::string name() const override { return "lazy-dash"; }
+  PlanResult solve(const Scene& scene, const PlannerSettings& settings, const Deadline& deadline,
+                   log::EventSink* sink) override;
+};
+
+}  // namespace dash

@@ -1,0 +1,27 @@
+#include "engine/planners/planner.h"
+
+#include "engine/core/check.h"
+#include "engine/planners/lazy_dash.h"
+
+namespace dash {
+
+const char* toString(PlanOutcome outcome) {
+  switch (outcome) {
+    case PlanOutcome::kSolved: return "solved";
+    case PlanOutcome::kTimeout: return "timeout";
+    case PlanOutcome::kInfeasible: return "infeasible";
+    case PlanOutcome::kCancelled: return "cancelled";
+  }
+  return "?";
+}
+
+std::vector<std::string> plannerNames() { return {"lazy-dash"}; }
+
+std::unique_ptr<Planner> makePlanner(const std::string& name) {
+  if (name == "lazy-dash") return std::make_unique<LazyDash>();
+  std::string known;
+  for (const auto& n : plannerNames()) known += (known.empty() ? "" : ", ") + n;
+  throw InputError("unknown planner '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace dash

@@ -1,0 +1,349 @@
+#include "engine/task/task_conflict_detection.h"
+
+#include <algorithm>
+
+#include "engine/collision/collision_queries.h"
+#include "engine/placement/placement_region.h"
+
+namespace dash {
+
+namespace {
+constexpr double kMinLocationSpacing = 0.085;  // centre distance kept between a resampled pose and others
+constexpr int kResampleAttempts = 200;
+
+bool isObjectMove(TaskArcType t) {
+  return t == TaskArcType::kPick || t == TaskArcType::kPlace || t == TaskArcType::kHandover;
+}
+}  // namespace
+
+struct TaskConflictDetector::Trace {
+  std::vector<ObjectLayout> before;            ///< objects resting just before each step
+  std::vector<std::vector<int>> location;      ///< each object's location before each step (-1: held)
+  ObjectLayout empty;
+};
+
+// Depth-first search for one object's transition configurations along its steps. The grasp chosen when
+// a robot takes the object (pick or handover) fixes X_TO until it lets go, so the steps of one object
+// are solved together, backtracking over grasp candidates and handover poses within a budget.
+class ChainSearch {
+ public:
+  ChainSearch(TransitionSampler& sampler, const TaskSpace& space, const TaskPlan& plan,
+              const std::vector<ObjectLayout>& before, const ObjectLayout& empty, std::vector<int> steps, int object,
+              bool use_objects, const TaskConflictParams& params)
+      : sampler_(sampler), space_(space), plan_(plan), before_(before), empty_(empty), steps_(std::move(steps)),
+        object_(object), use_objects_(use_objects), params_(params), assignment_(steps_.size()) {}
+
+  bool run() { return solve(0, Pose::Identity()); }
+  const std::vector<TransitionConfig>& assignment() const { return assignment_; }
+  const std::vector<int>& steps() const { return steps_; }
+  /// The position in steps() the search got stuck at most deeply.
+  std::size_t deepest() const { return deepest_; }
+
+ private:
+  const ObjectLayout& layoutAt(int step) const { return use_objects_ ? before_[step] : empty_; }
+
+  bool free(const RobotState& state, int step) {
+    if (!use_objects_) return true;
+    return !robotInCollision(sampler_.world(), sampler_.context(), state, before_[step], nullptr,
+                             CheckScope::kObjectsOnly);
+  }
+
+  bool solve(std::size_t i, const Pose& X_TO) {
+    if (i == steps_.size()) return true;
+    deepest_ = std::max(deepest_, i);
+    if (--budget_ < 0) return false;
+    const int k = steps_[i];
+    const TaskArc& a = plan_.steps[k].action;
+    const int o = object_;
+    switch (a.type) {
+      case TaskArcType::kPick: {
+        const Pose X_WO = space_.location(o, a.location).X_WO;
+        for (const GraspConfig& gc : sampler_.graspConfigs(a.robot, o, X_WO, a.grasp, params_.grasp_candidates)) {
+          if (!free({a.robot, gc.q, HeldObject{o, gc.X_TO}}, k)) continue;
+          assignment_[i] = {true, gc.q, {}, X_WO, gc.X_TO, Pose::Identity()};
+          if (solve(i + 1, gc.X_TO)) return true;
+          if (budget_ < 0) return false;
+        }
+        return false;
+      }
+      case TaskArcType::kPlace: {
+        const Pose X_WO = space_.location(o, a.location).X_WO;
+        for (const JointVector& q : sampler_.holdConfigs(a.robot, o, X_WO, X_TO, 3)) {
+          if (!free({a.robot, q, HeldObject{o, X_TO}}, k)) continue;
+          assignment_[i] = {true, q, {}, X_WO, X_TO, Pose::Identity()};
+          return solve(i + 1, Pose::Identity());  // the next step starts a new grasp: no reason to retry
+        }
+        return false;
+      }
+      case TaskArcType::kHandover: {
+        const std::vector<Pose> poses = sampler_.handoverPoses(a.robot, a.robot2);
+        const int tries = std::min<int>(params_.handover_poses, static_cast<int>(poses.size()));
+        for (int p = 0; p < tries; ++p) {
+          const Pose& X_WO = poses[p];
+          const std::vector<JointVector> givers = sampler_.holdConfigs(a.robot, o, X_WO, X_TO, 2);
+          if (givers.empty()) continue;
+          const std::vector<GraspConfig> receivers = sampler_.graspConfigs(a.robot2, o, X_WO, a.grasp2, 4);
+          for (const JointVector& q1 : givers)
+            for (const GraspConfig& gc2 : receivers) {
+              const RobotState states[2] = {{a.robot, q1, HeldObject{o, X_TO}}, {a.robot2, gc2.q, HeldObject{}}};
+              if (robotsInCollision(sampler_.world(), sampler_.context(), states, layoutAt(k), nullptr,
+                                    use_objects_ ? CheckScope::kAll : CheckScope::kStaticOnly))
+                continue;
+              assignment_[i] = {true, q1, gc2.q, X_WO, X_TO, gc2.X_TO};
+              if (solve(i + 1, gc2.X_TO)) return true;
+              if (budget_ < 0) return false;
+            }
+        }
+        return false;
+      }
+      default:
+        return solve(i + 1, X_TO);
+    }
+  }
+
+  TransitionSampler& sampler_;
+  const TaskSpace& space_;
+  const TaskPlan& plan_;
+  const std::vector<ObjectLayout>& before_;
+  const ObjectLayout& empty_;
+  std::vector<int> steps_;
+  int object_;
+  bool use_objects_;
+  const TaskConflictParams& params_;
+  std::vector<TransitionConfig> assignment_;
+  std::size_t deepest_ = 0;
+  int budget_ = params_.chain_budget;
+};
+
+TaskConflictDetector::TaskConflictDetector(TransitionSampler& sampler, TaskSpace& space, const TaskHypergraph& graph,
+                                           Rng& rng, TaskConflictParams params)
+    : sampler_(&sampler), space_(&space), graph_(&graph), rng_(&rng), params_(params) {}
+
+void TaskConflictDetector::traceLayouts(const TaskPlan& plan, Trace& trace) const {
+  const Scene& scene = space_->scene();
+  ObjectLayout layout = ObjectLayout::atStart(scene);
+  std::vector<int> location(scene.objects.size());
+  for (int o = 0; o < space_->objectCount(); ++o) {
+    location[o] = space_->startLocation(o);
+    layout.place(o, space_->location(o, location[o]).X_WO);
+  }
+  trace.empty = ObjectLayout::empty(scene);
+  trace.before.reserve(plan.steps.size());
+  for (const TaskStep& step : plan.steps) {
+    trace.before.push_back(layout);
+    trace.location.push_back(location);
+    const TaskArc& a = step.action;
+    if (a.type == TaskArcType::kPick) {
+      layout.remove(a.object);
+      location[a.object] = -1;
+    } else if (a.type == TaskArcType::kPlace) {
+      layout.place(a.object, space_->location(a.object, a.location).X_WO);
+      location[a.object] = a.location;
+    }
+  }
+}
+
+VertexId TaskConflictDetector::producedElement(const TaskStep& step) const {
+  const TaskArc& a = step.action;
+  const TaskGraph& g = graph_->graph();
+  for (VertexId v : g.head(step.arc)) {
+    const TaskElement& e = g.property(v);
+    if (a.type == TaskArcType::kPlace && e.kind == ElementKind::kObjectAt) return v;
+    if (a.type == TaskArcType::kPick && e.kind == ElementKind::kHolding) return v;
+    if (a.type == TaskArcType::kHandover && e.kind == ElementKind::kHolding) return v;
+    if (a.type == TaskArcType::kInspect && e.kind == ElementKind::kTaskDone) return v;
+  }
+  return {};
+}
+
+bool TaskConflictDetector::resampleLocation(int object, int location, const Trace&) {
+  const Scene& scene = space_->scene();
+  const ObjectLocation& loc = space_->location(object, location);
+  if (!loc.resampleable || loc.surface < 0) return false;
+  const PlacementRegion region(scene.surfaces[loc.surface]);
+  const BoxShape& box = scene.objects[object].shape;
+  ObjectLayout none = ObjectLayout::empty(scene);
+  for (int attempt = 0; attempt < kResampleAttempts; ++attempt) {
+    const auto pose = region.sample(box, *rng_, 16);
+    if (!pose) continue;
+    bool clear = true;
+    for (int o = 0; o < space_->objectCount() && clear; ++o)
+      for (int l = 0; l < static_cast<int>(space_->locations(o).size()) && clear; ++l) {
+        if (o == object && l == location) continue;
+        const Vec3 d = space_->location(o, l).X_WO.translation() - pose->translation();
+        clear = d.norm() >= kMinLocationSpacing;
+      }
+    if (!clear || objectInCollision(sampler_->world(), sampler_->context(), object, *pose, none)) continue;
+    space_->resample(object, location, *pose);
+    return true;
+  }
+  return false;
+}
+
+// Vertex-vertex conflicts between object poses: a placement onto a spot another object occupies.
+bool TaskConflictDetector::resolvePoseConflicts(const TaskPlan& plan, const Trace& trace, TaskConflictResult& result) {
+  const Scene& scene = space_->scene();
+  bool resampled = false;
+  for (std::size_t k = 0; k < plan.steps.size(); ++k) {
+    const TaskArc& a = plan.steps[k].action;
+    if (a.type != TaskArcType::kPlace) continue;
+    CollisionReport report;
+    if (!objectInCollision(sampler_->world(), sampler_->context(), a.object, space_->location(a.object, a.location).X_WO,
+                           trace.before[k], &report))
+      continue;
+    const int other = report.b.kind == CollisionElement::Kind::kObject ? report.b.index : -1;
+    const std::string what = "pose conflict: " + space_->locationLabel(a.object, a.location) + " (" +
+                             describe(report, scene) + ") at step " + std::to_string(k);
+    if (resampleLocation(a.object, a.location, trace)) {
+      result.conflicts.push_back(what + ": resampled " + space_->locationLabel(a.object, a.location));
+      ++result.resampled;
+      resampled = true;
+    } else if (other >= 0 && trace.location[k][other] >= 0 && resampleLocation(other, trace.location[k][other], trace)) {
+      result.conflicts.push_back(what + ": resampled " + space_->locationLabel(other, trace.location[k][other]));
+      ++result.resampled;
+      resampled = true;
+    } else if (other >= 0) {
+      addBlockerConstraints(plan, trace, static_cast<int>(k), {other}, result);
+      result.conflicts.push_back(what);
+    }
+    if (resampled) return true;  // layouts changed: the next pass traces them again
+  }
+  return false;
+}
+
+void TaskConflictDetector::addBlockerConstraints(const TaskPlan& plan, const Trace& trace, int step,
+                                                 const std::vector<int>& blockers, TaskConflictResult& result) {
+  const VertexId post = producedElement(plan.steps[step]);
+  if (!post.valid()) return;
+  for (int b : blockers) {
+    const int lb = trace.location[step][b];
+    if (lb < 0) continue;
+    const auto pre = graph_->find(TaskElement::objectAt(b, lb));
+    if (!pre) continue;
+    const ObjectLocation& where = space_->location(b, lb);
+    TaskConstraint c;
+    // A blocker at its final goal will not move again: once it is there, the blocked transition can
+    // never happen (history constraint). Anywhere else it may move away (frontier constraint).
+    const bool final_goal = where.kind == ObjectLocation::Kind::kGoal && space_->extraLocationCount(b) == 0;
+    c.kind = final_goal ? TaskConstraint::Kind::kHistory : TaskConstraint::Kind::kFrontier;
+    c.pre = *pre;
+    c.post = post;
+    c.cause = "step " + std::to_string(step) + " (" + describeStep(plan.steps[step], *space_) + ") blocked by " +
+              space_->locationLabel(b, lb);
+    result.constraints.push_back(c);
+    // The blocker must leave a place it has to end at, and has nowhere else to go: expand.
+    const bool anchored = where.isStart() && (where.isGoal() || space_->goalLocation(b) < 0);
+    if (anchored && !space_->isFixed(b) && space_->extraLocationCount(b) == 0 &&
+        std::find(result.expand_objects.begin(), result.expand_objects.end(), b) == result.expand_objects.end())
+      result.expand_objects.push_back(b);
+  }
+}
+
+void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& trace, TaskConflictResult& result) {
+  std::vector<std::vector<int>> chains(static_cast<std::size_t>(space_->objectCount()));
+  for (int k = 0; k < static_cast<int>(plan.steps.size()); ++k)
+    if (isObjectMove(plan.steps[k].action.type)) chains[plan.steps[k].action.object].push_back(k);
+  for (int o = 0; o < space_->objectCount(); ++o) {
+    if (chains[o].empty()) continue;
+    ChainSearch full(*sampler_, *space_, plan, trace.before, trace.empty, chains[o], o, true, params_);
+    if (full.run()) {
+      for (std::size_t i = 0; i < chains[o].size(); ++i) result.transitions[chains[o][i]] = full.assignment()[i];
+      continue;
+    }
+    ChainSearch alone(*sampler_, *space_, plan, trace.before, trace.empty, chains[o], o, false, params_);
+    if (alone.run()) {
+      // Feasible without the resting objects: they are what blocks it. Name every blocker.
+      bool any = false;
+      for (std::size_t i = 0; i < chains[o].size(); ++i) {
+        const int k = chains[o][i];
+        const TransitionConfig& tc = alone.assignment()[i];
+        const TaskArc& a = plan.steps[k].action;
+        const bool received = a.type == TaskArcType::kHandover;
+        std::vector<int> blockers =
+            sampler_->blockingObjects({a.robot, tc.q, HeldObject{o, tc.X_TO}}, trace.before[k]);
+        if (received) {
+          const auto more = sampler_->blockingObjects({a.robot2, tc.q2, HeldObject{o, tc.X_TO2}}, trace.before[k]);
+          blockers.insert(blockers.end(), more.begin(), more.end());
+        }
+        if (blockers.empty()) continue;
+        any = true;
+        addBlockerConstraints(plan, trace, k, blockers, result);
+        result.conflicts.push_back("step " + std::to_string(k) + " (" + describeStep(plan.steps[k], *space_) +
+                                   "): transition configuration blocked by " + std::to_string(blockers.size()) +
+                                   " resting object(s)");
+      }
+      if (!any)  // only the search budget stood in the way; the object-free solution is valid
+        for (std::size_t i = 0; i < chains[o].size(); ++i) result.transitions[chains[o][i]] = alone.assignment()[i];
+      continue;
+    }
+    // No collision-free transition configuration even without resting objects.
+    const std::size_t at = std::min(alone.deepest(), chains[o].size() - 1);
+    const int k = chains[o][at];
+    const TaskStep& step = plan.steps[k];
+    TaskConstraint c;
+    c.kind = TaskConstraint::Kind::kInteraction;
+    if (step.action.type == TaskArcType::kHandover) {
+      c.giver = step.action.robot;
+      c.receiver = step.action.robot2;
+      c.giver_grasp = step.action.grasp;
+      c.receiver_grasp = step.action.grasp2;
+    } else {
+      c.arc = step.arc;
+    }
+    c.cause = "step " + std::to_string(k) + " (" + describeStep(step, *space_) +
+              "): no collision-free transition configuration";
+    result.constraints.push_back(c);
+    result.conflicts.push_back(c.cause);
+  }
+}
+
+void TaskConflictDetector::solveInspections(const TaskPlan& plan, const Trace& trace, TaskConflictResult& result) {
+  const Scene& scene = space_->scene();
+  for (int k = 0; k < static_cast<int>(plan.steps.size()); ++k) {
+    const TaskStep& step = plan.steps[k];
+    if (step.action.type != TaskArcType::kInspect) continue;
+    const Pose& X_WT = scene.tasks[step.action.task].X_WT;
+    std::vector<int> best_blockers;
+    bool found = false, statically = false;
+    for (const JointVector& q : sampler_->ikSolutions(step.action.robot, X_WT)) {
+      const RobotState state{step.action.robot, q, HeldObject{}};
+      if (!sampler_->staticFree(state)) continue;
+      statically = true;
+      std::vector<int> blockers = sampler_->blockingObjects(state, trace.before[k]);
+      if (blockers.empty()) {
+        result.transitions[k] = {true, q, {}, X_WT, Pose::Identity(), Pose::Identity()};
+        found = true;
+        break;
+      }
+      if (best_blockers.empty() || blockers.size() < best_blockers.size()) best_blockers = blockers;
+    }
+    if (found) continue;
+    if (statically) {
+      addBlockerConstraints(plan, trace, k, best_blockers, result);
+      result.conflicts.push_back("step " + std::to_string(k) + " (inspection) blocked by resting objects");
+    } else {
+      TaskConstraint c;
+      c.kind = TaskConstraint::Kind::kInteraction;
+      c.arc = step.arc;
+      c.cause = "step " + std::to_string(k) + ": inspection pose unreachable without collision";
+      result.constraints.push_back(c);
+      result.conflicts.push_back(c.cause);
+    }
+  }
+}
+
+TaskConflictResult TaskConflictDetector::detect(const TaskPlan& plan) {
+  TaskConflictResult result;
+  result.transitions.resize(plan.steps.size());
+  const std::uint64_t checks_before = sampler_->context().counters().configuration_checks;
+  Trace trace;
+  traceLayouts(plan, trace);
+  if (!resolvePoseConflicts(plan, trace, result)) {
+    solveObjectChains(plan, trace, result);
+    solveInspections(plan, trace, result);
+  }
+  result.configuration_checks = sampler_->context().counters().configuration_checks - checks_before;
+  return result;
+}
+
+}  // namespace dash

@@ -1,0 +1,76 @@
+#pragma once
+// Task conflict detection (paper, Sec. "Task Conflict Detection Layer", Algorithm 2): trace the
+// unvalidated schedule, sample the transition configurations (object poses, and grasp or handover
+// configurations by IK guided by the formation constraint), and check them against the static scene
+// of that moment. Every conflict of the schedule is collected, not just the first:
+//  - a colliding object pose that is not anchored (an extra or resampleable location) is resampled here;
+//  - a robot's transition configuration blocked by resting objects becomes frontier constraints
+//    (v_pre = the blocker at its location, v_post = the element the transition would produce);
+//  - a blocker that would have to leave a location it must also end at, with nowhere else to go,
+//    asks for a task space expansion (an extra stable pose for it);
+//  - a transition with no collision-free configuration even without objects (a handover through a
+//    wall) becomes an interaction constraint. The paper finds these when building the motion
+//    hypergraph; here transition configurations are sampled once, in this layer, and reused there.
+#include <string>
+#include <vector>
+
+#include "engine/core/rng.h"
+#include "engine/task/task_constraints.h"
+#include "engine/task/task_plan.h"
+#include "engine/task/transition_sampler.h"
+
+namespace dash {
+
+/// The sampled configurations of one task step (valid when `sampled`).
+struct TransitionConfig {
+  bool sampled = false;
+  JointVector q;                   ///< actor: picker, placer, giver or inspector
+  JointVector q2;                  ///< handover receiver
+  Pose X_WO = Pose::Identity();    ///< the object at the transition
+  Pose X_TO = Pose::Identity();    ///< actor's grasp (object in TCP frame)
+  Pose X_TO2 = Pose::Identity();   ///< receiver's grasp
+};
+
+struct TaskConflictParams {
+  int chain_budget = 4000;        ///< sampler calls per object chain
+  int grasp_candidates = 6;       ///< per grasp class and pose
+  int handover_poses = 16;        ///< object poses tried per handover
+};
+
+struct TaskConflictResult {
+  std::vector<TransitionConfig> transitions;  ///< one per plan step
+  std::vector<TaskConstraint> constraints;    ///< new constraints to add
+  std::vector<int> expand_objects;            ///< objects that need an extra stable pose
+  std::vector<std::string> conflicts;         ///< what was found, for people and logs
+  int resampled = 0;                          ///< object locations moved in this pass
+  std::size_t configuration_checks = 0;
+
+  bool feasible() const { return constraints.empty() && expand_objects.empty() && resampled == 0; }
+};
+
+class TaskConflictDetector {
+ public:
+  TaskConflictDetector(TransitionSampler& sampler, TaskSpace& space, const TaskHypergraph& graph, Rng& rng,
+                       TaskConflictParams params = {});
+
+  TaskConflictResult detect(const TaskPlan& plan);
+
+ private:
+  struct Trace;
+  void traceLayouts(const TaskPlan& plan, Trace& trace) const;
+  bool resolvePoseConflicts(const TaskPlan& plan, const Trace& trace, TaskConflictResult& result);
+  bool resampleLocation(int object, int location, const Trace& trace);
+  void solveObjectChains(const TaskPlan& plan, const Trace& trace, TaskConflictResult& result);
+  void solveInspections(const TaskPlan& plan, const Trace& trace, TaskConflictResult& result);
+  void addBlockerConstraints(const TaskPlan& plan, const Trace& trace, int step, const std::vector<int>& blockers,
+                             TaskConflictResult& result);
+  VertexId producedElement(const TaskStep& step) const;
+
+  TransitionSampler* sampler_;
+  TaskSpace* space_;
+  const TaskHypergraph* graph_;
+  Rng* rng_;
+  TaskConflictParams params_;
+};
+
+}  // namespace dash

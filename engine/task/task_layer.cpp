@@ -1,0 +1,236 @@
+#include "engine/task/task_layer.h"
+
+#include <algorithm>
+
+#include "engine/collision/collision_queries.h"
+#include "engine/placement/placement_region.h"
+
+namespace dash {
+
+namespace {
+constexpr double kMoveOutRadius = 0.75;      // around the robot base that will move the object out
+constexpr double kMoveOutSpacing = 0.09;     // centre distance to every other known object location
+constexpr int kMoveOutAttempts = 400;
+
+log::ConstraintKind toLogKind(TaskConstraint::Kind k) {
+  switch (k) {
+    case TaskConstraint::Kind::kFrontier: return log::ConstraintKind::Frontier;
+    case TaskConstraint::Kind::kHistory: return log::ConstraintKind::History;
+    case TaskConstraint::Kind::kInteraction: return log::ConstraintKind::Interaction;
+  }
+  return log::ConstraintKind::Frontier;
+}
+}  // namespace
+
+const char* toString(TaskLayerStatus status) {
+  switch (status) {
+    case TaskLayerStatus::kFeasible: return "feasible";
+    case TaskLayerStatus::kInfeasible: return "infeasible";
+    case TaskLayerStatus::kTimeout: return "timeout";
+  }
+  return "?";
+}
+
+TaskLayer::TaskLayer(const Scene& scene, const CollisionWorld& world, CollisionContext& context,
+                     log::EventEmitter& emitter, std::uint64_t seed, TaskLayerParams params)
+    : scene_(&scene),
+      emitter_(&emitter),
+      params_(params),
+      rng_(Rng::derive(seed, 11)),
+      space_(scene),
+      sampler_(world, context),
+      reachability_(sampler_) {
+  // A task that needs an object out of the way (a lid) needs somewhere to put it: one resampleable
+  // extra location each, the minimal task space that can express the task.
+  for (const SceneTask& task : scene.tasks)
+    if (task.requires_removed_object >= 0 && space_.extraLocationCount(task.requires_removed_object) == 0)
+      expand(task.requires_removed_object, "inspect task needs it away from its start");
+}
+
+TaskLayerSizes TaskLayer::sizes() const {
+  return {graph_.graph().vertexCount(), graph_.graph().hyperarcCount(), extended_vertices_, extended_hyperarcs_};
+}
+
+void TaskLayer::rebuild() {
+  log::PhaseTimer timer(*emitter_, log::Phase::TaskConstruction);
+  const TaskGraph& g = graph_.graph();
+  TaskHypergraph::Observer observer;
+  if (emitter_->enabled()) {
+    observer.onVertex = [&](VertexId v, const TaskElement& e) {
+      emitter_->vertex(log::Layer::Task, v.value(), elementLabel(e, space_));
+    };
+    observer.onHyperarc = [&](HyperarcId a, const TaskArc& arc) {
+      std::vector<std::uint32_t> head, tail;
+      for (VertexId v : g.head(a)) head.push_back(v.value());
+      for (VertexId v : g.tail(a)) tail.push_back(v.value());
+      emitter_->hyperarc(log::Layer::Task, taskArcTypeName(arc.type), a.value(), std::move(head), std::move(tail));
+    };
+  }
+  graph_.build(space_, reachability_.oracle(), observer);
+}
+
+bool TaskLayer::addConstraint(const TaskConstraint& c) {
+  if (!constraints_.add(c)) return false;
+  std::string content;
+  std::vector<std::uint32_t> vertices;
+  if (c.kind == TaskConstraint::Kind::kInteraction) {
+    if (c.arc.valid()) {
+      content = "forbid " + graph_.label(c.arc, space_);
+    } else {
+      content = "forbid handover " + scene_->robots[c.giver].id + " -> " + scene_->robots[c.receiver].id + " (" +
+                graspClassName(c.giver_grasp) + " -> " + graspClassName(c.receiver_grasp) + ")";
+    }
+  } else {
+    content = "(" + graph_.label(c.pre, space_) + ", " + graph_.label(c.post, space_) + ")";
+    vertices = {c.pre.value(), c.post.value()};
+  }
+  emitter_->constraint(toLogKind(c.kind), log::ConstraintAction::Created,
+                       static_cast<std::uint32_t>(constraints_.size() - 1), std::move(content), std::move(vertices),
+                       c.cause);
+  return true;
+}
+
+// Task space expansion: an extra stable pose ("move-out" state) for `object`, on a support surface
+// near a robot that can take it from its start, clear of every other known object location.
+bool TaskLayer::expand(int object, const std::string& reason) {
+  if (space_.extraLocationCount(object) >= params_.max_extra_locations_per_object) return false;
+  const Scene& scene = *scene_;
+  const SceneObject& obj = scene.objects[object];
+  const Pose& start = space_.location(object, space_.startLocation(object)).X_WO;
+  std::vector<int> robots;
+  for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r)
+    if (scene.robots[r].hasCapability("grasp") &&
+        (reachability_.canGrasp(r, object, start, GraspClass::kTop) ||
+         reachability_.canGrasp(r, object, start, GraspClass::kSide)))
+      robots.push_back(r);
+  std::vector<PlacementRegion> regions;
+  for (const SceneSurface& s : scene.surfaces) regions.emplace_back(s);
+  const ObjectLayout none = ObjectLayout::empty(scene);
+  for (int attempt = 0; attempt < kMoveOutAttempts; ++attempt) {
+    for (int r : robots) {
+      const int s = static_cast<int>(rng_.integer(0, static_cast<std::int64_t>(regions.size()) - 1));
+      const auto pose = regions[s].sampleNear(obj.shape, scene.robots[r].X_WB.translation(), kMoveOutRadius, rng_, 4);
+      if (!pose) continue;
+      bool clear = true;
+      for (int o = 0; o < space_.objectCount() && clear; ++o)
+        for (const ObjectLocation& l : space_.locations(o))
+          if ((l.X_WO.translation() - pose->translation()).norm() < kMoveOutSpacing) clear = false;
+      if (!clear || objectInCollision(sampler_.world(), sampler_.context(), object, *pose, none)) continue;
+      if (!reachability_.canGrasp(r, object, *pose, GraspClass::kTop) &&
+          !reachability_.canGrasp(r, object, *pose, GraspClass::kSide))
+        continue;
+      const int index = space_.addExtraLocation(object, *pose, s);
+      const Vec3 p = pose->translation();
+      emitter_->taskSpaceExpansion(static_cast<std::uint32_t>(object), obj.id,
+                                   space_.locationLabel(object, index) + " at (" + std::to_string(p.x()) + ", " +
+                                       std::to_string(p.y()) + ", " + std::to_string(p.z()) + ") on " +
+                                       scene.surfaces[s].id,
+                                   reason);
+      return true;
+    }
+  }
+  return false;
+}
+
+// The query failed under constraints: the objects that block others where they rest get a move-out
+// state (paper: the constraints contradict each other; expand the task space).
+std::vector<int> TaskLayer::objectsToExpandAfterFailure() const {
+  std::vector<int> out;
+  const TaskGraph& g = graph_.graph();
+  for (const TaskConstraint& c : constraints_.all()) {
+    if (c.kind == TaskConstraint::Kind::kInteraction) continue;
+    const TaskElement& pre = g.property(c.pre);
+    if (pre.kind != ElementKind::kObjectAt || space_.isFixed(pre.object)) continue;
+    if (space_.extraLocationCount(pre.object) >= params_.max_extra_locations_per_object) continue;
+    if (std::find(out.begin(), out.end(), pre.object) == out.end()) out.push_back(pre.object);
+  }
+  return out;
+}
+
+TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
+  TaskLayerResult result;
+  rebuild();
+  TaskConflictDetector detector(sampler_, space_, graph_, rng_, params_.conflicts);
+  TaskQueryObserver observer;
+  if (emitter_->enabled()) {
+    observer.onVertex = [&](const ExtendedVertex& v) {
+      ++extended_vertices_;
+      emitter_->vertex(log::Layer::TaskExtended, static_cast<std::uint32_t>(extended_vertices_ - 1),
+                       graph_.label(v.vertex, space_));
+    };
+    observer.onHyperarc = [&](const ExtendedHyperarc& a) {
+      ++extended_hyperarcs_;
+      std::vector<std::uint32_t> head, tail;
+      for (ExtendedVertexId v : a.produced) head.push_back(v.value());
+      for (ExtendedVertexId v : a.consumed) tail.push_back(v.value());
+      emitter_->hyperarc(log::Layer::TaskExtended, taskArcTypeName(graph_.graph().property(a.hyperarc).type),
+                         static_cast<std::uint32_t>(extended_hyperarcs_ - 1), std::move(head), std::move(tail));
+    };
+  } else {
+    observer.onVertex = [&](const ExtendedVertex&) { ++extended_vertices_; };
+    observer.onHyperarc = [&](const ExtendedHyperarc&) { ++extended_hyperarcs_; };
+  }
+
+  for (int iteration = 0; iteration < params_.max_iterations; ++iteration) {
+    if (deadline.expired()) {
+      result.status = TaskLayerStatus::kTimeout;
+      return result;
+    }
+    ++queries_;
+    TaskQueryResult query;
+    {
+      log::PhaseTimer timer(*emitter_, log::Phase::TaskQuery);
+      query = queryTaskPlan(graph_, space_, constraints_, params_.query, deadline, observer);
+    }
+    if (!query.found()) {
+      if (query.status == HyperpathStatus::kDeadline) {
+        result.status = TaskLayerStatus::kTimeout;
+        return result;
+      }
+      bool expanded = false;
+      for (int o : objectsToExpandAfterFailure())
+        expanded = expand(o, std::string("task query ") + std::string(toString(query.status)) +
+                                 " under the task constraints") || expanded;
+      if (expanded) {
+        rebuild();
+        continue;
+      }
+      result.status = TaskLayerStatus::kInfeasible;
+      result.reason = std::string("task query ") + std::string(toString(query.status)) + " with " +
+                      std::to_string(constraints_.size()) + " task constraints";
+      return result;
+    }
+    TaskConflictResult conflicts;
+    {
+      log::PhaseTimer timer(*emitter_, log::Phase::TaskConflictDetection);
+      conflicts = detector.detect(query.plan);
+    }
+    emitter_->counter("collision_checks_task", static_cast<std::int64_t>(sampler_.context().counters().configuration_checks));
+    if (conflicts.feasible()) {
+      result.status = TaskLayerStatus::kFeasible;
+      result.plan = std::move(query.plan);
+      result.transitions = std::move(conflicts.transitions);
+      return result;
+    }
+    int progress = conflicts.resampled;
+    for (const TaskConstraint& c : conflicts.constraints) progress += addConstraint(c) ? 1 : 0;
+    bool expanded = false;
+    for (int o : conflicts.expand_objects) expanded = expand(o, "blocks another object where it must end") || expanded;
+    if (expanded) {
+      ++progress;
+      rebuild();
+    }
+    if (progress == 0) {
+      result.status = TaskLayerStatus::kInfeasible;
+      result.reason = "task conflicts repeat with no new constraint: " +
+                      (conflicts.conflicts.empty() ? std::string("?") : conflicts.conflicts.front());
+      return result;
+    }
+    emitter_->setIteration(emitter_->iteration() + 1);
+  }
+  result.status = TaskLayerStatus::kInfeasible;
+  result.reason = "task layer iteration limit reached";
+  return result;
+}
+
+}  // namespace dash

@@ -1,0 +1,80 @@
+#pragma once
+// The task planning layer of Lazy-DaSH (paper, Algorithm 1, lines 4-7, with Algorithm 2): build H_T,
+// query an unvalidated schedule, detect task conflicts, feed back task constraints or expand the task
+// space, and repeat until the schedule is task-level feasible. The motion layer reports what it learns
+// (infeasible transitions, blocked motions) through addConstraint(), then asks for a new plan.
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "engine/core/deadline.h"
+#include "engine/core/rng.h"
+#include "engine/log/event_emitter.h"
+#include "engine/task/geometric_reachability.h"
+#include "engine/task/task_conflict_detection.h"
+#include "engine/task/task_query.h"
+
+namespace dash {
+
+struct TaskLayerParams {
+  TaskQueryParams query;
+  TaskConflictParams conflicts;
+  int max_iterations = 1000;
+  int max_extra_locations_per_object = 2;
+};
+
+enum class TaskLayerStatus { kFeasible, kInfeasible, kTimeout };
+const char* toString(TaskLayerStatus status);
+
+struct TaskLayerResult {
+  TaskLayerStatus status = TaskLayerStatus::kInfeasible;
+  TaskPlan plan;
+  std::vector<TransitionConfig> transitions;  ///< per plan step
+  std::string reason;                         ///< why not feasible
+};
+
+/// Sizes of the task-level representations: H_T as built, H_TE summed over all queries.
+struct TaskLayerSizes {
+  std::size_t task_vertices = 0;
+  std::size_t task_hyperarcs = 0;
+  std::size_t task_extended_vertices = 0;
+  std::size_t task_extended_hyperarcs = 0;
+};
+
+class TaskLayer {
+ public:
+  TaskLayer(const Scene& scene, const CollisionWorld& world, CollisionContext& context, log::EventEmitter& emitter,
+            std::uint64_t seed, TaskLayerParams params = {});
+
+  /// Loops until the schedule is task-level feasible, infeasible, or the deadline passes.
+  TaskLayerResult plan(const Deadline& deadline);
+  /// Adds a constraint (emitting its event); false if it was already known.
+  bool addConstraint(const TaskConstraint& c);
+
+  const TaskSpace& space() const { return space_; }
+  const TaskHypergraph& graph() const { return graph_; }
+  const TaskConstraintSet& constraints() const { return constraints_; }
+  TaskLayerSizes sizes() const;
+  int queries() const { return queries_; }
+  TransitionSampler& sampler() { return sampler_; }
+
+ private:
+  void rebuild();
+  bool expand(int object, const std::string& reason);
+  std::vector<int> objectsToExpandAfterFailure() const;
+
+  const Scene* scene_;
+  log::EventEmitter* emitter_;
+  TaskLayerParams params_;
+  Rng rng_;
+  TaskSpace space_;
+  TransitionSampler sampler_;
+  GeometricReachability reachability_;
+  TaskHypergraph graph_;
+  TaskConstraintSet constraints_;
+  std::size_t extended_vertices_ = 0;
+  std::size_t extended_hyperarcs_ = 0;
+  int queries_ = 0;
+};
+
+}  // namespace dash

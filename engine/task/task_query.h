@@ -1,0 +1,38 @@
+#pragma once
+// Task query (paper, "Query (Task-extended Hypergraph)"): builds H_TE from the source by expanding
+// task hyperarcs whose whole tail is on the frontier, greedily by an estimated cost-to-go, with
+// backtracking, and never expanding what the task constraints forbid. The result is an unvalidated
+// schedule.
+#include <functional>
+
+#include "engine/core/deadline.h"
+#include "engine/hypergraph/hyperpath_search.h"
+#include "engine/task/task_constraints.h"
+#include "engine/task/task_heuristic.h"
+#include "engine/task/task_plan.h"
+
+namespace dash {
+
+struct TaskQueryParams {
+  HyperpathAlgorithm algorithm = HyperpathAlgorithm::kGreedy;
+  std::size_t max_expansions = 400000;
+};
+
+struct TaskQueryResult {
+  HyperpathStatus status = HyperpathStatus::kExhausted;
+  TaskPlan plan;
+  HyperpathStats stats;
+  bool found() const { return status == HyperpathStatus::kFound; }
+};
+
+/// Observers of H_TE growth (extended vertices and hyperarcs), for the event stream.
+struct TaskQueryObserver {
+  std::function<void(const ExtendedVertex&)> onVertex;
+  std::function<void(const ExtendedHyperarc&)> onHyperarc;
+};
+
+TaskQueryResult queryTaskPlan(const TaskHypergraph& graph, const TaskSpace& space,
+                              const TaskConstraintSet& constraints, const TaskQueryParams& params,
+                              const Deadline& deadline, const TaskQueryObserver& observer = {});
+
+}  // namespace dash

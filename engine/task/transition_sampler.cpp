@@ -1,0 +1,123 @@
+#include "engine/task/transition_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/collision/collision_queries.h"
+#include "engine/robots/kinematics.h"
+
+namespace dash {
+
+namespace {
+constexpr double kTopBottomCosine = 0.7;      // |cos| of the approach against vertical
+constexpr double kUrReachMetres = 1.05;       // TCP from the base axis, generous (0.85 flange + TCP offset)
+constexpr double kHandoverHeights[] = {0.35, 0.45, 0.25, 0.55};
+constexpr double kHandoverLateral[] = {0.0, 0.12, -0.12};
+constexpr double kHandoverYaws[] = {0.0, 1.5707963267948966, 3.141592653589793, -1.5707963267948966};
+
+double jointDistance(const JointVector& a, const JointVector& b) { return (a - b).cwiseAbs().sum(); }
+}  // namespace
+
+GraspClass classifyGrasp(const Pose& X_WT) {
+  const double z = X_WT.linear().col(2).z();
+  if (z < -kTopBottomCosine) return GraspClass::kTop;
+  if (z > kTopBottomCosine) return GraspClass::kBottom;
+  return GraspClass::kSide;
+}
+
+TransitionSampler::TransitionSampler(const CollisionWorld& world, CollisionContext& context)
+    : world_(&world), context_(&context), no_objects_(ObjectLayout::empty(world.scene())) {}
+
+bool TransitionSampler::inRange(int robot, const Vec3& p_W) const {
+  const SceneRobot& r = world_->scene().robots[robot];
+  if (r.model->kinematics == KinematicsKind::kGantry) {
+    const Vec3 p_B = r.X_WB.inverse() * p_W;
+    const auto& lo = r.model->limits.position_min;
+    const auto& hi = r.model->limits.position_max;
+    return p_B.x() >= lo[0] - 1e-6 && p_B.x() <= hi[0] + 1e-6 && p_B.y() >= lo[1] - 1e-6 && p_B.y() <= hi[1] + 1e-6;
+  }
+  return (p_W - r.X_WB.translation()).norm() < kUrReachMetres + 0.2;
+}
+
+std::vector<JointVector> TransitionSampler::ikSolutions(int robot, const Pose& X_WT) const {
+  const SceneRobot& r = world_->scene().robots[robot];
+  std::vector<JointVector> solutions = inverseKinematics(*r.model, r.X_WB, X_WT);
+  std::stable_sort(solutions.begin(), solutions.end(), [&](const JointVector& a, const JointVector& b) {
+    return jointDistance(a, r.home) < jointDistance(b, r.home);
+  });
+  return solutions;
+}
+
+bool TransitionSampler::staticFree(const RobotState& state) {
+  return !robotInCollision(*world_, *context_, state, no_objects_, nullptr, CheckScope::kStaticOnly);
+}
+
+std::vector<GraspConfig> TransitionSampler::graspConfigs(int robot, int object, const Pose& X_WO, GraspClass g,
+                                                         int limit) {
+  std::vector<GraspConfig> out;
+  if (!inRange(robot, X_WO.translation())) return out;
+  const SceneRobot& r = world_->scene().robots[robot];
+  const BoxShape& box = world_->scene().objects[object].shape;
+  for (const GraspCandidate& c : graspCandidates(*r.model, r.X_WB, box, X_WO)) {
+    if (classifyGrasp(c.X_WT) != g) continue;
+    for (const JointVector& q : ikSolutions(robot, c.X_WT)) {
+      RobotState state{robot, q, HeldObject{object, c.X_TO}};
+      if (!staticFree(state)) continue;
+      out.push_back({q, c.X_TO, c.face});
+      break;  // one configuration per candidate: the one closest to home
+    }
+    if (static_cast<int>(out.size()) >= limit) break;
+  }
+  return out;
+}
+
+std::vector<JointVector> TransitionSampler::holdConfigs(int robot, int object, const Pose& X_WO, const Pose& X_TO,
+                                                        int limit) {
+  std::vector<JointVector> out;
+  if (!inRange(robot, X_WO.translation())) return out;
+  for (const JointVector& q : ikSolutions(robot, X_WO * X_TO.inverse())) {
+    if (!staticFree({robot, q, HeldObject{object, X_TO}})) continue;
+    out.push_back(q);
+    if (static_cast<int>(out.size()) >= limit) break;
+  }
+  return out;
+}
+
+std::vector<int> TransitionSampler::blockingObjects(const RobotState& state, ObjectLayout layout) {
+  std::vector<int> blockers;
+  for (int guard = 0; guard < layout.size(); ++guard) {
+    CollisionReport report;
+    if (!robotInCollision(*world_, *context_, state, layout, &report, CheckScope::kObjectsOnly)) break;
+    const int j = report.b.kind == CollisionElement::Kind::kObject ? report.b.index
+                  : report.a.kind == CollisionElement::Kind::kObject ? report.a.index
+                                                                       : -1;
+    if (j < 0 || !layout.isPresent(j)) break;
+    blockers.push_back(j);
+    layout.remove(j);
+  }
+  return blockers;
+}
+
+std::vector<Pose> TransitionSampler::handoverPoses(int giver, int receiver) const {
+  const Scene& scene = world_->scene();
+  const Vec3 a = scene.robots[giver].X_WB.translation();
+  const Vec3 b = scene.robots[receiver].X_WB.translation();
+  Vec3 along = b - a;
+  along.z() = 0.0;
+  const double yaw = std::atan2(along.y(), along.x());
+  const Vec3 lateral = Vec3(-std::sin(yaw), std::cos(yaw), 0.0);
+  const Vec3 mid = 0.5 * (a + b);
+  const double base_z = std::max(a.z(), b.z());
+  std::vector<Pose> poses;
+  // Every quarter-turn of the object at the first spot before moving the spot: a grasp fixed
+  // earlier may face either robot depending on the object's yaw.
+  for (double h : kHandoverHeights)
+    for (double side : kHandoverLateral)
+      for (double dyaw : kHandoverYaws) {
+        const Vec3 p(mid.x() + side * lateral.x(), mid.y() + side * lateral.y(), base_z + h);
+        poses.push_back(makePose(p, Quat(Eigen::AngleAxisd(yaw + dyaw, Vec3::UnitZ()))));
+      }
+  return poses;
+}
+
+}  // namespace dash

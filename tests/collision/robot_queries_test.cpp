@@ -1,0 +1,230 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+
+#include "engine/collision/collision_queries.h"
+#include "engine/collision/grasp_candidates.h"
+#include "tests/collision/collision_test_util.h"
+
+namespace dash {
+namespace {
+
+using Kind = CollisionElement::Kind;
+
+/// First IK solution that is collision-free for `state` (q filled in), or an empty vector.
+JointVector freeIk(const CollisionWorld& world, CollisionContext& context, RobotState state, const Pose& X_WT,
+                   const ObjectLayout& layout) {
+  const SceneRobot& robot = world.scene().robots[static_cast<std::size_t>(state.robot)];
+  for (const JointVector& q : inverseKinematics(*robot.model, robot.X_WB, X_WT)) {
+    state.q = q;
+    if (!robotInCollision(world, context, state, layout)) return q;
+  }
+  return {};
+}
+
+TEST(RobotQueries, ExampleHomeIsFree) {
+  const Scene scene = test::exampleScene();
+  const CollisionWorld world(scene);
+  CollisionContext context(world);
+  const ObjectLayout layout = ObjectLayout::atStart(scene);
+  CollisionReport report;
+  EXPECT_FALSE(robotInCollision(world, context, {.robot = 0, .q = scene.robots[0].home}, layout, &report))
+      << describe(report, scene);
+  EXPECT_FALSE(robotInCollision(world, context, {.robot = 0, .q = scene.robots[0].home}, ObjectLayout::atGoal(scene)));
+  EXPECT_FALSE(layoutInCollision(world, context, layout));  // the cube rests on the table: touching is fine
+  EXPECT_GE(context.counters().configuration_checks, 3u);
+}
+
+TEST(RobotQueries, ArmThroughTheTable) {
+  const Scene scene = test::exampleScene();
+  const CollisionWorld world(scene);
+  CollisionContext context(world);
+  const ObjectLayout layout = ObjectLayout::atStart(scene);
+  // Shoulder lifted 1.2 rad below the horizontal: the elbow ends about 0.23 m under the table top.
+  const JointVector q = test::joints({0.0, 1.2, 0.0, 0.0, 0.0, 0.0});
+  ASSERT_LT(forwardKinematics(*scene.robots[0].model, scene.robots[0].X_WB, q).X_WT.translation().z(), -0.1);
+  CollisionReport report;
+  EXPECT_TRUE(robotInCollision(world, context, {.robot = 0, .q = q}, layout, &report));
+  EXPECT_EQ(report.a.kind, Kind::kRobotBody);
+  EXPECT_EQ(report.a.robot, 0);
+  EXPECT_EQ(report.b, CollisionElement::obstacle(0));
+  EXPECT_NE(describe(report, scene).find("obstacle table"), std::string::npos) << describe(report, scene);
+  // The same configuration passes when only objects are considered, and fails on the static part.
+  EXPECT_FALSE(robotInCollision(world, context, {.robot = 0, .q = q}, layout, nullptr, CheckScope::kObjectsOnly));
+  EXPECT_TRUE(robotInCollision(world, context, {.robot = 0, .q = q}, layout, nullptr, CheckScope::kStaticOnly));
+}
+
+TEST(RobotQueries, SelfCollisionIsReportedAsSelfPair) {
+  const Scene scene = test::exampleScene();
+  const CollisionWorld world(scene);
+  CollisionContext context(world);
+  // Elbow folded fully back: the wrist comes down onto the shoulder.
+  const JointVector q = test::joints({0.0, -1.5708, 3.1, 0.0, 0.0, 0.0});
+  CollisionReport report;
+  ASSERT_TRUE(robotInCollision(world, context, {.robot = 0, .q = q}, ObjectLayout::empty(scene), &report,
+                               CheckScope::kStaticOnly));
+  EXPECT_EQ(report.a.kind, Kind::kRobotBody);
+  EXPECT_EQ(report.b.kind, Kind::kRobotBody);
+  EXPECT_EQ(report.a.robot, 0);
+  EXPECT_EQ(report.b.robot, 0);
+}
+
+TEST(RobotQueries, TwoArmsReachingIntoTheSameSpot) {
+  Scene scene = test::emptyScene();
+  test::addTable(scene);
+  test::addUr(scene, "left", test::yawPose(0, 0, 0));
+  test::addUr(scene, "right", test::yawPose(1.0, 0, 0, M_PI));
+  const CollisionWorld world(scene);
+  CollisionContext context(world);
+  const ObjectLayout layout = ObjectLayout::empty(scene);
+  const Pose X_WT = test::toolDown(Vec3(0.5, 0.0, 0.3));
+  const JointVector q_left = freeIk(world, context, {.robot = 0}, X_WT, layout);
+  const JointVector q_right = freeIk(world, context, {.robot = 1}, X_WT, layout);
+  ASSERT_EQ(q_left.size(), 6);
+  ASSERT_EQ(q_right.size(), 6);
+  const std::array<RobotState, 2> both{RobotState{.robot = 0, .q = q_left}, RobotState{.robot = 1, .q = q_right}};
+  CollisionReport report;
+  EXPECT_TRUE(robotsInCollision(world, context, both, layout, &report));
+  EXPECT_EQ(report.a.kind, Kind::kRobotBody);
+  EXPECT_EQ(report.b.kind, Kind::kRobotBody);
+  EXPECT_EQ(report.a.robot, 0);
+  EXPECT_EQ(report.b.robot, 1);
+  // Robot-robot pairs are layout-independent: part of the static scope, not of the objects scope.
+  EXPECT_TRUE(robotsInCollision(world, context, both, layout, nullptr, CheckScope::kStaticOnly));
+  EXPECT_FALSE(robotsInCollision(world, context, both, layout, nullptr, CheckScope::kObjectsOnly));
+  // One arm at home while the other reaches: free.
+  const std::array<RobotState, 2> one{RobotState{.robot = 0, .q = q_left}, RobotState{.robot = 1, .q = test::urHome()}};
+  EXPECT_FALSE(robotsInCollision(world, context, one, layout, &report)) << describe(report, scene);
+}
+
+/// One UR5e at the origin on the table, a cube of `edge` held in a top grasp at (0.5, 0, 0.2).
+struct HeldCubeSetup {
+  Scene scene = test::emptyScene();
+  std::unique_ptr<CollisionWorld> world;
+  std::unique_ptr<CollisionContext> context;
+  RobotState state;
+
+  HeldCubeSetup(double edge, bool with_wall) {
+    test::addTable(scene);
+    test::addUr(scene, "ur", Pose::Identity());
+    const Pose X_WO = makePose(Vec3(0.5, 0.0, 0.2));
+    test::addCube(scene, "cube", edge, X_WO);
+    // A wall low enough to miss the gripper, reaching into the cube's +x side (cube x in [0.48, 0.52]).
+    if (with_wall) test::addObstacle(scene, "wall", Vec3(0.01, 0.3, 0.2), makePose(Vec3(0.51, 0.0, 0.1)));
+    world = std::make_unique<CollisionWorld>(scene);
+    context = std::make_unique<CollisionContext>(*world);
+    const auto candidates = graspCandidates(*scene.robots[0].model, scene.robots[0].X_WB, scene.objects[0].shape, X_WO);
+    const auto top = std::find_if(candidates.begin(), candidates.end(), [](const GraspCandidate& c) {
+      return c.face == GraspCandidate::Face::kTop && c.rotation == 0;
+    });
+    if (top == candidates.end()) return;
+    state = {.robot = 0, .held = {.object = 0, .X_TO = top->X_TO}};
+    // An IK solution whose empty arm clears the table and itself.
+    for (const JointVector& q : inverseKinematics(*scene.robots[0].model, scene.robots[0].X_WB, top->X_WT)) {
+      const RobotState empty{.robot = 0, .q = q};
+      if (!robotInCollision(*world, *context, empty, ObjectLayout::empty(scene), nullptr, CheckScope::kStaticOnly)) {
+        state.q = q;
+        break;
+      }
+    }
+  }
+};
+
+TEST(RobotQueries, GripperAroundItsHeldCubeIsNoCollision) {
+  HeldCubeSetup setup(0.04, false);
+  ASSERT_EQ(setup.state.q.size(), 6);
+  const ObjectLayout layout = ObjectLayout::atStart(setup.scene);  // lists the cube: ignored while held
+  CollisionReport report;
+  EXPECT_FALSE(robotInCollision(*setup.world, *setup.context, setup.state, layout, &report))
+      << describe(report, setup.scene);
+  // The open gripper also clears the 4 cm cube when it merely rests there (5 mm each side).
+  RobotState empty = setup.state;
+  empty.held = {};
+  EXPECT_FALSE(robotInCollision(*setup.world, *setup.context, empty, layout, &report)) << describe(report, setup.scene);
+}
+
+TEST(RobotQueries, GripperBodiesNeverCountAgainstTheHeldObject) {
+  // A 6 cm cube is wider than the 5 cm finger opening: the fingers sit inside it.
+  HeldCubeSetup setup(0.06, false);
+  ASSERT_EQ(setup.state.q.size(), 6);
+  const ObjectLayout layout = ObjectLayout::atStart(setup.scene);
+  EXPECT_FALSE(robotInCollision(*setup.world, *setup.context, setup.state, layout));
+  // Not held, the same cube at the same place is hit by a finger.
+  RobotState empty = setup.state;
+  empty.held = {};
+  CollisionReport report;
+  ASSERT_TRUE(robotInCollision(*setup.world, *setup.context, empty, layout, &report));
+  EXPECT_EQ(report.a.kind, Kind::kRobotBody);
+  EXPECT_TRUE(setup.scene.robots[0].model->bodies[static_cast<std::size_t>(report.a.body)].is_gripper);
+  EXPECT_EQ(report.b, CollisionElement::object(0));
+}
+
+TEST(RobotQueries, HeldCubeAgainstAWall) {
+  HeldCubeSetup setup(0.04, true);
+  ASSERT_EQ(setup.state.q.size(), 6);
+  const ObjectLayout layout = ObjectLayout::atStart(setup.scene);
+  CollisionReport report;
+  ASSERT_TRUE(robotInCollision(*setup.world, *setup.context, setup.state, layout, &report));
+  EXPECT_EQ(report.a, CollisionElement::heldObject(0, 0));
+  EXPECT_EQ(report.b, CollisionElement::obstacle(1));
+  EXPECT_NE(describe(report, setup.scene).find("(held by ur)"), std::string::npos);
+  // The held object moves with the robot: it belongs to the static part.
+  EXPECT_TRUE(robotInCollision(*setup.world, *setup.context, setup.state, layout, nullptr, CheckScope::kStaticOnly));
+  // With an empty hand the arm itself clears the wall.
+  RobotState empty = setup.state;
+  empty.held = {};
+  EXPECT_FALSE(robotInCollision(*setup.world, *setup.context, empty, ObjectLayout::empty(setup.scene), &report))
+      << describe(report, setup.scene);
+}
+
+TEST(RobotQueries, HeldCubeAgainstOtherObjectsAndTheOtherRobot) {
+  Scene scene = test::emptyScene();
+  test::addTable(scene);
+  test::addUr(scene, "left", test::yawPose(0, 0, 0));
+  test::addUr(scene, "right", test::yawPose(1.2, 0, 0, M_PI));
+  test::addCube(scene, "held", 0.04, makePose(Vec3(0.5, 0.0, 0.3)));
+  test::addCube(scene, "resting", 0.04, makePose(Vec3(0.5, 0.03, 0.3)));  // overlaps the held one
+  const CollisionWorld world(scene);
+  CollisionContext context(world);
+  const Pose X_WT = test::toolDown(Vec3(0.5, 0.0, 0.3));
+  const Pose X_TO = X_WT.inverse() * scene.objects[0].X_WO_start;
+  ObjectLayout layout = ObjectLayout::empty(scene);
+  const JointVector q = freeIk(world, context, {.robot = 0}, X_WT, layout);
+  ASSERT_EQ(q.size(), 6);
+  layout.place(1, scene.objects[1].X_WO_start);
+  CollisionReport report;
+  const RobotState holding{.robot = 0, .q = q, .held = {.object = 0, .X_TO = X_TO}};
+  ASSERT_TRUE(robotInCollision(world, context, holding, layout, &report));
+  EXPECT_EQ(report.a, CollisionElement::heldObject(0, 0));
+  EXPECT_EQ(report.b, CollisionElement::object(1));
+  EXPECT_FALSE(robotInCollision(world, context, holding, layout, nullptr, CheckScope::kStaticOnly));
+  // A held object (attached 0.7 m from the TCP) that reaches into the other robot's shoulder post.
+  const Pose X_WO_far = makePose(Vec3(1.2, 0.0, 0.13));
+  const RobotState reaching{.robot = 0, .q = q, .held = {.object = 0, .X_TO = X_WT.inverse() * X_WO_far}};
+  const std::array<RobotState, 2> both{reaching, RobotState{.robot = 1, .q = test::urHome()}};
+  ASSERT_TRUE(robotsInCollision(world, context, both, ObjectLayout::empty(scene), &report));
+  EXPECT_EQ(report.a, CollisionElement::heldObject(0, 0));
+  EXPECT_EQ(report.b.kind, Kind::kRobotBody);
+  EXPECT_EQ(report.b.robot, 1);
+  EXPECT_FALSE(robotInCollision(world, context, reaching, ObjectLayout::empty(scene)));  // alone: free
+}
+
+TEST(RobotQueries, ObjectPlacement) {
+  Scene scene = test::exampleScene();
+  test::addCube(scene, "second", 0.04, makePose(Vec3(-0.5, -0.2, 0.06)));  // stacked on obj_0
+  const CollisionWorld world(scene);
+  CollisionContext context(world);
+  const ObjectLayout layout = ObjectLayout::atStart(scene);
+  EXPECT_FALSE(layoutInCollision(world, context, layout));  // stacked and resting: touching only
+  CollisionReport report;
+  EXPECT_TRUE(objectInCollision(world, context, 1, makePose(Vec3(-0.5, -0.19, 0.02)), layout, &report));
+  EXPECT_EQ(report.a, CollisionElement::object(1));
+  EXPECT_EQ(report.b, CollisionElement::object(0));
+  EXPECT_TRUE(objectInCollision(world, context, 1, makePose(Vec3(0.5, 0.5, 0.015)), layout, &report));  // 5 mm into the table
+  EXPECT_EQ(report.b, CollisionElement::obstacle(0));
+  EXPECT_FALSE(objectInCollision(world, context, 1, makePose(Vec3(0.5, 0.5, 0.0195)), layout));  // 0.5 mm: tolerated
+}
+
+}  // namespace
+}  // namespace dash

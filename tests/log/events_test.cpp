@@ -1,0 +1,105 @@
+#include <gtest/gtest.h>
+
+#include "engine/log/event_emitter.h"
+#include "engine/log/memory_sink.h"
+#include "tests/log/log_test_util.h"
+
+namespace dash::log {
+namespace {
+
+TEST(Events, MemorySinkCountsByLayerKindAndType) {
+  MemorySink sink;
+  EventEmitter em(&sink);
+  em.vertex(Layer::Task, 0, "R1");
+  em.vertex(Layer::Task, 1, "O1@start");
+  em.hyperarc(Layer::Task, "pick", 0, {2}, {0, 1}, "R1 picks O1");
+  em.hyperarc(Layer::Task, "handover", 1, {3}, {2}, "R1 -> R2");
+  em.vertex(Layer::Motion, 0);
+  em.vertex(Layer::Motion, 1);
+  em.removed(Layer::Motion, ElementKind::Vertex, 1);
+  em.constraint(ConstraintKind::History, ConstraintAction::Created, 0, "(v_pre=1, v_post=2)", {1, 2}, "collision");
+  em.constraint(ConstraintKind::History, ConstraintAction::Lifted, 0, "", {1, 2});
+  em.taskSpaceExpansion(1, "O1", "stable pose 3", "order would reverse");
+  em.counter("collision_checks_eager", 5);
+  em.counter("collision_checks_eager", 9);
+
+  EXPECT_EQ(sink.count(Layer::Task, ElementKind::Vertex), 2);
+  EXPECT_EQ(sink.count(Layer::Task, ElementKind::Hyperarc), 2);
+  EXPECT_EQ(sink.countHyperarcs(Layer::Task, "handover"), 1);
+  EXPECT_EQ(sink.count(Layer::Motion, ElementKind::Vertex), 1);  // added 2, removed 1
+  EXPECT_EQ(sink.count(Layer::TaskExtended, ElementKind::Vertex), 0);
+  EXPECT_EQ(sink.countConstraints(ConstraintKind::History, ConstraintAction::Created), 1);
+  EXPECT_EQ(sink.countConstraints(ConstraintKind::History, ConstraintAction::Lifted), 1);
+  EXPECT_EQ(sink.countTaskSpaceExpansions(), 1);
+  EXPECT_EQ(sink.counter("collision_checks_eager"), 9);
+  EXPECT_EQ(sink.counter("missing", -1), -1);
+  EXPECT_EQ(sink.size(), 12u);
+}
+
+TEST(Events, TimestampsAreMonotonicAndCarryTheIteration) {
+  MemorySink sink;
+  EventEmitter em(&sink);
+  for (int i = 0; i < 100; ++i) {
+    em.setIteration(i / 10);
+    em.vertex(Layer::Task, static_cast<std::uint32_t>(i));
+  }
+  const auto events = sink.events();
+  for (std::size_t i = 1; i < events.size(); ++i) {
+    EXPECT_GE(events[i].t, events[i - 1].t);
+    EXPECT_EQ(events[i].iteration, static_cast<int>(i) / 10);
+  }
+}
+
+TEST(Events, PhaseTimerEmitsStartAndEndAndAccumulates) {
+  MemorySink sink;
+  EventEmitter em(&sink);
+  {
+    PhaseTimer a(em, Phase::TaskQuery);
+  }
+  double second = 0.0;
+  {
+    PhaseTimer b(em, Phase::TaskQuery);
+    second = b.stop();
+    EXPECT_EQ(b.stop(), 0.0);  // stopping twice ends it once
+  }
+  const auto events = sink.events();
+  ASSERT_EQ(events.size(), 4u);
+  const auto& start = std::get<PhaseEvent>(events[0].payload);
+  const auto& end = std::get<PhaseEvent>(events[1].payload);
+  EXPECT_EQ(start.boundary, PhaseBoundary::Start);
+  EXPECT_EQ(end.boundary, PhaseBoundary::End);
+  EXPECT_DOUBLE_EQ(end.duration, events[1].t - events[0].t);
+  EXPECT_DOUBLE_EQ(em.phaseTotals()[static_cast<int>(Phase::TaskQuery)], end.duration + second);
+  EXPECT_DOUBLE_EQ(sink.phaseSeconds(Phase::TaskQuery), em.phaseTotals()[static_cast<int>(Phase::TaskQuery)]);
+  EXPECT_EQ(em.phaseTotals()[static_cast<int>(Phase::MotionQuery)], 0.0);
+}
+
+TEST(Events, AnEmitterWithoutSinkStillTimesPhases) {
+  EventEmitter em(nullptr);
+  EXPECT_FALSE(em.enabled());
+  em.vertex(Layer::Task, 0);
+  { PhaseTimer t(em, Phase::Other); }
+  EXPECT_GE(em.phaseTotals()[static_cast<int>(Phase::Other)], 0.0);
+}
+
+TEST(Events, TeeSinkForwardsToEverySink) {
+  MemorySink a, b;
+  NullSink none;
+  TeeSink tee({&a, &none, &b});
+  EventEmitter em(&tee);
+  testing::emitScriptedRun(em, 10);
+  EXPECT_GT(a.size(), 100u);
+  EXPECT_EQ(a.size(), b.size());
+}
+
+TEST(Events, NamesMatchTheDatabaseVocabulary) {
+  EXPECT_STREQ(toString(Layer::TaskExtended), "task_extended");
+  EXPECT_STREQ(toString(Layer::MotionExtended), "motion_extended");
+  EXPECT_STREQ(toString(Phase::TaskConflictDetection), "task_conflict_detection");
+  EXPECT_STREQ(toString(ConstraintKind::Interaction), "interaction");
+  EXPECT_STREQ(typeName(EventPayload{CounterEvent{}}), "counter");
+  EXPECT_STREQ(typeName(EventPayload{TaskSpaceExpansionEvent{}}), "task_space_expansion");
+}
+
+}  // namespace
+}  // namespace dash::log

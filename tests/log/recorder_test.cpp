@@ -1,0 +1,226 @@
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "engine/log/results_db.h"
+#include "engine/log/sqlite_recorder.h"
+#include "tests/log/log_test_util.h"
+
+namespace dash::log {
+namespace {
+
+std::int64_t count(const ResultsDb& db, const std::string& sql, const std::vector<SqlValue>& params = {}) {
+  const SqlRows rows = db.select(sql, params);
+  const SqlValue& v = rows.rows.at(0).at(0);
+  return std::holds_alternative<std::int64_t>(v) ? std::get<std::int64_t>(v) : 0;
+}
+
+TEST(Recorder, StoredEventsAndSizesEqualWhatWasEmitted) {
+  testing::TempDir dir;
+  ResultsDb db(dir.file("r.db"));
+  MemorySink mirror;
+  const std::string uuid = testing::recordRun(db, testing::sampleMeta(), 60, &mirror);
+  const auto run = db.getRun(uuid);
+  ASSERT_TRUE(run.has_value());
+  ASSERT_TRUE(run->summary.sizes.has_value());
+  const std::int64_t id = run->id;
+
+  for (int l = 0; l < kLayerCount; ++l) {
+    const Layer layer = static_cast<Layer>(l);
+    for (ElementKind kind : {ElementKind::Vertex, ElementKind::Hyperarc}) {
+      const std::int64_t emitted = mirror.count(layer, kind);
+      const std::int64_t stored =
+          count(db, "SELECT SUM(CASE change WHEN 'added' THEN 1 ELSE -1 END) FROM dash_events WHERE run_id = ? AND layer = ? AND kind = ?",
+                {id, std::string(toString(layer)), std::string(toString(kind))});
+      EXPECT_EQ(stored, emitted) << toString(layer) << " " << toString(kind);
+      const auto& sizes = kind == ElementKind::Vertex ? run->summary.sizes->vertices : run->summary.sizes->hyperarcs;
+      EXPECT_EQ(sizes[l], emitted) << toString(layer) << " " << toString(kind);
+    }
+  }
+  EXPECT_GT(mirror.count(Layer::Motion, ElementKind::Hyperarc), 0);
+  EXPECT_EQ(count(db, "SELECT COUNT(*) FROM dash_events WHERE run_id = ? AND layer = 'task' AND arc_type = 'pick'", {id}),
+            mirror.countHyperarcs(Layer::Task, "pick"));
+  for (int k = 0; k < kConstraintKindCount; ++k) {
+    EXPECT_EQ((*run->summary.constraints)[k],
+              mirror.countConstraints(static_cast<ConstraintKind>(k), ConstraintAction::Created));
+  }
+  EXPECT_EQ(run->summary.task_space_expansions, mirror.countTaskSpaceExpansions());
+  EXPECT_EQ(run->summary.collision_checks_eager, mirror.counter("collision_checks_eager"));
+  EXPECT_EQ(run->summary.collision_checks_lazy, mirror.counter("collision_checks_lazy"));
+  EXPECT_EQ(run->collision_checks, mirror.counter("collision_checks_eager") + mirror.counter("collision_checks_lazy"));
+  EXPECT_EQ(run->summary.roadmap_vertices, mirror.counter("roadmap_vertices"));
+  EXPECT_EQ(run->summary.iterations, 60);
+  for (int p = 0; p < kPhaseCount; ++p) {
+    EXPECT_NEAR((*run->summary.phase_seconds)[p], mirror.phaseSeconds(static_cast<Phase>(p)), 1e-12);
+  }
+  // Every event but phase starts is one row.
+  std::int64_t phase_starts = 0;
+  for (const Event& e : mirror.events()) {
+    const auto* p = std::get_if<PhaseEvent>(&e.payload);
+    phase_starts += p && p->boundary == PhaseBoundary::Start;
+  }
+  EXPECT_EQ(run->event_count, static_cast<std::int64_t>(mirror.size()) - phase_starts);
+  EXPECT_EQ(count(db, "SELECT COUNT(*) FROM dash_timeline WHERE run_id = ?", {id}), run->event_count);
+  EXPECT_EQ(run->status, RunStatus::Solved);
+  EXPECT_EQ(run->summary.makespan, 12.5);
+  EXPECT_FALSE(run->end_time.empty());
+}
+
+TEST(Recorder, ProgressSnapshotsGrowAndEndAtTheFinalSizes) {
+  testing::TempDir dir;
+  ResultsDb db(dir.file("r.db"));
+  const std::string uuid = db.beginRun(testing::sampleMeta());
+  MemorySink mirror;
+  {
+    auto recorder = db.recorder(uuid, RecorderOptions{.progress_interval = 0.0});
+    TeeSink tee({recorder.get(), &mirror});
+    EventEmitter em(&tee);
+    testing::emitScriptedRun(em, 20);
+    db.finishRun(uuid, RunSummary{.status = RunStatus::Timeout});
+  }
+  const SqlRows rows = db.select("SELECT task_vertices, motion_vertices FROM progress WHERE runid = ? ORDER BY time",
+                                 {db.getRun(uuid)->id});
+  ASSERT_GT(rows.rows.size(), 20u);
+  std::int64_t previous = 0;
+  for (const auto& row : rows.rows) {
+    EXPECT_GE(std::get<std::int64_t>(row[0]), previous);
+    previous = std::get<std::int64_t>(row[0]);
+  }
+  EXPECT_EQ(previous, mirror.count(Layer::Task, ElementKind::Vertex));
+  EXPECT_EQ(std::get<std::int64_t>(rows.rows.back()[1]), mirror.count(Layer::Motion, ElementKind::Vertex));
+}
+
+TEST(Recorder, ReportedFiguresWinOverDerivedOnes) {
+  testing::TempDir dir;
+  ResultsDb db(dir.file("r.db"));
+  const std::string uuid = db.beginRun(testing::sampleMeta());
+  RepresentationSizes reported;
+  reported.vertices[0] = 99;
+  db.finishRun(uuid, RunSummary{.status = RunStatus::Infeasible, .total_time = 4.0, .sizes = reported,
+                                .peak_memory_mb = 123.0, .error = "no plan exists"});
+  const auto run = db.getRun(uuid);
+  EXPECT_EQ(run->summary.sizes->vertices[0], 99);
+  EXPECT_EQ(run->summary.total_time, 4.0);
+  EXPECT_EQ(run->summary.peak_memory_mb, 123.0);
+  EXPECT_EQ(run->summary.error, "no plan exists");
+  EXPECT_EQ(run->status, RunStatus::Infeasible);
+  EXPECT_FALSE(run->collision_checks.has_value());  // nothing emitted, nothing reported: NULL
+}
+
+TEST(Recorder, BadCallsAreInputErrors) {
+  testing::TempDir dir;
+  ResultsDb db(dir.file("r.db"));
+  EXPECT_THROW(db.finishRun("no-such-run", {}), InputError);
+  EXPECT_THROW(db.beginRun(testing::sampleMeta("sorting", "[1,2]")), InputError);
+  EXPECT_THROW(db.beginRun(testing::sampleMeta("sorting", R"({"bad name":1})")), InputError);
+  EXPECT_THROW(db.beginRun(testing::sampleMeta("")), InputError);
+  const std::string uuid = db.beginRun(testing::sampleMeta());
+  EXPECT_THROW(db.finishRun(uuid, RunSummary{.status = RunStatus::Running}), InputError);
+  db.finishRun(uuid, {});
+  EXPECT_THROW(db.finishRun(uuid, {}), InputError);
+  RunMetadata again = testing::sampleMeta();
+  again.uuid = uuid;
+  EXPECT_THROW(db.beginRun(again), InputError);
+  ResultsDb ro(dir.file("r.db"), OpenMode::ReadOnly);
+  EXPECT_THROW(ro.beginRun(testing::sampleMeta()), InputError);
+}
+
+TEST(Recorder, EventsAfterFinishAreDropped) {
+  testing::TempDir dir;
+  ResultsDb db(dir.file("r.db"));
+  const std::string uuid = db.beginRun(testing::sampleMeta());
+  auto recorder = db.recorder(uuid);
+  EventEmitter em(recorder.get());
+  em.vertex(Layer::Task, 0);
+  db.finishRun(uuid, {});
+  em.vertex(Layer::Task, 1);
+  EXPECT_EQ(recorder->storedEvents(), 1);
+  EXPECT_EQ(db.getRun(uuid)->event_count, 1);
+}
+
+TEST(Recorder, SeveralThreadsShareOneRecorder) {
+  testing::TempDir dir;
+  ResultsDb db(dir.file("r.db"), OpenMode::ReadWrite, DbOptions{.commit_every_events = 100});
+  const std::string uuid = db.beginRun(testing::sampleMeta());
+  auto recorder = db.recorder(uuid);
+  constexpr int kThreads = 4, kPerThread = 2000;
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      EventEmitter em(recorder.get());  // one emitter per thread, one sink
+      for (int i = 0; i < kPerThread; ++i) em.vertex(Layer::Motion, static_cast<std::uint32_t>(t * kPerThread + i));
+    });
+  }
+  for (auto& th : threads) th.join();
+  db.finishRun(uuid, {});
+  EXPECT_EQ(db.getRun(uuid)->summary.sizes->vertices[static_cast<int>(Layer::Motion)], kThreads * kPerThread);
+}
+
+TEST(Recorder, ReadersSeeRunsWhileTheWriterWrites) {
+  testing::TempDir dir;
+  const std::string path = dir.file("r.db");
+  ResultsDb writer(path);
+  const std::string uuid = writer.beginRun(testing::sampleMeta());
+  auto recorder = writer.recorder(uuid);
+  EventEmitter em(recorder.get());
+  em.vertex(Layer::Task, 0);  // inside an open batched transaction
+  {
+    ResultsDb reader(path, OpenMode::ReadOnly);
+    const auto seen = reader.getRun(uuid);
+    ASSERT_TRUE(seen.has_value());
+    EXPECT_EQ(seen->status, RunStatus::Running);
+  }
+  writer.finishRun(uuid, {});
+  ResultsDb reader(path, OpenMode::ReadOnly);
+  EXPECT_EQ(reader.getRun(uuid)->status, RunStatus::Solved);
+  EXPECT_EQ(reader.info().runs_by_status.at("solved"), 1);
+}
+
+TEST(Recorder, MarkInterruptedClosesRunsOfDeadProcessesOnly) {
+  testing::TempDir dir;
+  const std::string path = dir.file("r.db");
+  std::string orphan;
+  {
+    ResultsDb first(path);
+    orphan = first.beginRun(testing::sampleMeta());
+    auto recorder = first.recorder(orphan);
+    EventEmitter em(recorder.get());
+    testing::emitScriptedRun(em, 5);
+  }  // closed without finishing, as a killed process would leave it
+  ResultsDb db(path);
+  const std::string mine = db.beginRun(testing::sampleMeta());
+  EXPECT_EQ(db.markInterrupted(), 1);
+  const auto closed = db.getRun(orphan);
+  EXPECT_EQ(closed->status, RunStatus::Crashed);
+  EXPECT_NE(closed->summary.error.find("interrupted"), std::string::npos);
+  EXPECT_GT(closed->summary.sizes->vertices[0], 0);  // derived from the events it left
+  EXPECT_EQ(db.getRun(mine)->status, RunStatus::Running);
+  EXPECT_EQ(db.markInterrupted(), 0);
+}
+
+TEST(Recorder, BatchesTagsAndFilters) {
+  testing::TempDir dir;
+  ResultsDb db(dir.file("r.db"));
+  db.putBatch(BatchRecord{.id = "batch-1", .name = "figure 5", .spec_json = R"({"b":1, "a":2})"});
+  RunMetadata meta = testing::sampleMeta();
+  meta.batch_id = "batch-1";
+  const std::string a = testing::recordRun(db, meta, 3);
+  const std::string b = testing::recordRun(db, testing::sampleMeta("wall", R"({"walls":2})", "dash"), 3);
+  db.setBatchStatus("batch-1", "finished");
+  const auto batches = db.listBatches();
+  ASSERT_EQ(batches.size(), 1u);
+  EXPECT_EQ(batches[0].status, "finished");
+  EXPECT_EQ(batches[0].spec_json, R"({"a":2,"b":1})");
+  EXPECT_EQ(db.listRuns(RunFilter{.batch_id = "batch-1"}).size(), 1u);
+  EXPECT_EQ(db.listRuns(RunFilter{.planner = "dash"}).front().meta.uuid, b);
+  EXPECT_EQ(db.listRuns().front().meta.uuid, b);  // newest first
+  db.addTag(a, "good");
+  db.addTag(a, "figure5");
+  db.removeTag(a, "good");
+  EXPECT_EQ(db.getRun(a)->tags, std::vector<std::string>{"figure5"});
+  EXPECT_EQ(db.getRun(a)->meta.params_json, R"({"objects":4,"robots":2})");
+  EXPECT_FALSE(db.listRuns().front().summary.plan_json.size());
+}
+
+}  // namespace
+}  // namespace dash::log

@@ -1,0 +1,107 @@
+// `dashbench scenario`: output to stdout or a file (-o / --out), --png, --list, and exit code 2 with a
+// message naming the key and its range on bad input.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "engine/scene/scene_json.h"
+#include "scenario_test_util.h"
+
+namespace dash {
+namespace {
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;  ///< stdout and stderr together
+};
+
+RunResult runCli(const std::string& arguments) {
+  const std::string command = std::string(DASHBENCH_BINARY) + " scenario " + arguments + " 2>&1";
+  RunResult r;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return r;
+  char buffer[4096];
+  std::size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.out.append(buffer, n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string readFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class CliScenario : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("dashbench_scenario_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path dir_;
+};
+
+TEST_F(CliScenario, StdoutShortAndLongOutputAgree) {
+  const RunResult out = runCli("sorting --seed 3 robots=4 objects=8");
+  ASSERT_EQ(out.exit_code, 0) << out.out;
+  const std::string expected = sceneToJson(test::generate("sorting", {{"robots", "4"}, {"objects", "8"}}, 3).scene);
+  EXPECT_EQ(out.out, expected);
+  const auto a = dir_ / "a.json";
+  const auto b = dir_ / "b.json";
+  ASSERT_EQ(runCli("sorting --seed 3 robots=4 objects=8 -o " + a.string()).exit_code, 0);
+  ASSERT_EQ(runCli("sorting robots=4 --out " + b.string() + " objects=8 --seed=3").exit_code, 0);
+  EXPECT_EQ(readFile(a), expected);
+  EXPECT_EQ(readFile(b), expected);
+}
+
+TEST_F(CliScenario, WritesAPicture) {
+  const auto png = dir_ / "s.png";
+  const RunResult r = runCli("lab --seed 2 containers=3 -o " + (dir_ / "s.json").string() + " --png " + png.string());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_EQ(readFile(png).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+}
+
+TEST_F(CliScenario, ListNamesEveryFamily) {
+  const RunResult r = runCli("--list");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  for (const auto& f : scenarioFamilies()) EXPECT_NE(r.out.find(f.name + ": "), std::string::npos) << f.name;
+  EXPECT_NE(r.out.find("robots=4  (2..32)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("walls=1  (1..6)"), std::string::npos) << r.out;
+}
+
+TEST_F(CliScenario, BadInputExitsTwoNamingTheProblem) {
+  struct Case {
+    std::string args;
+    std::vector<std::string> mentions;
+  };
+  const std::vector<Case> cases = {
+      {"sortingg --seed 1", {"unknown scenario family 'sortingg'", "stocking"}},
+      {"sorting --seed 1 arms=3", {"unknown parameter 'arms'", "robots (2..32)"}},
+      {"sorting --seed 1 robots=40", {"robots", "out of range", "2..32"}},
+      {"stocking layers=4", {"layers", "2..3"}},
+      {"shelf-wall robots=3", {"robots", "even"}},
+      {"lab containers=many", {"containers", "not an integer", "1..8"}},
+      {"wall robots=6 walls=4", {"walls=4 needs robots >= 8"}},
+      {"sorting --seed -1", {"--seed"}},
+      {"sorting --speed 3", {"unknown option --speed"}},
+      {"", {"expected a scenario family"}},
+  };
+  for (const Case& c : cases) {
+    const RunResult r = runCli(c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.out;
+    for (const std::string& m : c.mentions) EXPECT_NE(r.out.find(m), std::string::npos) << c.args << "\n" << r.out;
+  }
+}
+
+}  // namespace
+}  // namespace dash
