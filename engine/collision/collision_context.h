@@ -44,7 +44,14 @@ class CollisionContext {
     std::vector<Aabb> object_aabb;          ///< per object, valid where resting[j]
     std::vector<Pose> object_pose;          ///< per object, valid where resting[j]
     Candidates candidates;
-    std::vector<Aabb> swept_body;           ///< segment queries
+    std::vector<Aabb> swept_body;           ///< segment queries: per body, for one interval
+    std::vector<Aabb> step_boxes;           ///< segment queries: body and held boxes per visited step
+    struct Interval {
+      int lo, hi;          ///< step indices
+      int slot_lo, slot_hi;  ///< their boxes in step_boxes
+    };
+    std::vector<Interval> intervals;        ///< segment queries: work queue, coarse to fine
+    std::vector<double> displacement;       ///< segment queries: per body bound over the whole segment
     std::vector<int> robots_in_query;
   };
   Scratch& scratch() { return scratch_; }

@@ -32,6 +32,8 @@ void poseRobot(const CollisionWorld& world, CollisionContext& context, int r, co
                const HeldObject& held) {
   const RobotGeometry& rg = world.robot(r);
   DASH_DEMAND_MSG(q.size() == rg.model->dof(), "configuration size does not match the robot");
+  // A NaN would make every bounding-box test fail, i.e. report "free".
+  DASH_DEMAND_MSG(q.allFinite(), "configuration is not finite");
   auto& posed = context.scratch().robots[at(r)];
   bodyFrames(*rg.model, rg.robot->X_WB, q, posed.frames);
   posed.aabb.setEmpty();

@@ -11,10 +11,12 @@ namespace dash {
 
 namespace {
 
+using Interval = CollisionContext::Scratch::Interval;
+
 inline std::size_t at(int i) { return static_cast<std::size_t>(i); }
 
-/// Lever of the held object per joint: the TCP's lever plus the object's farthest point from the TCP
-/// (revolute joints); a prismatic joint moves every point by exactly |dq|.
+/// Bound for the held object: the TCP's lever plus the object's farthest point from the TCP for a
+/// revolute joint; a prismatic joint moves every point by exactly |dq|.
 double heldDisplacement(const CollisionWorld& world, int r, const JointVector& dq_abs, const HeldObject& held) {
   const RobotGeometry& rg = world.robot(r);
   const bool revolute = rg.model->kinematics == KinematicsKind::kUrDh;
@@ -32,74 +34,52 @@ double bodyDisplacement(const RobotGeometry& rg, int b, const JointVector& dq_ab
   return dq_abs.dot(rg.body_lever[at(b)]);
 }
 
-Aabb grown(const Aabb& box, double margin) {
-  return Aabb(box.min().array() - margin, box.max().array() + margin);
+Aabb grown(const Aabb& box, double margin) { return Aabb(box.min().array() - margin, box.max().array() + margin); }
+
+JointVector interpolate(const JointVector& q0, const JointVector& q1, double t) { return q0 + t * (q1 - q0); }
+
+/// Stores robot r's posed body boxes and held-object box as a new slot of step_boxes.
+int saveBoxes(CollisionContext& context, int r) {
+  auto& s = context.scratch();
+  const auto& posed = s.robots[at(r)];
+  const std::size_t stride = posed.body_aabb.size() + 1;
+  const int slot = static_cast<int>(s.step_boxes.size() / stride);
+  s.step_boxes.insert(s.step_boxes.end(), posed.body_aabb.begin(), posed.body_aabb.end());
+  s.step_boxes.push_back(posed.held_object >= 0 ? posed.held_aabb : Aabb());
+  return slot;
 }
 
-/// Swept boxes of robot r along q0 -> q1: per body into `swept`, the held object into `held_swept`;
-/// returns the robot's whole swept box (bodies and held object). Leaves the robot posed at q1.
-Aabb sweptBoxes(const CollisionWorld& world, CollisionContext& context, int r, const JointVector& q0,
-                const JointVector& q1, const HeldObject& held, std::vector<Aabb>& swept, Aabb& held_swept) {
-  const RobotGeometry& rg = world.robot(r);
-  const auto& posed = context.scratch().robots[at(r)];
-  const JointVector dq_abs = (q1 - q0).cwiseAbs();
-  detail::poseRobot(world, context, r, q0, held);
-  swept.assign(posed.body_aabb.begin(), posed.body_aabb.end());
-  held_swept = posed.held_aabb;
-  detail::poseRobot(world, context, r, q1, held);
+/// Swept boxes of the part of the segment between two saved steps, `fraction` of the whole segment
+/// long: each box at both ends, grown by half the displacement bound over that part (every
+/// intermediate pose lies within that distance of one end). Bodies into swept_body; returns the union.
+Aabb sweptBetween(CollisionContext& context, int bodies, int slot_a, int slot_b, double fraction, double held_d,
+                  bool holding, Aabb& held_swept) {
+  auto& s = context.scratch();
+  const std::size_t stride = static_cast<std::size_t>(bodies) + 1;
+  const Aabb* a = &s.step_boxes[at(slot_a) * stride];
+  const Aabb* b = &s.step_boxes[at(slot_b) * stride];
+  s.swept_body.resize(at(bodies));
   Aabb whole;
   whole.setEmpty();
-  for (int b = 0; b < static_cast<int>(swept.size()); ++b) {
-    swept[at(b)].extend(posed.body_aabb[at(b)]);
-    swept[at(b)] = grown(swept[at(b)], 0.5 * bodyDisplacement(rg, b, dq_abs));
-    whole.extend(swept[at(b)]);
+  for (int k = 0; k < bodies; ++k) {
+    s.swept_body[at(k)] = grown(a[k].merged(b[k]), 0.5 * fraction * s.displacement[at(k)]);
+    whole.extend(s.swept_body[at(k)]);
   }
-  if (held.holding()) {
-    held_swept.extend(posed.held_aabb);
-    held_swept = grown(held_swept, 0.5 * heldDisplacement(world, r, dq_abs, held));
+  if (holding) {
+    held_swept = grown(a[bodies].merged(b[bodies]), 0.5 * fraction * held_d);
     whole.extend(held_swept);
   }
   return whole;
 }
 
-/// Interior configurations k = 1 .. n-1 of n intervals, coarse to fine (each visited once).
-template <class Visit>
-bool forEachInteriorStep(int n, Visit visit) {
-  int top = 1;
-  while (top * 2 < n) top *= 2;
-  for (int s = top; s >= 1; s /= 2) {
-    for (int k = s; k < n; k += s) {
-      if (s != top && (k / s) % 2 == 0) continue;
-      if (visit(k)) return true;
-    }
-  }
-  return false;
+bool anyBodyMeets(const std::vector<Aabb>& swept, const Aabb& box) {
+  return std::any_of(swept.begin(), swept.end(), [&](const Aabb& b) { return b.intersects(box); });
 }
 
-JointVector interpolate(const JointVector& q0, const JointVector& q1, double t) { return q0 + t * (q1 - q0); }
-
-/// One robot's segment with the resting set already prepared. End points are checked only if asked.
-bool robotSegment(const CollisionWorld& world, CollisionContext& context, const RobotState& start,
-                  const JointVector& q_end, CollisionReport* report, const SegmentOptions& options) {
-  const int r = start.robot;
-  DASH_DEMAND(r >= 0 && r < world.robotCount());
-  DASH_DEMAND_MSG(q_end.size() == start.q.size(), "segment end points differ in size");
+/// Keeps the pairs of `full` that meet the swept boxes, in context.scratch().candidates.
+void narrowCandidates(const CollisionWorld& world, CollisionContext& context, const detail::CandidateView& full,
+                      const Aabb& whole, bool holding, const Aabb& held_swept) {
   auto& s = context.scratch();
-  const detail::CandidateView full = detail::fullCandidates(world, context, r, options.scope);
-  auto check_at = [&](const JointVector& q, double fraction, const detail::CandidateView& view) {
-    ++context.counters().configuration_checks;
-    detail::poseRobot(world, context, r, q, start.held);
-    if (!detail::checkPosedRobot(world, context, r, view, report)) return false;
-    if (report != nullptr) report->segment_fraction = fraction;
-    return true;
-  };
-  if (options.check_endpoints) {
-    if (check_at(start.q, 0.0, full) || check_at(q_end, 1.0, full)) return true;
-  }
-
-  Aabb held_swept;
-  const Aabb whole = sweptBoxes(world, context, r, start.q, q_end, start.held, s.swept_body, held_swept);
-  const bool holding = start.held.holding();
   auto& c = s.candidates;
   c.obstacles.clear();
   c.held_obstacles.clear();
@@ -108,10 +88,7 @@ bool robotSegment(const CollisionWorld& world, CollisionContext& context, const 
   c.held_vs_bodies.clear();
   for (const int i : full.obstacles) {
     const Aabb& box = world.obstacles()[at(i)].aabb;
-    if (!whole.intersects(box)) continue;
-    if (std::any_of(s.swept_body.begin(), s.swept_body.end(), [&](const Aabb& b) { return b.intersects(box); })) {
-      c.obstacles.push_back(i);
-    }
+    if (whole.intersects(box) && anyBodyMeets(s.swept_body, box)) c.obstacles.push_back(i);
   }
   if (holding) {
     for (const int i : full.held_obstacles) {
@@ -124,23 +101,132 @@ bool robotSegment(const CollisionWorld& world, CollisionContext& context, const 
   for (const int j : full.objects) {
     const Aabb& box = s.object_aabb[at(j)];
     if (!whole.intersects(box)) continue;
-    const bool near = (holding && held_swept.intersects(box)) ||
-                      std::any_of(s.swept_body.begin(), s.swept_body.end(), [&](const Aabb& b) { return b.intersects(box); });
-    if (near) c.objects.push_back(j);
+    if ((holding && held_swept.intersects(box)) || anyBodyMeets(s.swept_body, box)) c.objects.push_back(j);
   }
   for (const auto& pair : full.self_pairs) {
     if (s.swept_body[at(pair.first)].intersects(s.swept_body[at(pair.second)])) c.self_pairs.push_back(pair);
   }
-  if (c.obstacles.empty() && c.held_obstacles.empty() && c.objects.empty() && c.self_pairs.empty() &&
-      c.held_vs_bodies.empty()) {
-    return false;  // nothing anywhere near the swept volume
+}
+
+/// True if any pair of `view` meets the current swept boxes.
+bool anyCandidateMeets(const CollisionWorld& world, const CollisionContext::Scratch& s, const detail::CandidateView& view,
+                       const Aabb& whole, bool holding, const Aabb& held_swept) {
+  for (const int i : view.obstacles) {
+    const Aabb& box = world.obstacles()[at(i)].aabb;
+    if (whole.intersects(box) && anyBodyMeets(s.swept_body, box)) return true;
   }
-  const detail::CandidateView narrowed{c.obstacles, c.held_obstacles, c.objects, c.self_pairs, c.held_vs_bodies};
+  for (const auto& pair : view.self_pairs) {
+    if (s.swept_body[at(pair.first)].intersects(s.swept_body[at(pair.second)])) return true;
+  }
+  for (const int j : view.objects) {
+    const Aabb& box = s.object_aabb[at(j)];
+    if (!whole.intersects(box)) continue;
+    if ((holding && held_swept.intersects(box)) || anyBodyMeets(s.swept_body, box)) return true;
+  }
+  if (!holding) return false;
+  for (const int i : view.held_obstacles) {
+    if (held_swept.intersects(world.obstacles()[at(i)].aabb)) return true;
+  }
+  for (const int b : view.held_vs_bodies) {
+    if (held_swept.intersects(s.swept_body[at(b)])) return true;
+  }
+  return false;
+}
+
+/// One robot's segment with the resting set already prepared. The steps are visited coarse to fine;
+/// a part of the segment whose swept boxes meet no candidate pair is free and not refined further.
+bool robotSegment(const CollisionWorld& world, CollisionContext& context, const RobotState& start,
+                  const JointVector& q_end, CollisionReport* report, const SegmentOptions& options) {
+  const int r = start.robot;
+  DASH_DEMAND(r >= 0 && r < world.robotCount());
+  DASH_DEMAND_MSG(q_end.size() == start.q.size(), "segment end points differ in size");
+  const RobotGeometry& rg = world.robot(r);
+  const int bodies = static_cast<int>(rg.bodies.size());
+  const bool holding = start.held.holding();
+  auto& s = context.scratch();
+  const detail::CandidateView full = detail::fullCandidates(world, context, r, options.scope);
+  auto check_posed = [&](double fraction, const detail::CandidateView& view) {
+    ++context.counters().configuration_checks;
+    if (!detail::checkPosedRobot(world, context, r, view, report)) return false;
+    if (report != nullptr) report->segment_fraction = fraction;
+    return true;
+  };
+
+  s.step_boxes.clear();
+  s.intervals.clear();
+  detail::poseRobot(world, context, r, start.q, start.held);
+  if (options.check_endpoints && check_posed(0.0, full)) return true;
+  const int slot_start = saveBoxes(context, r);
+  detail::poseRobot(world, context, r, q_end, start.held);
+  if (options.check_endpoints && check_posed(1.0, full)) return true;
+  const int slot_end = saveBoxes(context, r);
+
+  const JointVector dq_abs = (q_end - start.q).cwiseAbs();
+  s.displacement.resize(at(bodies));
+  for (int b = 0; b < bodies; ++b) s.displacement[at(b)] = bodyDisplacement(rg, b, dq_abs);
+  const double held_d = heldDisplacement(world, r, dq_abs, start.held);
   const int n = segmentSteps(world, r, start.q, q_end, start.held, options.resolution);
-  return forEachInteriorStep(n, [&](int k) {
-    const double t = static_cast<double>(k) / n;
-    return check_at(interpolate(start.q, q_end, t), t, narrowed);
-  });
+
+  Aabb held_swept;
+  const Aabb whole = sweptBetween(context, bodies, slot_start, slot_end, 1.0, held_d, holding, held_swept);
+  narrowCandidates(world, context, full, whole, holding, held_swept);
+  const auto& c = s.candidates;
+  const detail::CandidateView narrowed{c.obstacles, c.held_obstacles, c.objects, c.self_pairs, c.held_vs_bodies};
+  if (!anyCandidateMeets(world, s, narrowed, whole, holding, held_swept)) return false;
+
+  s.intervals.push_back({0, n, slot_start, slot_end});
+  for (std::size_t head = 0; head < s.intervals.size(); ++head) {
+    const Interval iv = s.intervals[head];  // a copy: the queue grows below
+    if (iv.hi - iv.lo < 2) continue;
+    if (head > 0) {
+      const double fraction = static_cast<double>(iv.hi - iv.lo) / n;
+      const Aabb part = sweptBetween(context, bodies, iv.slot_lo, iv.slot_hi, fraction, held_d, holding, held_swept);
+      if (!anyCandidateMeets(world, s, narrowed, part, holding, held_swept)) continue;
+    }
+    const int mid = (iv.lo + iv.hi) / 2;
+    const double t = static_cast<double>(mid) / n;
+    detail::poseRobot(world, context, r, interpolate(start.q, q_end, t), start.held);
+    if (check_posed(t, narrowed)) return true;
+    const int slot_mid = saveBoxes(context, r);
+    s.intervals.push_back({iv.lo, mid, iv.slot_lo, slot_mid});
+    s.intervals.push_back({mid, iv.hi, slot_mid, iv.slot_hi});
+  }
+  return false;
+}
+
+/// Visits steps 1 .. n-1 midpoint first, then the midpoints of each half, and so on.
+template <class Visit>
+bool forEachStepCoarseToFine(CollisionContext& context, int n, Visit visit) {
+  auto& queue = context.scratch().intervals;
+  queue.clear();
+  queue.push_back({0, n, -1, -1});
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const Interval iv = queue[head];
+    if (iv.hi - iv.lo < 2) continue;
+    const int mid = (iv.lo + iv.hi) / 2;
+    if (visit(mid)) return true;
+    queue.push_back({iv.lo, mid, -1, -1});
+    queue.push_back({mid, iv.hi, -1, -1});
+  }
+  return false;
+}
+
+/// Whole swept box of robot r (bodies and held object) along q0 -> q1.
+Aabb wholeSweptBox(const CollisionWorld& world, CollisionContext& context, const RobotMotion& m) {
+  const int r = m.start.robot;
+  const RobotGeometry& rg = world.robot(r);
+  const JointVector dq_abs = (m.q_end - m.start.q).cwiseAbs();
+  double d = heldDisplacement(world, r, dq_abs, m.start.held);
+  for (int b = 0; b < static_cast<int>(rg.bodies.size()); ++b) d = std::max(d, bodyDisplacement(rg, b, dq_abs));
+  const auto& posed = context.scratch().robots[at(r)];
+  Aabb box;
+  box.setEmpty();
+  for (const JointVector* q : {&m.start.q, &m.q_end}) {
+    detail::poseRobot(world, context, r, *q, m.start.held);
+    box.extend(posed.aabb);
+    if (m.start.held.holding()) box.extend(posed.held_aabb);
+  }
+  return grown(box, 0.5 * d);
 }
 
 }  // namespace
@@ -185,21 +271,15 @@ bool motionsInCollision(const CollisionWorld& world, CollisionContext& context, 
   };
   if (options.check_endpoints && (check_states(0.0) || check_states(1.0))) return true;
 
-  // Robots whose swept boxes meet no other's cannot collide with each other along the motion.
-  std::vector<Aabb> whole(motions.size());
-  std::vector<Aabb> scratch_swept;
-  Aabb held_swept;
-  int n = 1;
-  for (std::size_t i = 0; i < motions.size(); ++i) {
-    const RobotMotion& m = motions[i];
-    whole[i] = sweptBoxes(world, context, m.start.robot, m.start.q, m.q_end, m.start.held, scratch_swept, held_swept);
-    n = std::max(n, segmentSteps(world, m.start.robot, m.start.q, m.q_end, m.start.held, options.resolution));
-  }
-  bool apart = options.scope == CheckScope::kObjectsOnly;
-  if (!apart) {
-    apart = true;
-    for (std::size_t i = 0; i < motions.size() && apart; ++i) {
-      for (std::size_t k = i + 1; k < motions.size() && apart; ++k) apart = !whole[i].intersects(whole[k]);
+  // Robots whose swept boxes meet no other's cannot collide with each other along the motion: each is
+  // then checked alone (with its own refinement); otherwise all together at every step.
+  bool apart = true;
+  if (options.scope != CheckScope::kObjectsOnly) {
+    std::vector<Aabb> whole;
+    whole.reserve(motions.size());
+    for (const RobotMotion& m : motions) whole.push_back(wholeSweptBox(world, context, m));
+    for (std::size_t i = 0; i < whole.size() && apart; ++i) {
+      for (std::size_t k = i + 1; k < whole.size() && apart; ++k) apart = !whole[i].intersects(whole[k]);
     }
   }
   if (apart) {
@@ -210,7 +290,11 @@ bool motionsInCollision(const CollisionWorld& world, CollisionContext& context, 
     }
     return false;
   }
-  return forEachInteriorStep(n, [&](int k) { return check_states(static_cast<double>(k) / n); });
+  int n = 1;
+  for (const RobotMotion& m : motions) {
+    n = std::max(n, segmentSteps(world, m.start.robot, m.start.q, m.q_end, m.start.held, options.resolution));
+  }
+  return forEachStepCoarseToFine(context, n, [&](int k) { return check_states(static_cast<double>(k) / n); });
 }
 
 }  // namespace dash

@@ -17,6 +17,11 @@
 // never explored twice and the search ends on every finite state space. The state space is finite when
 // no sequence of hyperarcs can grow the frontier without bound (true for task hypergraphs, where each
 // robot and object has exactly one instance); otherwise maxDepth, the budget or the deadline ends it.
+//
+// Cost per step: applicability is kept per hyperarc as a count of tail vertices missing from the
+// frontier (the partial hyperarcs), updated only for the outgoing hyperarcs of a vertex whose last
+// instance leaves or whose first instance enters the frontier; successors are judged (duplicate
+// test, heuristic) from the current state's key without being applied.
 #include <concepts>
 #include <cstddef>
 #include <functional>
@@ -51,7 +56,7 @@ enum class HyperpathAlgorithm {
 enum class GreedyPriority {
   kHeadCostToGo,      // arcCost(a) + max over head(a) of costToGo: the authors' greedy query
   kCostToGoDecrease,  // arcCost(a) + max over head(a) - max over tail(a) of costToGo: prefers steps
-                      // that make progress, and does not undo finished work (an object at its goal)
+                      // that make progress
 };
 
 /// h(state) for kBestFirst, from costToGo over the frontier instances.
@@ -170,7 +175,7 @@ struct HyperpathStats {
   std::size_t backtracks = 0;       // greedy: states abandoned after all successors failed
   std::size_t statesVisited = 0;    // distinct states stored in the memo table
   std::size_t duplicates = 0;       // successors skipped: their state was already visited
-  std::size_t pruned = 0;           // applicable hyperarcs rejected by `allowed`
+  std::size_t pruned = 0;           // applicable hyperarcs rejected by `allowed` or an infinite cost
   std::size_t depthCutoffs = 0;     // states not expanded because of maxDepth
   std::size_t extendedVertices = 0;
   std::size_t extendedHyperarcs = 0;

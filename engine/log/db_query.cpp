@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <string_view>
 
 #include "engine/core/stopwatch.h"
 
@@ -89,6 +90,14 @@ int authorize(void* context, int code, const char* a, const char* b, const char*
     case SQLITE_FUNCTION:
     case SQLITE_RECURSIVE:
       return SQLITE_OK;
+    case SQLITE_UPDATE:
+      // Table-valued pragmas (pragma_table_info(...)) ask for UPDATE on the schema table while
+      // they compile; nothing is written (the statement is still checked with stmt_readonly).
+      if (a != nullptr && (std::string_view(a) == "sqlite_master" || std::string_view(a) == "sqlite_schema")) {
+        return SQLITE_OK;
+      }
+      state->refused = writeRefused("UPDATE");
+      return SQLITE_DENY;
     case SQLITE_PRAGMA: {
       const std::string name = lower(a ? a : "");
       if (readOnlyPragmas().count(name) != 0 && (b == nullptr || pragmaTakesName(name))) return SQLITE_OK;
@@ -168,10 +177,16 @@ std::string numberText(double v) {
   return std::string(buffer, end);
 }
 
-std::string cellText(const SqlValue& v, const char* null_text) {
+// Exact (shortest round-trip) numbers for CSV; 6 significant digits for people.
+std::string cellText(const SqlValue& v, const char* null_text, bool for_people = false) {
   if (std::holds_alternative<std::monostate>(v)) return null_text;
   if (const auto* i = std::get_if<std::int64_t>(&v)) return std::to_string(*i);
-  if (const auto* d = std::get_if<double>(&v)) return numberText(*d);
+  if (const auto* d = std::get_if<double>(&v)) {
+    if (!for_people) return numberText(*d);
+    char buffer[32];
+    const auto end = std::to_chars(buffer, buffer + sizeof(buffer), *d, std::chars_format::general, 6).ptr;
+    return std::string(buffer, end);
+  }
   return std::get<std::string>(v);
 }
 
@@ -316,7 +331,7 @@ std::string formatRows(const SqlRows& rows, OutputFormat format) {
   for (const auto& row : rows.rows) {
     auto& line = cells.emplace_back();
     for (std::size_t c = 0; c < row.size(); ++c) {
-      line.push_back(fit(cellText(row[c], "NULL")));
+      line.push_back(fit(cellText(row[c], "NULL", true)));
       widths[c] = std::max(widths[c], line.back().size());
     }
   }

@@ -4,6 +4,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -28,17 +29,6 @@ namespace {
 constexpr std::array<const char*, 6> kStatusNames = {"running", "solved", "timeout", "infeasible", "crashed",
                                                      "cancelled"};
 
-std::string isoNow() {
-  const auto now = std::chrono::system_clock::now();
-  const std::time_t seconds = std::chrono::system_clock::to_time_t(now);
-  std::tm tm{};
-  gmtime_r(&seconds, &tm);
-  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000;
-  char text[64];
-  std::snprintf(text, sizeof(text), "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", tm.tm_year + 1900, tm.tm_mon + 1,
-                tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec, static_cast<int>(ms));
-  return text;
-}
 
 std::string newUuid() {
   std::random_device device;
@@ -111,157 +101,13 @@ std::vector<std::string> objectKeys(const std::string& canonical) {
   return keys;
 }
 
-int layerIndex(const std::string& name) {
-  for (int i = 0; i < kLayerCount; ++i) {
-    if (name == kLayerNames[i]) return i;
-  }
-  return -1;
-}
-
-template <std::size_t N>
-int nameIndex(const std::array<const char*, N>& names, const std::string& name) {
-  for (std::size_t i = 0; i < N; ++i) {
-    if (name == names[i]) return static_cast<int>(i);
-  }
-  return -1;
-}
-
-// What a run's stored events say, for the figures a summary leaves unset.
-struct Derived {
-  RepresentationSizes sizes;
-  PhaseTotals phases{};
-  std::array<std::int64_t, kConstraintKindCount> constraints{};
-  std::int64_t active_constraints = 0;
-  std::int64_t expansions = 0;
-  std::map<std::string, std::int64_t> counters;
-  std::int64_t max_iteration = 0;
-  double last_t = 0.0;
-  std::int64_t events = 0;
-
-  void see(const sql::Statement& st, int count_col, int iteration_col, int t_col) {
-    events += st.columnInt(count_col);
-    max_iteration = std::max(max_iteration, st.columnInt(iteration_col));
-    last_t = std::max(last_t, st.columnDouble(t_col));
-  }
-};
-
-Derived deriveFromTables(sqlite3* db, std::int64_t run_id) {
-  Derived d;
-  sql::Statement ev(db,
-                    "SELECT layer, kind, SUM(CASE change WHEN 'added' THEN 1 ELSE -1 END), COUNT(*), MAX(iteration), "
-                    "MAX(t) FROM dash_events WHERE run_id = ? GROUP BY layer, kind");
-  ev.bind(1, run_id);
-  while (ev.step()) {
-    const int layer = layerIndex(ev.columnText(0));
-    if (layer >= 0) (ev.columnText(1) == "vertex" ? d.sizes.vertices : d.sizes.hyperarcs)[layer] = ev.columnInt(2);
-    d.see(ev, 3, 4, 5);
-  }
-  sql::Statement ph(db, "SELECT phase, SUM(duration), COUNT(*), MAX(iteration), MAX(t_end) FROM dash_phases "
-                        "WHERE run_id = ? GROUP BY phase");
-  ph.bind(1, run_id);
-  while (ph.step()) {
-    if (const int p = nameIndex(kPhaseNames, ph.columnText(0)); p >= 0) d.phases[p] = ph.columnDouble(1);
-    d.see(ph, 2, 3, 4);
-  }
-  sql::Statement co(db, "SELECT kind, SUM(action = 'created'), SUM(CASE action WHEN 'created' THEN 1 ELSE -1 END), "
-                        "COUNT(*), MAX(iteration), MAX(t) FROM dash_constraints WHERE run_id = ? GROUP BY kind");
-  co.bind(1, run_id);
-  while (co.step()) {
-    if (const int k = nameIndex(kConstraintKindNames, co.columnText(0)); k >= 0) d.constraints[k] = co.columnInt(1);
-    d.active_constraints += co.columnInt(2);
-    d.see(co, 3, 4, 5);
-  }
-  sql::Statement ex(db, "SELECT COUNT(*), MAX(iteration), MAX(t) FROM dash_expansions WHERE run_id = ?");
-  ex.bind(1, run_id);
-  if (ex.step()) {
-    d.expansions = ex.columnInt(0);
-    d.see(ex, 0, 1, 2);
-  }
-  // SQLite takes the bare column `value` from the row holding MAX(seq): the latest value.
-  sql::Statement cn(db, "SELECT name, value, MAX(seq) FROM dash_counters WHERE run_id = ? GROUP BY name");
-  cn.bind(1, run_id);
-  while (cn.step()) d.counters[cn.columnText(0)] = cn.columnInt(1);
-  sql::Statement cs(db, "SELECT COUNT(*), MAX(iteration), MAX(t) FROM dash_counters WHERE run_id = ?");
-  cs.bind(1, run_id);
-  if (cs.step()) d.see(cs, 0, 1, 2);
-  return d;
-}
-
-std::optional<std::int64_t> counterOf(const Derived& d, const char* name) {
-  auto it = d.counters.find(name);
-  if (it == d.counters.end()) return std::nullopt;
-  return it->second;
-}
-
-// Writes a run's outcome: the summary, with unset figures derived from its events.
-void finishLocked(ResultsDb::Impl& m, std::int64_t run_id, const RunSummary& s, std::optional<double> elapsed,
-                  const std::string& recorder_error) {
-  m.commitLocked();
-  const Derived d = deriveFromTables(m.db.get(), run_id);
-  const PhaseTotals phases = s.phase_seconds.value_or(d.phases);
-  const RepresentationSizes sizes = s.sizes.value_or(d.sizes);
-  const auto constraints = s.constraints.value_or(d.constraints);
-  const double total = s.total_time ? *s.total_time : elapsed ? *elapsed : d.last_t;
-  const auto eager = s.collision_checks_eager ? s.collision_checks_eager : counterOf(d, "collision_checks_eager");
-  const auto lazy = s.collision_checks_lazy ? s.collision_checks_lazy : counterOf(d, "collision_checks_lazy");
-  std::optional<std::int64_t> checks = counterOf(d, "collision_checks");
-  if (eager || lazy) checks = eager.value_or(0) + lazy.value_or(0);
-  const auto roadmap_vertices = s.roadmap_vertices ? s.roadmap_vertices : counterOf(d, "roadmap_vertices");
-  const auto roadmap_edges = s.roadmap_edges ? s.roadmap_edges : counterOf(d, "roadmap_edges");
-
-  std::string error = s.error;
-  if (!recorder_error.empty()) {
-    if (!error.empty()) error += "; ";
-    error += "recording stopped: " + recorder_error;
-  }
-
-  m.beginWriteLocked();
-  sql::Statement up(m.db.get(), std::string("UPDATE dash_runs SET ") + kFinishAssignments + " WHERE id = ?");
-  auto b = up.binder();
-  b(isoNow())(toString(s.status)).orNull(error)(s.exit_signal)(total);
-  for (double p : phases) b(p);
-  b(s.iterations.value_or(d.max_iteration));
-  for (int l = 0; l < kLayerCount; ++l) b(sizes.vertices[l])(sizes.hyperarcs[l]);
-  b(roadmap_vertices)(roadmap_edges);
-  for (std::int64_t c : constraints) b(c);
-  b(s.task_space_expansions.value_or(d.expansions))(checks)(eager)(lazy);
-  b(s.makespan)(s.path_length)(s.peak_memory_mb).orNull(s.plan_json)(d.events)(run_id);
-  up.run();
-
-  sql::Statement& pr = m.insert_progress;
-  pr.bind(1, run_id).bind(2, total).bind(3, s.iterations.value_or(d.max_iteration));
-  for (int l = 0; l < kLayerCount; ++l) pr.bind(4 + 2 * l, sizes.vertices[l]).bind(5 + 2 * l, sizes.hyperarcs[l]);
-  pr.bind(12, roadmap_vertices.value_or(0)).bind(13, roadmap_edges.value_or(0)).bind(14, d.active_constraints);
-  pr.bind(15, checks.value_or(0));
-  pr.run();
-  m.commitLocked();
-}
-
-std::int64_t runIdOf(sqlite3* db, const std::string& uuid) {
-  sql::Statement st(db, "SELECT id FROM dash_runs WHERE uuid = ?");
-  st.bind(1, uuid);
-  DASH_THROW_UNLESS(st.step(), "no run with uuid " + uuid);
-  return st.columnInt(0);
-}
-
-std::vector<std::string> splitTags(const std::string& joined) {
-  std::vector<std::string> tags;
-  std::size_t start = 0;
-  while (!joined.empty() && start <= joined.size()) {
-    const std::size_t end = joined.find('\x1f', start);
-    tags.push_back(joined.substr(start, end == std::string::npos ? std::string::npos : end - start));
-    if (end == std::string::npos) break;
-    start = end + 1;
-  }
-  return tags;
-}
-
 }  // namespace
 
 const char* toString(RunStatus status) { return kStatusNames[static_cast<int>(status)]; }
 
 RunStatus parseRunStatus(const std::string& name) {
-  const int i = nameIndex(kStatusNames, name);
+  const auto it = std::find(kStatusNames.begin(), kStatusNames.end(), name);
+  const int i = it == kStatusNames.end() ? -1 : static_cast<int>(it - kStatusNames.begin());
   DASH_THROW_UNLESS(i >= 0, "unknown run status '" + name +
                                 "' (running, solved, timeout, infeasible, crashed or cancelled)");
   return static_cast<RunStatus>(i);
@@ -283,22 +129,11 @@ void ResultsDb::Impl::beginWriteLocked() {
   if (in_transaction) return;
   sql::exec(db.get(), "BEGIN IMMEDIATE");
   in_transaction = true;
-  pending = 0;
-  transaction_start = Clock::now();
-}
-
-void ResultsDb::Impl::afterWriteLocked() {
-  ++pending;
-  if (pending >= options.commit_every_events ||
-      std::chrono::duration<double>(Clock::now() - transaction_start).count() >= options.commit_every_seconds) {
-    commitLocked();
-  }
 }
 
 void ResultsDb::Impl::commitLocked() {
   if (!in_transaction) return;
   in_transaction = false;
-  pending = 0;
   try {
     sql::exec(db.get(), "COMMIT");
   } catch (...) {
@@ -309,7 +144,6 @@ void ResultsDb::Impl::commitLocked() {
 
 void ResultsDb::Impl::rollbackLocked() noexcept {
   in_transaction = false;
-  pending = 0;
   if (!sqlite3_get_autocommit(db.get())) sqlite3_exec(db.get(), "ROLLBACK", nullptr, nullptr, nullptr);
 }
 
@@ -356,14 +190,18 @@ ResultsDb::ResultsDb(const std::string& path, OpenMode mode, DbOptions options) 
 
 ResultsDb::~ResultsDb() {
   Impl& m = *impl_;
-  std::lock_guard lock(m.mutex);
-  for (auto& [uuid, run] : m.active) {
-    if (run.recorder != nullptr) run.recorder->db_ = nullptr;
+  std::vector<SqliteRecorder*> recorders;
+  {
+    std::lock_guard lock(m.mutex);
+    for (auto& [uuid, run] : m.active) {
+      if (run.recorder != nullptr) recorders.push_back(run.recorder);
+    }
   }
-  try {
-    m.commitLocked();
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "dashbench: could not commit the last events to %s: %s\n", m.path.c_str(), e.what());
+  for (SqliteRecorder* r : recorders) r->handOver(true);
+  m.stopWriter();  // writes everything queued
+  for (SqliteRecorder* r : recorders) {
+    std::lock_guard lock(r->mutex_);
+    r->db_ = nullptr;
   }
 }
 
@@ -435,8 +273,9 @@ std::unique_ptr<SqliteRecorder> ResultsDb::recorder(const std::string& uuid, con
   auto it = m.active.find(uuid);
   DASH_THROW_UNLESS(it != m.active.end(), "run " + uuid + " was not begun by this process, or has finished");
   DASH_THROW_UNLESS(it->second.recorder == nullptr, "run " + uuid + " already has a recorder");
-  std::unique_ptr<SqliteRecorder> recorder(new SqliteRecorder(m, uuid, it->second.run_id, options));
+  std::unique_ptr<SqliteRecorder> recorder(new SqliteRecorder(m, uuid, it->second.run_id));
   it->second.recorder = recorder.get();
+  m.run_states[it->second.run_id].progress_interval = options.progress_interval;
   return recorder;
 }
 
@@ -444,29 +283,38 @@ void ResultsDb::finishRun(const std::string& uuid, const RunSummary& summary) {
   Impl& m = *impl_;
   m.requireWritable();
   DASH_THROW_UNLESS(summary.status != RunStatus::Running, "finishRun needs a final status, not 'running'");
-  std::lock_guard lock(m.mutex);
-  const std::int64_t run_id = runIdOf(m.db.get(), uuid);
-  {
+  auto requireRunning = [&](std::int64_t run_id) {
     sql::Statement st(m.db.get(), "SELECT status FROM dash_runs WHERE id = ?");
     st.bind(1, run_id);
     st.step();
     DASH_THROW_UNLESS(st.columnText(0) == "running", "run " + uuid + " has already finished (" + st.columnText(0) + ")");
+  };
+  SqliteRecorder* recorder = nullptr;
+  {
+    std::lock_guard lock(m.mutex);
+    requireRunning(runIdOf(m.db.get(), uuid));
+    if (auto it = m.active.find(uuid); it != m.active.end()) recorder = it->second.recorder;
   }
+  // The run's last events first: hand them over (outside the lock: the writer needs it) and wait.
+  if (recorder != nullptr) recorder->handOver(true);
+  m.waitDrained();
+
+  std::lock_guard lock(m.mutex);
+  const std::int64_t run_id = runIdOf(m.db.get(), uuid);
+  requireRunning(run_id);
   std::optional<double> elapsed;
   auto it = m.active.find(uuid);
   if (it != m.active.end()) elapsed = std::chrono::duration<double>(Clock::now() - it->second.start).count();
+  std::string recorder_error;
+  if (auto state = m.run_states.find(run_id); state != m.run_states.end()) recorder_error = state->second.error;
   try {
-    const std::string recorder_error =
-        it != m.active.end() && it->second.recorder != nullptr ? it->second.recorder->error_ : std::string();
-    finishLocked(m, run_id, summary, elapsed, recorder_error);
+    finishRunLocked(m, run_id, summary, elapsed, recorder_error);
   } catch (...) {
     m.rollbackLocked();
     throw;
   }
-  if (it != m.active.end()) {
-    if (it->second.recorder != nullptr) it->second.recorder->finished_ = true;
-    m.active.erase(it);
-  }
+  m.run_states.erase(run_id);
+  if (it != m.active.end()) m.active.erase(it);
 }
 
 int ResultsDb::markInterrupted(const std::string& reason, RunStatus status) {
@@ -474,7 +322,6 @@ int ResultsDb::markInterrupted(const std::string& reason, RunStatus status) {
   m.requireWritable();
   DASH_THROW_UNLESS(status != RunStatus::Running, "markInterrupted needs a final status");
   std::lock_guard lock(m.mutex);
-  m.commitLocked();
   std::vector<std::int64_t> ids;
   sql::Statement st(m.db.get(), "SELECT id, uuid FROM dash_runs WHERE status = 'running' ORDER BY id");
   while (st.step()) {
@@ -482,7 +329,7 @@ int ResultsDb::markInterrupted(const std::string& reason, RunStatus status) {
   }
   RunSummary summary{.status = status, .error = reason};
   try {
-    for (std::int64_t id : ids) finishLocked(m, id, summary, std::nullopt, {});
+    for (std::int64_t id : ids) finishRunLocked(m, id, summary, std::nullopt, {});
   } catch (...) {
     m.rollbackLocked();
     throw;
@@ -491,8 +338,16 @@ int ResultsDb::markInterrupted(const std::string& reason, RunStatus status) {
 }
 
 void ResultsDb::flush() {
-  std::lock_guard lock(impl_->mutex);
-  impl_->commitLocked();
+  Impl& m = *impl_;
+  std::vector<SqliteRecorder*> recorders;
+  {
+    std::lock_guard lock(m.mutex);
+    for (auto& [uuid, run] : m.active) {
+      if (run.recorder != nullptr) recorders.push_back(run.recorder);
+    }
+  }
+  for (SqliteRecorder* r : recorders) r->handOver(false);
+  m.waitDrained();
 }
 
 void ResultsDb::putBatch(const BatchRecord& batch) {
@@ -501,7 +356,6 @@ void ResultsDb::putBatch(const BatchRecord& batch) {
   DASH_THROW_UNLESS(!batch.id.empty(), "a batch needs an id");
   const std::string spec = canonicalObject(batch.spec_json, "batch spec", false);
   std::lock_guard lock(m.mutex);
-  m.commitLocked();
   sql::Statement st(m.db.get(),
                     "INSERT INTO dash_batches (id, name, spec, created, status) VALUES (?,?,?,?,?) ON CONFLICT(id) "
                     "DO UPDATE SET name = excluded.name, spec = excluded.spec, status = excluded.status");
@@ -513,7 +367,6 @@ void ResultsDb::setBatchStatus(const std::string& id, const std::string& status)
   Impl& m = *impl_;
   m.requireWritable();
   std::lock_guard lock(m.mutex);
-  m.commitLocked();
   sql::Statement st(m.db.get(), "UPDATE dash_batches SET status = ? WHERE id = ?");
   st.bind(1, status).bind(2, id).run();
   DASH_THROW_UNLESS(sqlite3_changes(m.db.get()) == 1, "no batch with id " + id);
@@ -524,7 +377,6 @@ void ResultsDb::addTag(const std::string& uuid, const std::string& tag) {
   m.requireWritable();
   DASH_THROW_UNLESS(!tag.empty(), "a tag cannot be empty");
   std::lock_guard lock(m.mutex);
-  m.commitLocked();
   sql::Statement st(m.db.get(), "INSERT OR IGNORE INTO dash_run_tags (run_id, tag) VALUES (?, ?)");
   st.bind(1, runIdOf(m.db.get(), uuid)).bind(2, tag).run();
 }
@@ -533,7 +385,6 @@ void ResultsDb::removeTag(const std::string& uuid, const std::string& tag) {
   Impl& m = *impl_;
   m.requireWritable();
   std::lock_guard lock(m.mutex);
-  m.commitLocked();
   sql::Statement st(m.db.get(), "DELETE FROM dash_run_tags WHERE run_id = ? AND tag = ?");
   st.bind(1, runIdOf(m.db.get(), uuid)).bind(2, tag).run();
 }
@@ -542,7 +393,6 @@ void ResultsDb::setNote(const std::string& uuid, const std::string& note) {
   Impl& m = *impl_;
   m.requireWritable();
   std::lock_guard lock(m.mutex);
-  m.commitLocked();
   sql::Statement st(m.db.get(), "UPDATE dash_runs SET note = ? WHERE id = ?");
   st.bindOrNull(1, note).bind(2, runIdOf(m.db.get(), uuid)).run();
 }
@@ -552,85 +402,6 @@ void ResultsDb::refreshArenaViews() {
   m.requireWritable();
   // Called from the constructor before other threads can see this object, and under the lock otherwise.
   dash::log::refreshArenaViews(m.db.get());
-}
-
-std::vector<RunRecord> ResultsDb::listRuns(const RunFilter& filter) const {
-  std::string sql = std::string("SELECT ") + kRunSelectColumns + (filter.include_plan ? ", r.plan" : ", NULL") +
-                    " FROM dash_runs r WHERE 1";
-  std::vector<SqlValue> params;
-  auto where = [&](const char* clause, SqlValue value) {
-    sql += clause;
-    params.push_back(std::move(value));
-  };
-  if (!filter.batch_id.empty()) where(" AND r.batch_id = ?", filter.batch_id);
-  if (filter.status) where(" AND r.status = ?", std::string(toString(*filter.status)));
-  if (!filter.family.empty()) where(" AND r.family = ?", filter.family);
-  if (!filter.planner.empty()) where(" AND r.planner = ?", filter.planner);
-  if (!filter.uuids.empty()) {
-    sql += " AND r.uuid IN (";
-    for (std::size_t i = 0; i < filter.uuids.size(); ++i) {
-      sql += i == 0 ? "?" : ",?";
-      params.emplace_back(filter.uuids[i]);
-    }
-    sql += ")";
-  }
-  sql += filter.newest_first ? " ORDER BY r.id DESC" : " ORDER BY r.id";
-  where(" LIMIT ?", filter.limit);
-  where(" OFFSET ?", filter.offset);
-
-  std::lock_guard lock(impl_->mutex);
-  sql::Statement st(impl_->db.get(), sql);
-  for (std::size_t i = 0; i < params.size(); ++i) st.bind(static_cast<int>(i) + 1, params[i]);
-  std::vector<RunRecord> runs;
-  while (st.step()) {
-    RunRecord r = readRunRecord(st);
-    r.tags = splitTags(st.isNull(kRunSelectColumnCount - 1) ? "" : st.columnText(kRunSelectColumnCount - 1));
-    if (filter.include_plan && !st.isNull(kRunSelectColumnCount)) r.summary.plan_json = st.columnText(kRunSelectColumnCount);
-    runs.push_back(std::move(r));
-  }
-  return runs;
-}
-
-std::optional<RunRecord> ResultsDb::getRun(const std::string& uuid) const {
-  auto runs = listRuns(RunFilter{.uuids = {uuid}, .limit = 1, .include_plan = true});
-  if (runs.empty()) return std::nullopt;
-  return std::move(runs.front());
-}
-
-std::vector<BatchRecord> ResultsDb::listBatches() const {
-  std::lock_guard lock(impl_->mutex);
-  sql::Statement st(impl_->db.get(), "SELECT id, name, spec, created, status FROM dash_batches ORDER BY created, id");
-  std::vector<BatchRecord> out;
-  while (st.step()) {
-    out.push_back({st.columnText(0), st.columnText(1), st.columnText(2), st.columnText(3), st.columnText(4)});
-  }
-  return out;
-}
-
-DbInfo ResultsDb::info() const {
-  std::lock_guard lock(impl_->mutex);
-  sqlite3* db = impl_->db.get();
-  DbInfo info;
-  info.path = impl_->path;
-  info.schema_version = readSchemaVersion(db);
-  sql::Statement st(db, "SELECT status, COUNT(*) FROM dash_runs GROUP BY status ORDER BY status");
-  while (st.step()) {
-    info.runs_by_status[st.columnText(0)] = st.columnInt(1);
-    info.runs += st.columnInt(1);
-  }
-  info.experiments = sql::selectInt(db, "SELECT COUNT(*) FROM dash_experiments");
-  info.planner_configs = sql::selectInt(db, "SELECT COUNT(*) FROM dash_planner_configs");
-  info.batches = sql::selectInt(db, "SELECT COUNT(*) FROM dash_batches");
-  info.events = sql::selectInt(db,
-                               "SELECT (SELECT COUNT(*) FROM dash_events) + (SELECT COUNT(*) FROM dash_constraints) + "
-                               "(SELECT COUNT(*) FROM dash_expansions) + (SELECT COUNT(*) FROM dash_phases) + "
-                               "(SELECT COUNT(*) FROM dash_counters)");
-  return info;
-}
-
-SqlRows ResultsDb::select(const std::string& sql, const std::vector<SqlValue>& params) const {
-  std::lock_guard lock(impl_->mutex);
-  return sql::selectRows(impl_->db.get(), sql, params);
 }
 
 }  // namespace dash::log

@@ -7,8 +7,9 @@
 // Within the writer, one ResultsDb may be shared by several threads: every call and every
 // recorder serialises on one mutex.
 //
-// Durability: events are written in batched transactions (commit every N events or T seconds).
-// beginRun and finishRun commit before they return, so a process killed at any moment (SIGKILL
+// Durability: recorders hand events in batches (every N events or T seconds of run time) to a
+// writer thread, which commits each drain as one transaction. beginRun and finishRun commit
+// before they return (finishRun after the run's last events), so a process killed at any moment (SIGKILL
 // included) leaves a file that passes integrity_check and holds every run finished before the
 // kill; the killed run stays 'running' until markInterrupted() closes it.
 #include <array>
@@ -136,8 +137,9 @@ enum class OpenMode { ReadWrite, ReadOnly };
 
 struct DbOptions {
   int busy_timeout_ms = 5000;
-  int commit_every_events = 4096;    ///< batched transactions: commit after this many events...
-  double commit_every_seconds = 0.25;  ///< ...or when the open transaction is this old
+  int batch_events = 4096;      ///< a recorder hands a batch to the writer thread at this many events...
+  double batch_seconds = 0.25;  ///< ...or when this much run time passed since its last hand-over
+  std::size_t max_queued_events = 1 << 16;  ///< recorders wait while the writer is this far behind
 };
 
 class ResultsDb {
@@ -145,7 +147,7 @@ class ResultsDb {
   /// Opens (creating in ReadWrite mode) and migrates the file. Throws SchemaError for a newer or
   /// foreign file, DbError when SQLite cannot open it.
   explicit ResultsDb(const std::string& path, OpenMode mode = OpenMode::ReadWrite, DbOptions options = {});
-  ~ResultsDb();  ///< commits pending events; recorders still alive stop recording
+  ~ResultsDb();  ///< writes every pending event; recorders still alive stop recording
   ResultsDb(const ResultsDb&) = delete;
   ResultsDb& operator=(const ResultsDb&) = delete;
 
@@ -166,7 +168,7 @@ class ResultsDb {
   /// their figures are derived from the events they recorded. Returns how many.
   int markInterrupted(const std::string& reason = "interrupted: the process ended before the run finished",
                       RunStatus status = RunStatus::Crashed);
-  /// Commits pending events now.
+  /// Hands over every recorder's pending events and returns once they are committed.
   void flush();
 
   void putBatch(const BatchRecord& batch);  ///< insert, or update name/spec/status

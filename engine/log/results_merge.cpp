@@ -112,7 +112,6 @@ MergeReport ResultsDb::mergeFrom(const std::string& other_path) {
   }
   std::lock_guard lock(m.mutex);
   sqlite3* db = m.db.get();
-  m.commitLocked();  // ATTACH cannot run inside a transaction
   sql::Statement attach(db, "ATTACH DATABASE ? AS src");
   attach.bind(1, readOnlyUri(input.path())).run();
   MergeReport report;

@@ -1,5 +1,9 @@
 #pragma once
-// Private to engine/log: how dash_runs columns map to RunRecord / RunSummary, in one place.
+// Private to engine/log: how dash_runs columns map to RunRecord / RunSummary, and how a run's
+// outcome is written (run_finish.cpp).
+#include <optional>
+#include <string>
+
 #include "engine/log/results_db.h"
 #include "engine/log/sqlite_util.h"
 
@@ -14,5 +18,17 @@ extern const int kRunSelectColumnCount;
 
 /// Reads one row selected with kRunSelectColumns (tags and plan are left to the caller).
 RunRecord readRunRecord(const sql::Statement& st);
+
+/// Now, as ISO 8601 UTC with milliseconds: "2026-11-21T13:21:05.123Z".
+std::string isoNow();
+
+/// The local id of run `uuid`; throws InputError if there is none.
+std::int64_t runIdOf(sqlite3* db, const std::string& uuid);
+
+/// Writes a run's outcome (status 'running' no more): `summary`, with every unset figure derived
+/// from the run's stored events, plus a last progress row. `elapsed`: wall time since beginRun,
+/// if this process began it. Caller holds the database mutex.
+void finishRunLocked(ResultsDb::Impl& m, std::int64_t run_id, const RunSummary& summary,
+                     std::optional<double> elapsed, const std::string& recorder_error);
 
 }  // namespace dash::log

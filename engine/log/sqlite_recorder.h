@@ -4,12 +4,15 @@
 // snapshot of the representation sizes to dash_progress (Planner Arena's `progress`) at phase
 // ends, at most every `progress_interval` seconds of run time, plus a last one at finishRun.
 //
-// Cost per event: one mutex, one prepared INSERT inside the database's batched transaction.
-// onEvent never throws into the planner: a database failure stops the recording, and finishRun
-// reports it in the run's error text.
-#include <array>
+// The planner's thread only copies each event into a batch; the ResultsDb's writer thread turns
+// full batches (DbOptions::batch_events, or batch_seconds of run time) into one transaction each.
+// finishRun hands over what is left and waits until it is committed. onEvent never throws into
+// the planner: a database failure stops the recording, and finishRun reports it in the run's
+// error text. Several threads may emit into one recorder.
 #include <cstdint>
+#include <mutex>
 #include <string>
+#include <vector>
 
 #include "engine/log/events.h"
 #include "engine/log/results_db.h"
@@ -22,6 +25,8 @@ struct RecorderOptions {
 
 class SqliteRecorder final : public EventSink {
  public:
+  /// Hands over the events not yet handed over (they are written even if finishRun never comes).
+  /// Must not run concurrently with finishRun of the same run.
   ~SqliteRecorder() override;
   SqliteRecorder(const SqliteRecorder&) = delete;
   SqliteRecorder& operator=(const SqliteRecorder&) = delete;
@@ -29,38 +34,24 @@ class SqliteRecorder final : public EventSink {
   void onEvent(const Event& event) override;
 
   const std::string& runUuid() const { return uuid_; }
-  /// Events stored so far (phase starts excluded: an interval is stored once, at its end).
-  std::int64_t storedEvents() const;
-  /// The first database error, if recording stopped; empty otherwise.
-  std::string error() const;
+  /// Events accepted so far (phase starts excluded: an interval is stored once, at its end).
+  std::int64_t acceptedEvents() const;
 
  private:
   friend class ResultsDb;
-  friend struct ResultsDb::Impl;
-  SqliteRecorder(ResultsDb::Impl& db, std::string uuid, std::int64_t run_id, RecorderOptions options);
+  SqliteRecorder(ResultsDb::Impl& db, std::string uuid, std::int64_t run_id);
+  /// Hands over what is pending; with `close`, accepts nothing more.
+  void handOver(bool close);
+  void handOverLocked();
 
-  void writeRepresentation(const Event& e, const RepresentationEvent& r);
-  void writeConstraint(const Event& e, const ConstraintEvent& c);
-  void writeExpansion(const Event& e, const TaskSpaceExpansionEvent& x);
-  void writePhase(const Event& e, const PhaseEvent& p);
-  void writeCounter(const Event& e, const CounterEvent& c);
-  void writeProgress(double t, int iteration);
-
-  ResultsDb::Impl* db_;  ///< nullptr once the database is closed
-  std::string uuid_;
-  std::int64_t run_id_;
-  RecorderOptions options_;
-  bool finished_ = false;
-  std::string error_;
-
-  // Running state (guarded by the database's mutex).
-  std::int64_t seq_ = 0;
-  RepresentationSizes sizes_;
-  std::int64_t active_constraints_ = 0;
-  std::int64_t roadmap_vertices_ = 0, roadmap_edges_ = 0;
-  std::int64_t checks_eager_ = 0, checks_lazy_ = 0, checks_total_ = -1;
-  double last_progress_t_ = -1e300;
-  std::string head_buffer_, tail_buffer_;
+  ResultsDb::Impl* db_;
+  const std::string uuid_;
+  const std::int64_t run_id_;
+  mutable std::mutex mutex_;
+  std::vector<Event> pending_;
+  double last_handover_t_ = 0.0;
+  std::int64_t accepted_ = 0;
+  bool closed_ = false;
 };
 
 }  // namespace dash::log

@@ -89,6 +89,9 @@ class Checks {
     if (plan_.scene != scene_.name) {
       add(ProblemKind::kSceneName, 0.0, "", "", "the plan is for scene \"" + plan_.scene + "\", not \"" + scene_.name + "\"");
     }
+    for (const PlanEvent& e : plan_.events) {
+      if (!(e.t >= 0.0)) add(ProblemKind::kTimeOrder, 0.0, e.robot, e.object, std::string(eventTypeName(e.type)) + " event before t=0");
+    }
     const double last = plan_.lastTime();
     if (!(std::abs(plan_.makespan - last) <= options_.time_tolerance)) {
       add(ProblemKind::kMakespan, last, "", "",
@@ -158,7 +161,10 @@ class Checks {
       if (static_cast<int>(traj.joint_names.size()) != model.dof()) return;  // the points cannot be read
     }
     const auto& points = traj.points;
-    if (points.empty()) return;
+    if (points.empty()) {
+      add(ProblemKind::kStartTime, 0.0, robot.id, "", robot.id + ": the trajectory has no points (it must start at t=0 at home)");
+      return;
+    }
     if (!(std::abs(points.front().t) <= options_.time_tolerance)) {
       add(ProblemKind::kStartTime, points.front().t, robot.id, "",
           robot.id + ": the first point is at t=" + formatNumber(points.front().t, 9) + ", not at t=0");

@@ -18,6 +18,9 @@ inline std::size_t at(int i) { return static_cast<std::size_t>(i); }
 
 /// Below this many samples per thread, more threads cost more than they save.
 constexpr std::size_t kMinSamplesPerThread = 256;
+/// Joint limits keep a segment's samples in the thousands; a plan far outside them (reported as
+/// joint_limit) must not exhaust memory.
+constexpr int kMaxStepsPerInterval = 100000;
 
 /// A stretch between consecutive point or event times: every robot moves on one straight segment.
 struct Interval {
@@ -118,6 +121,7 @@ class GeometryChecker {
       }
     }
     for (const Epoch& e : timeline_.epochs) times.push_back(e.t);
+    std::erase_if(times, [](double t) { return !(t >= 0.0); });  // malformed plans built in code
     std::sort(times.begin(), times.end());
     times.erase(std::unique(times.begin(), times.end()), times.end());
 
@@ -140,7 +144,7 @@ class GeometryChecker {
         if (q0 == q1) continue;
         moving[at(r)] = 1;
         const HeldObject held = heldBy(timeline_.epochs[at(epoch)], r);
-        steps = std::max(steps, segmentSteps(world_, r, q0, q1, held, options_.max_step));
+        steps = std::clamp(segmentSteps(world_, r, q0, q1, held, options_.max_step), steps, kMaxStepsPerInterval);
       }
       for (int r = 0; r < robots; ++r) {
         for (int m = 0; m < robots && interval.included[at(r)] == 0; ++m) {

@@ -30,7 +30,8 @@ PlanMotion::PlanMotion(const Scene& scene, const Plan& plan) : scene_(&scene) {
 
 JointVector PlanMotion::q(int r, double t) const {
   const RobotTrajectory* traj = trajectory(r);
-  return traj == nullptr ? scene_->robots[static_cast<std::size_t>(r)].home : traj->positionAt(t);
+  // Times before 0 only come from malformed plans built in code (reported as time_order): read them as 0.
+  return traj == nullptr ? scene_->robots[static_cast<std::size_t>(r)].home : traj->positionAt(std::max(t, 0.0));
 }
 
 Pose PlanMotion::tcp(int r, double t) const {

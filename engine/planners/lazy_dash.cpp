@@ -4,6 +4,9 @@
 
 #include "engine/collision/collision_context.h"
 #include "engine/collision/collision_world.h"
+#include "engine/conflict/scheduler.h"
+#include "engine/motion/motion_layer.h"
+#include "engine/plan/plan_validator.h"
 #include "engine/task/task_layer.h"
 
 namespace dash {
@@ -40,33 +43,102 @@ void fillTaskStats(const TaskLayer& task, PlanStats& stats) {
 
 }  // namespace
 
+namespace {
+
+constexpr int kMaxMotionRounds = 200;
+
+double pathLength(const Plan& plan) {
+  double total = 0.0;
+  for (const RobotTrajectory& r : plan.robots)
+    for (std::size_t i = 1; i < r.points.size(); ++i) total += (r.points[i].q - r.points[i - 1].q).norm();
+  return total;
+}
+
+/// A motion failure at `step` goes back to the task query as a one-query ban on that hyperarc.
+TaskConstraint motionFeedback(const TaskPlan& plan, int step, const std::string& why) {
+  TaskConstraint c;
+  c.kind = TaskConstraint::Kind::kInteraction;
+  c.arc = plan.steps[step].arc;
+  c.temporary = true;
+  c.cause = why;
+  return c;
+}
+
+}  // namespace
+
 PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, const Deadline& deadline,
                            log::EventSink* sink) {
   applyTestFault(settings, deadline);
+  seedOmplOnce(settings.seed);
   log::EventEmitter emitter(sink);
   const CollisionWorld world(scene);
   CollisionContext context(world);
   TaskLayer task(scene, world, context, emitter, settings.seed);
+  MotionLayer motion(world, context, emitter);
+  Scheduler scheduler(world, context);
   PlanResult result;
-  const TaskLayerResult layer = task.plan(deadline);
-  fillTaskStats(task, result.stats);
-  result.stats.collision_checks_lazy = static_cast<std::int64_t>(context.counters().configuration_checks);
-  result.stats.phase_seconds = emitter.phaseTotals();
-  if (layer.status != TaskLayerStatus::kFeasible) {
-    result.outcome = outcomeOf(layer.status, deadline);
-    result.message = "task layer: " + std::string(toString(layer.status)) +
-                     (layer.reason.empty() ? "" : " (" + layer.reason + ")");
+  auto finish = [&](PlanOutcome outcome, std::string message) {
+    fillTaskStats(task, result.stats);
+    result.stats.sizes.motion_vertices = motion.motionVertices();
+    result.stats.sizes.motion_hyperarcs = motion.motionHyperarcs();
+    result.stats.sizes.motion_extended_vertices = motion.extendedVertices();
+    result.stats.sizes.motion_extended_hyperarcs = motion.extendedHyperarcs();
+    result.stats.roadmap_vertices = static_cast<std::int64_t>(motion.roadmapVertices());
+    result.stats.roadmap_edges = static_cast<std::int64_t>(motion.roadmapEdges());
+    result.stats.collision_checks_lazy = static_cast<std::int64_t>(context.counters().configuration_checks);
+    result.stats.phase_seconds = emitter.phaseTotals();
+    result.outcome = outcome;
+    result.message = std::move(message);
+    emitter.counter("collision_checks_lazy", result.stats.collision_checks_lazy);
     return result;
+  };
+
+  for (int round = 0; round < kMaxMotionRounds; ++round) {
+    const TaskLayerResult layer = task.plan(deadline);
+    if (layer.status != TaskLayerStatus::kFeasible)
+      return finish(outcomeOf(layer.status, deadline),
+                    "task layer: " + std::string(toString(layer.status)) + (layer.reason.empty() ? "" : " (" + layer.reason + ")"));
+    if (settings.task_only) {
+      result.task_plan_json = layer.plan.toJson(task.space());
+      return finish(PlanOutcome::kSolved, layer.plan.describe(task.space()));
+    }
+    MotionLayerResult motions = motion.plan(layer.plan, layer.transitions, task.space(), deadline);
+    if (motions.status == MotionStatus::kTimeout) return finish(outcomeOf(TaskLayerStatus::kTimeout, deadline), "motion layer: timeout");
+    if (motions.status == MotionStatus::kFailed) {
+      if (motions.failed_step < 0) return finish(PlanOutcome::kInfeasible, "motion layer: " + motions.reason);
+      task.addConstraint(motionFeedback(layer.plan, motions.failed_step, "motion query: " + motions.reason));
+      emitter.setIteration(emitter.iteration() + 1);
+      continue;
+    }
+    ScheduleResult schedule;
+    {
+      log::PhaseTimer timer(emitter, log::Phase::ConflictResolution);
+      const MoveReplanner replan = [&](int r, const JointVector& from, const JointVector& to, const MotionContext& ctx) {
+        return motion.connect(r, from, to, ctx, deadline);
+      };
+      schedule = scheduler.build(layer.plan, layer.transitions, std::move(motions), task.space(), replan, deadline);
+    }
+    if (!schedule.ok) {
+      if (deadline.expired()) return finish(outcomeOf(TaskLayerStatus::kTimeout, deadline), "conflict resolution: timeout");
+      if (schedule.failed_step < 0) return finish(PlanOutcome::kInfeasible, "conflict resolution: " + schedule.reason);
+      task.addConstraint(motionFeedback(layer.plan, schedule.failed_step, "conflict resolution: " + schedule.reason));
+      emitter.setIteration(emitter.iteration() + 1);
+      continue;
+    }
+    Plan plan = std::move(schedule.plan);
+    plan.planner = name();
+    const ValidationReport report = validatePlan(scene, plan);
+    if (!report.valid()) {
+      // A plan that fails validation is a bug in the planner, never a result.
+      return finish(PlanOutcome::kInfeasible, "internal error: the planned schedule failed validation: " +
+                                                  report.problems.front().message);
+    }
+    result.stats.makespan = plan.makespan;
+    result.stats.path_length = pathLength(plan);
+    result.plan = std::move(plan);
+    return finish(PlanOutcome::kSolved, "solved");
   }
-  result.message = layer.plan.describe(task.space());
-  result.task_plan_json = layer.plan.toJson(task.space());
-  if (settings.task_only) {
-    result.outcome = PlanOutcome::kSolved;
-    return result;
-  }
-  result.outcome = PlanOutcome::kInfeasible;
-  result.message = "the motion layer is not part of this build yet: only --task-only runs can succeed";
-  return result;
+  return finish(PlanOutcome::kInfeasible, "gave up after " + std::to_string(kMaxMotionRounds) + " motion rounds");
 }
 
 }  // namespace dash

@@ -1,6 +1,7 @@
 #include "engine/planners/planner.h"
 
 #include "engine/core/check.h"
+#include "engine/dash/dash_planner.h"
 #include "engine/planners/lazy_dash.h"
 
 namespace dash {
@@ -15,10 +16,11 @@ const char* toString(PlanOutcome outcome) {
   return "?";
 }
 
-std::vector<std::string> plannerNames() { return {"lazy-dash"}; }
+std::vector<std::string> plannerNames() { return {"lazy-dash", "dash"}; }
 
 std::unique_ptr<Planner> makePlanner(const std::string& name) {
   if (name == "lazy-dash") return std::make_unique<LazyDash>();
+  if (name == "dash") return std::make_unique<DashPlanner>();
   std::string known;
   for (const auto& n : plannerNames()) known += (known.empty() ? "" : ", ") + n;
   throw InputError("unknown planner '" + name + "' (known: " + known + ")");

@@ -91,8 +91,13 @@ std::optional<HandoverPose> findHandover(const CollisionWorld& world, CollisionC
                 RobotState{.robot = r1, .q = x.q, .held = {.object = object, .X_TO = x.grasp.X_TO}},
                 RobotState{.robot = r2, .q = y.q, .held = {.object = object, .X_TO = y.grasp.X_TO}}};
             if (robotsInCollision(world, context, states, free_space)) continue;
-            return HandoverPose{.giver = r1, .receiver = r2, .X_WO = X_WO, .giver_grasp = x.grasp,
-                                .receiver_grasp = y.grasp, .q_giver = x.q, .q_receiver = y.q};
+            return HandoverPose{.giver = r1,
+                                .receiver = r2,
+                                .X_WO = X_WO,
+                                .giver_grasp = x.grasp,
+                                .receiver_grasp = y.grasp,
+                                .q_giver = x.q,
+                                .q_receiver = y.q};
           }
           if (checks > kMaxPairChecksPerPose) break;
         }
@@ -127,8 +132,8 @@ HandoverGraph buildHandoverGraph(const CollisionWorld& world, CollisionContext& 
   return graph;
 }
 
-std::vector<int> robotsAbleToGrasp(const CollisionWorld& world, CollisionContext& context, int object,
-                                   const Pose& X_WO, const ObjectLayout& layout) {
+std::vector<int> robotsAbleToGrasp(const CollisionWorld& world, CollisionContext& context, int object, const Pose& X_WO,
+                                   const ObjectLayout& layout) {
   std::vector<int> out;
   const Scene& scene = world.scene();
   for (int r = 0; r < world.robotCount(); ++r) {

@@ -51,8 +51,8 @@ HandoverGraph buildHandoverGraph(const CollisionWorld& world, CollisionContext& 
 
 /// Robots with the "grasp" capability that can hold `object` at X_WO (some grasp candidate with a
 /// collision-free IK solution among obstacles and the resting objects of `layout`), in index order.
-std::vector<int> robotsAbleToGrasp(const CollisionWorld& world, CollisionContext& context, int object,
-                                   const Pose& X_WO, const ObjectLayout& layout);
+std::vector<int> robotsAbleToGrasp(const CollisionWorld& world, CollisionContext& context, int object, const Pose& X_WO,
+                                   const ObjectLayout& layout);
 
 /// Least number of handovers from a robot of `from` to a robot of `to` (0 if they share one), or -1 if
 /// no chain links them.

@@ -26,7 +26,7 @@ constexpr double kGantry1OffsetX = 0.5;  ///< gantry_1 covers x in [0.5, 1.5], g
 constexpr double kContainerSize = 0.08;
 constexpr double kContainerHeight = 0.12;  ///< lid top at 0.13: inside the TCP's band
 constexpr double kLidThickness = 0.01;
-constexpr double kInspectHeight = 0.04;    ///< TCP above the container's rim while inspecting
+constexpr double kInspectHeight = 0.04;  ///< TCP above the container's rim while inspecting
 // Container spots: a grid in the shared band x in [0.56, 0.92], leaving gantry_1 room beyond x + 0.1
 // while gantry_0 holds a lid (bridges and carriages are 0.08 and 0.1 wide).
 constexpr double kSpotX[] = {0.56, 0.68, 0.80, 0.92};
@@ -55,7 +55,8 @@ GeneratedLayout generateLab(const FamilyInput& in) {
 
   // Millimetre steps keep the numbers short.
   auto mm = [](double x) { return std::round(x * 1000.0) / 1000.0; };
-  const Vec2 zone(mm(portable::uniform(in.rng, kZoneXMin, kZoneXMax)), mm(portable::uniform(in.rng, kZoneYMin, kZoneYMax)));
+  const Vec2 zone(mm(portable::uniform(in.rng, kZoneXMin, kZoneXMax)),
+                  mm(portable::uniform(in.rng, kZoneYMin, kZoneYMax)));
   b.addBox("sanitiser", Vec3(kZoneLength, kZoneWidth, kZoneHeight), Vec3(zone.x(), zone.y(), 0.5 * kZoneHeight));
   b.addRectSurface("sanitisation_zone", kZoneHeight, zone, Vec2(kZoneLength, kZoneWidth));
 
@@ -65,9 +66,8 @@ GeneratedLayout generateLab(const FamilyInput& in) {
   }
   portable::shuffle(spots, in.rng);
   spots.resize(at(containers));
-  std::sort(spots.begin(), spots.end(), [](const Vec2& a, const Vec2& c) {
-    return a.x() < c.x() || (a.x() == c.x() && a.y() < c.y());
-  });
+  std::sort(spots.begin(), spots.end(),
+            [](const Vec2& a, const Vec2& c) { return a.x() < c.x() || (a.x() == c.x() && a.y() < c.y()); });
   for (int i = 0; i < containers; ++i) {
     const Vec2& s = spots[at(i)];
     const std::string n = std::to_string(i);
@@ -79,8 +79,9 @@ GeneratedLayout generateLab(const FamilyInput& in) {
   for (int i = 0; i < containers; ++i) {
     const Vec2& s = spots[at(i)];
     // Tool pointing down: a half turn about x (gantry3.json's TCP frame).
-    const Pose X_WT = makePose(Vec3(roundLength(s.x()), roundLength(s.y()), roundLength(kContainerHeight + kInspectHeight)),
-                               Quat(0.0, 1.0, 0.0, 0.0));
+    const Pose X_WT =
+        makePose(Vec3(roundLength(s.x()), roundLength(s.y()), roundLength(kContainerHeight + kInspectHeight)),
+                 Quat(0.0, 1.0, 0.0, 0.0));
     b.addInspectTask("container_" + std::to_string(i), X_WT, "lid_" + std::to_string(i), "inspect");
   }
   GeneratedLayout out{.scene = b.build(), .validation = {}};

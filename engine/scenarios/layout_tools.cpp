@@ -37,7 +37,8 @@ std::vector<Vec2> gridSlots(const WorkFrame& frame, const AreaSpec& area, Side s
 std::vector<Vec2> compactCluster(const std::vector<Vec2>& slots, int count, Rng& rng) {
   DASH_DEMAND(count >= 0 && static_cast<std::size_t>(count) <= slots.size());
   if (count == 0) return {};
-  const Vec2 centre = slots[static_cast<std::size_t>(portable::integer(rng, 0, static_cast<std::int64_t>(slots.size()) - 1))];
+  const Vec2 centre =
+      slots[static_cast<std::size_t>(portable::integer(rng, 0, static_cast<std::int64_t>(slots.size()) - 1))];
   std::vector<std::size_t> order(slots.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {

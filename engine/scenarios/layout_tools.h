@@ -1,10 +1,9 @@
 #pragma once
 // Small layout helpers shared by the family generators: robot-local work areas on a table, slot grids
 // in them, compact clusters, and the constants of the UR5e + Hand-E setup the families are built for.
+#include <Eigen/Core>
 #include <functional>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "engine/core/rng.h"
 

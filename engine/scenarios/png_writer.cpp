@@ -1,7 +1,8 @@
 #include "engine/scenarios/png_writer.h"
 
-#include <fstream>
 #include <zlib.h>
+
+#include <fstream>
 
 #include "engine/core/check.h"
 

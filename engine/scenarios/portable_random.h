@@ -12,9 +12,7 @@
 namespace dash::portable {
 
 /// Uniform in [0, 1): the top 53 bits of one engine output.
-inline double uniform01(Rng& rng) {
-  return static_cast<double>(rng.engine()() >> 11) * 0x1.0p-53;
-}
+inline double uniform01(Rng& rng) { return static_cast<double>(rng.engine()() >> 11) * 0x1.0p-53; }
 
 inline double uniform(Rng& rng, double lo, double hi) { return lo + (hi - lo) * uniform01(rng); }
 

@@ -29,20 +29,31 @@ const std::vector<Entry>& entries() {
         "is mirrored: the arms beside a wall send their cubes to each other the long way round",
         {{.name = "robots", .default_value = 8, .min = 4, .max = 32, .meaning = "arms on the ring"},
          {.name = "objects", .default_value = 8, .min = 1, .max = 128, .meaning = "cubes, dealt round the arms"},
-         {.name = "walls", .default_value = 1, .min = 1, .max = 6,
-          .meaning = "walls between neighbours, spread evenly (walls <= robots/2)"}}},
+         {.name = "walls",
+          .default_value = 1,
+          .min = 1,
+          .max = 6,
+          .meaning = "walls between neighbours: walls-1 fence off pairs, the rest is one long arc "
+                     "(walls <= robots/2)"}}},
        generateWall},
       {{"shelf-wall",
         "arms in rows on both sides of a double-sided shelf whose middle panel is a wall; cubes start on the "
         "far side and fill cubbies rear slot first",
-        {{.name = "robots", .default_value = 2, .min = 2, .max = 8, .even_only = true,
+        {{.name = "robots",
+          .default_value = 2,
+          .min = 2,
+          .max = 8,
+          .even_only = true,
           .meaning = "arms, half on each side of the shelf"},
          {.name = "objects", .default_value = 8, .min = 2, .max = 32, .meaning = "cubes, two per cubby"}}},
        generateShelfWall},
       {{"stocking",
         "a stocker arm at a shelf and a feeder arm behind it; new items go behind existing ones, which must "
         "be moved out and restocked (non-monotone)",
-        {{.name = "layers", .default_value = 2, .min = 2, .max = 3,
+        {{.name = "layers",
+          .default_value = 2,
+          .min = 2,
+          .max = 3,
           .meaning = "slots per cubby, front to back (existing items + 1 new)"},
          {.name = "objects", .default_value = 8, .min = 4, .max = 28, .meaning = "existing and new items in all"}}},
        generateStocking},
@@ -110,7 +121,8 @@ std::string sceneName(const FamilyInput& in, const std::string& short_params) {
 }
 
 GeneratedScenario generateScenarioDetailed(const std::string& family, const ScenarioParams& params, std::uint64_t seed,
-                                           std::shared_ptr<const RobotLibrary> library, const GenerateOptions& options) {
+                                           std::shared_ptr<const RobotLibrary> library,
+                                           const GenerateOptions& options) {
   const Entry& e = entry(family);
   DASH_DEMAND(options.max_attempts >= 1);
   std::string last_problem;
@@ -120,7 +132,9 @@ GeneratedScenario generateScenarioDetailed(const std::string& family, const Scen
     Rng rng(attempt == 0 ? seed : Rng::derive(seed, static_cast<std::uint64_t>(attempt)));
     const FamilyInput in{.family = family, .params = params, .seed = seed, .rng = rng, .library = library};
     GeneratedLayout layout = e.generate(in);
-    GeneratedScenario out{.scene = std::move(layout.scene), .validation = std::move(layout.validation), .report = {},
+    GeneratedScenario out{.scene = std::move(layout.scene),
+                          .validation = std::move(layout.validation),
+                          .report = {},
                           .attempts = attempt + 1};
     if (!options.validate) return out;
     out.report = validateScenario(out.scene, out.validation);
@@ -140,7 +154,8 @@ Scene generateScenario(const std::string& family, const ScenarioParams& params, 
 }
 
 Scene generateScenario(const std::string& family, const std::vector<std::pair<std::string, std::string>>& overrides,
-                       std::uint64_t seed, std::shared_ptr<const RobotLibrary> library, const GenerateOptions& options) {
+                       std::uint64_t seed, std::shared_ptr<const RobotLibrary> library,
+                       const GenerateOptions& options) {
   const ScenarioParams params = resolveParams(family, scenarioFamily(family).params, overrides);
   return generateScenario(family, params, seed, std::move(library), options);
 }

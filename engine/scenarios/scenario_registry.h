@@ -46,8 +46,8 @@ const ScenarioFamily& scenarioFamily(const std::string& name);
 std::string describeScenarioFamilies();
 
 struct GenerateOptions {
-  int max_attempts = 6;   ///< layouts tried (seed, then derived seeds) before giving up
-  bool validate = true;   ///< false: skip validateScenario (tests of the raw layout only)
+  int max_attempts = 6;  ///< layouts tried (seed, then derived seeds) before giving up
+  bool validate = true;  ///< false: skip validateScenario (tests of the raw layout only)
 };
 
 /// Generates family `family` with `params` (from resolveParams) and `seed`; robot models come from

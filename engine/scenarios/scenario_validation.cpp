@@ -26,19 +26,29 @@ const BlockedGrasp* findBlocked(const ValidationSpec& spec, int object, bool at_
   return nullptr;
 }
 
-/// The check-scene line for an object that cannot be grasped at one end (scene_check.cpp's wording).
-std::string graspProblemLine(const Scene& scene, int object, bool at_goal) {
-  return "object " + scene.objects[at(object)].id + " cannot be grasped at its " + (at_goal ? "goal" : "start") +
-         " by any robot without a collision";
-}
-
-/// Layout for grasping `object` at one end: the check-scene layout, less the design blockers.
+/// Layout for the generator's grasp check of `object` at one end: every other object at that end (at
+/// the goal: goalCheckLayout), less the design blockers.
 ObjectLayout graspLayout(const Scene& scene, const ValidationSpec& spec, int object, bool at_goal) {
   ObjectLayout layout = at_goal ? goalCheckLayout(scene) : ObjectLayout::atStart(scene);
   if (const BlockedGrasp* b = findBlocked(spec, object, at_goal)) {
     for (const int k : b->blockers) layout.remove(k);
   }
   return layout;
+}
+
+/// True if check-scene already says that no robot can grasp object `id` at that end.
+bool reportedUngraspable(const std::vector<SceneProblem>& problems, const std::string& id,
+                         SceneProblem::Moment moment) {
+  return std::any_of(problems.begin(), problems.end(), [&](const SceneProblem& p) {
+    return p.kind == SceneProblem::Kind::kObjectNotGraspable && p.moment == moment && !p.ids.empty() &&
+           p.ids.front() == id;
+  });
+}
+
+std::string amongObjectsProblem(const ValidationSpec& spec, const SceneObject& o, int object, bool at_goal) {
+  const std::string end = at_goal ? "goal" : "start";
+  return "object " + o.id + " cannot be grasped at its " + end + " with the other objects at their " + end +
+         (findBlocked(spec, object, at_goal) != nullptr ? " (even with its blockers away)" : "");
 }
 
 void checkTasks(const CollisionWorld& world, CollisionContext& context, std::vector<std::string>& problems) {
@@ -81,27 +91,35 @@ ScenarioReport validateScenario(const Scene& scene, const ValidationSpec& spec) 
   const CollisionWorld world(scene);
   CollisionContext context(world);
 
-  // check-scene, with the grasp lines of design-blocked grasps replaced by the check without blockers.
-  for (std::string& line : findSceneProblems(scene)) {
-    bool replaced = false;
-    for (const BlockedGrasp& b : spec.blocked) {
-      if (line != graspProblemLine(scene, b.object, b.at_goal)) continue;
-      replaced = true;
-      const SceneObject& o = scene.objects[at(b.object)];
-      const Pose& X_WO = b.at_goal ? *o.X_WO_goal : o.X_WO_start;
-      if (robotsAbleToGrasp(world, context, b.object, X_WO, graspLayout(scene, spec, b.object, b.at_goal)).empty()) {
-        report.problems.push_back(line + " (even with its blockers away)");
-      }
-    }
-    if (!replaced) report.problems.push_back(std::move(line));
-  }
+  // check-scene, as the command runs it.
+  const std::vector<SceneProblem> scene_problems = findSceneProblemsDetailed(scene);
+  for (const SceneProblem& p : scene_problems) report.problems.push_back(p.message);
   checkTasks(world, context, report.problems);
+
+  // The generator's own, stricter grasp check. check-scene ignores the other movable objects; a
+  // generated scene also promises that each grasp works with them in place (at the start, or at their
+  // goals), except for the blockers it declares. The robots found feed the handover chains below.
+  const int objects = world.objectCount();
+  std::vector<std::vector<int>> start_robots(at(objects)), goal_robots(at(objects));
+  for (int j = 0; j < objects; ++j) {
+    const SceneObject& o = scene.objects[at(j)];
+    if (o.fixed) continue;
+    start_robots[at(j)] = robotsAbleToGrasp(world, context, j, o.X_WO_start, graspLayout(scene, spec, j, false));
+    if (start_robots[at(j)].empty() && !reportedUngraspable(scene_problems, o.id, SceneProblem::Moment::kStart)) {
+      report.problems.push_back(amongObjectsProblem(spec, o, j, false));
+    }
+    if (!o.X_WO_goal) continue;
+    goal_robots[at(j)] = robotsAbleToGrasp(world, context, j, *o.X_WO_goal, graspLayout(scene, spec, j, true));
+    if (goal_robots[at(j)].empty() && !reportedUngraspable(scene_problems, o.id, SceneProblem::Moment::kGoal)) {
+      report.problems.push_back(amongObjectsProblem(spec, o, j, true));
+    }
+  }
   if (!spec.handover_chains || !report.problems.empty()) return report;
 
   // Handover chains. All objects of a chain family share one shape; the graph is built for the first
   // movable object and reused for the others of the same size.
   int representative = -1;
-  for (int j = 0; j < world.objectCount(); ++j) {
+  for (int j = 0; j < objects; ++j) {
     const SceneObject& o = scene.objects[at(j)];
     if (o.fixed || !o.X_WO_goal) continue;
     if (representative < 0) {
@@ -113,11 +131,12 @@ ScenarioReport validateScenario(const Scene& scene, const ValidationSpec& spec) 
     }
     ObjectTransfer transfer;
     transfer.object = j;
-    transfer.start_robots = robotsAbleToGrasp(world, context, j, o.X_WO_start, graspLayout(scene, spec, j, false));
-    transfer.goal_robots = robotsAbleToGrasp(world, context, j, *o.X_WO_goal, graspLayout(scene, spec, j, true));
+    transfer.start_robots = start_robots[at(j)];
+    transfer.goal_robots = goal_robots[at(j)];
     transfer.min_handovers = minHandovers(report.graph, transfer.start_robots, transfer.goal_robots);
     if (transfer.min_handovers < 0) {
-      report.problems.push_back("object " + o.id + ": no chain of handovers links the robots that can grasp its start (" +
+      report.problems.push_back("object " + o.id +
+                                ": no chain of handovers links the robots that can grasp its start (" +
                                 robotList(scene, transfer.start_robots) + ") to those that can grasp its goal (" +
                                 robotList(scene, transfer.goal_robots) + ")");
     }

@@ -1,15 +1,16 @@
 #pragma once
 // The promise every generated scene keeps: it passes the checks of `dashbench check-scene`
 // (findSceneProblems: no collisions at home, at the start or at the goal, every object resting, every
-// object graspable at its start and goal), every object has a chain of robots with feasible handover
-// poses from a robot that can grasp its start to one that can grasp its goal, and every inspect task
-// pose is reachable by a robot with the capability while the task's lid is away.
+// object graspable at its start and goal among obstacles and fixed objects), every movable object is
+// also graspable with the other objects in place (at the start, or at their goals) except for the
+// blockers its generator declares, every object has a chain of robots with feasible handover poses
+// from a robot that can grasp its start to one that can grasp its goal, and every inspect task pose is
+// reachable by a robot with the capability while the task's lid is away.
 //
 // Blocked on purpose: in the shelf families a rear slot is reachable only while the slots in front of
-// it are empty (that is the point of those scenarios), so "graspable at the goal" among all goals
-// fails for a rear object by design. A generator lists such grasps as BlockedGrasp; for them the
-// grasp check is made without the objects named as blockers, and the matching check-scene line is
-// replaced by that check. Nothing else is relaxed.
+// it are empty (that is the point of those scenarios). check-scene accepts that (movable objects are
+// never in the way of its grasp check); the generator's own, stricter check lists such grasps as
+// BlockedGrasp and makes them without the objects named as blockers. Nothing else is relaxed.
 #include <string>
 #include <vector>
 
@@ -26,8 +27,8 @@ struct BlockedGrasp {
 };
 
 struct ValidationSpec {
-  bool handover_chains = true;      ///< every object with a goal needs a chain of robots (UR families)
-  HandoverSearch handover_search;   ///< where handovers are looked for
+  bool handover_chains = true;     ///< every object with a goal needs a chain of robots (UR families)
+  HandoverSearch handover_search;  ///< where handovers are looked for
   std::vector<BlockedGrasp> blocked;
 };
 
@@ -40,14 +41,14 @@ struct ObjectTransfer {
 };
 
 struct ScenarioReport {
-  std::vector<std::string> problems;     ///< empty: the scene keeps the promise
+  std::vector<std::string> problems;      ///< empty: the scene keeps the promise
   std::vector<ObjectTransfer> transfers;  ///< movable objects with a goal (when handover_chains)
   HandoverGraph graph;                    ///< the robot graph used (when handover_chains)
   bool ok() const { return problems.empty(); }
 };
 
-/// The layout in which findSceneProblems tests grasps at the goal: objects with a goal at it, fixed
-/// objects where they are, other movable objects left out.
+/// The goal layout of findSceneProblems' collision checks, and of the generator's grasp check at the
+/// goal: objects with a goal at it, fixed objects where they are, other movable objects left out.
 ObjectLayout goalCheckLayout(const Scene& scene);
 
 /// All checks above. Problems are one human-readable line each.

@@ -8,11 +8,13 @@ namespace dash {
 
 namespace {
 
-constexpr double kLengthQuantum = 1e-6;
-constexpr double kQuaternionQuantum = 1e-9;
+// Steps per metre and per unit quaternion component. Dividing the rounded integer by the scale (not
+// multiplying by its inverse) gives the double nearest to the decimal, which prints short.
+constexpr double kLengthScale = 1e6;
+constexpr double kQuaternionScale = 1e9;
 
-double roundTo(double x, double quantum) {
-  const double r = std::round(x / quantum) * quantum;
+double roundTo(double x, double scale) {
+  const double r = std::round(x * scale) / scale;
   return r == 0.0 ? 0.0 : r;  // no "-0"
 }
 
@@ -20,11 +22,11 @@ Vec3 roundVec(const Vec3& v) { return Vec3(roundLength(v.x()), roundLength(v.y()
 
 }  // namespace
 
-double roundLength(double x) { return roundTo(x, kLengthQuantum); }
+double roundLength(double x) { return roundTo(x, kLengthScale); }
 
 Pose yawPose(const Vec3& p, double yaw) {
-  const double qz = roundTo(std::sin(0.5 * yaw), kQuaternionQuantum);
-  const double qw = roundTo(std::cos(0.5 * yaw), kQuaternionQuantum);
+  const double qz = roundTo(std::sin(0.5 * yaw), kQuaternionScale);
+  const double qw = roundTo(std::cos(0.5 * yaw), kQuaternionScale);
   return makePose(roundVec(p), Quat(qw, 0.0, 0.0, qz));
 }
 
@@ -55,8 +57,8 @@ void SceneBuilder::addRobot(const std::string& id, const std::string& model, con
 }
 
 void SceneBuilder::addBox(const std::string& id, const Vec3& size, const Vec3& center, double yaw) {
-  scene_.obstacles.push_back(SceneObstacle{.id = id, .shape = BoxShape{.size = roundVec(size)},
-                                           .X_WO = yawPose(center, yaw)});
+  scene_.obstacles.push_back(
+      SceneObstacle{.id = id, .shape = BoxShape{.size = roundVec(size)}, .X_WO = yawPose(center, yaw)});
 }
 
 void SceneBuilder::addSurface(const std::string& id, double z, const std::vector<Eigen::Vector2d>& polygon) {

@@ -2,12 +2,11 @@
 // Assembles a Scene for a generator. Every length is rounded to a micrometre and every yaw quaternion
 // to 1e-9 as it is added, so the written numbers are short and do not carry the last bits of a
 // platform's sin/cos. Obstacles and objects here are upright boxes turned about the world z axis.
+#include <Eigen/Core>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "engine/geometry/pose.h"
 #include "engine/scene/scene.h"

@@ -42,8 +42,10 @@ struct Canvas {
       ymin = std::min(ymin, px.back().y());
       ymax = std::max(ymax, px.back().y());
     }
-    for (int y = std::max(0, static_cast<int>(std::floor(ymin))); y <= std::min(image.height - 1, static_cast<int>(ymax)); ++y) {
-      for (int x = std::max(0, static_cast<int>(std::floor(xmin))); x <= std::min(image.width - 1, static_cast<int>(xmax)); ++x) {
+    for (int y = std::max(0, static_cast<int>(std::floor(ymin)));
+         y <= std::min(image.height - 1, static_cast<int>(ymax)); ++y) {
+      for (int x = std::max(0, static_cast<int>(std::floor(xmin)));
+           x <= std::min(image.width - 1, static_cast<int>(xmax)); ++x) {
         const Vec2 c(x + 0.5, y + 0.5);
         int positive = 0, negative = 0;
         for (std::size_t i = 0; i < px.size(); ++i) {
@@ -96,7 +98,8 @@ std::vector<Vec2> footprint(const BoxShape& box, const Pose& X) {
     pts.emplace_back(w.x(), w.y());
   }
   // Monotone chain hull.
-  std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
+  std::sort(pts.begin(), pts.end(),
+            [](const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
   auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
     return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
   };
@@ -197,7 +200,8 @@ RgbImage renderScene(const Scene& scene, const PictureOptions& options) {
   std::vector<std::size_t> order(scene.obstacles.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return topOf(scene.obstacles[a].shape, scene.obstacles[a].X_WO) < topOf(scene.obstacles[b].shape, scene.obstacles[b].X_WO);
+    return topOf(scene.obstacles[a].shape, scene.obstacles[a].X_WO) <
+           topOf(scene.obstacles[b].shape, scene.obstacles[b].X_WO);
   });
   for (const std::size_t i : order) {
     const auto& o = scene.obstacles[i];

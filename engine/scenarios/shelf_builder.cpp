@@ -39,7 +39,8 @@ Unit addUnit(SceneBuilder& builder, const std::string& prefix, const layout::Wor
     return Vec3(p.x(), p.y(), z);
   };
   // Solid base under the lowest level, then the board above each level, then the side panels.
-  builder.addBox(prefix + "base", Vec3(u.depth, u.width, kBaseHeight), world(0.5 * u.depth, 0.0, 0.5 * kBaseHeight), yaw);
+  builder.addBox(prefix + "base", Vec3(u.depth, u.width, kBaseHeight), world(0.5 * u.depth, 0.0, 0.5 * kBaseHeight),
+                 yaw);
   for (int l = 0; l < levels; ++l) {
     const double z = kBaseHeight + l * pitch_z + u.cubby_height + 0.5 * kBoard;
     builder.addBox(prefix + "board_" + std::to_string(l), Vec3(u.depth, u.width, kBoard), world(0.5 * u.depth, 0.0, z),
@@ -59,11 +60,15 @@ Unit addUnit(SceneBuilder& builder, const std::string& prefix, const layout::Wor
         const double out = u.depth - kFrontInset - d * kSlotSpacing;
         const std::string id = prefix + "c" + std::to_string(c) + "_l" + std::to_string(l) + "_d" + std::to_string(d);
         const double h = pedestalHeight(d);
-        builder.addBox(id + "_pedestal", Vec3(kPedestalWidth, kPedestalWidth, h), world(out, left, floor + 0.5 * h), yaw);
+        builder.addBox(id + "_pedestal", Vec3(kPedestalWidth, kPedestalWidth, h), world(out, left, floor + 0.5 * h),
+                       yaw);
         builder.addRectSurface(id, floor + h, back.toWorld(out, left), layout::Vec2(kPedestalSurface, kPedestalSurface),
                                yaw);
         u.slots.push_back({.p_W = world(out, left, floor + h + 0.5 * layout::kCube),
-                           .column = c, .level = l, .depth = d, .surface = id});
+                           .column = c,
+                           .level = l,
+                           .depth = d,
+                           .surface = id});
       }
     }
   }

@@ -16,33 +16,33 @@
 
 namespace dash::shelf {
 
-inline constexpr double kCubbyWidth = 0.18;     ///< inside; gripper and wrist (radius 0.045) fit
+inline constexpr double kCubbyWidth = 0.18;  ///< inside; gripper and wrist (radius 0.045) fit
 /// Floor to the board above: the rear cube's top plus room for the gripper body above its TCP.
 inline constexpr double kHeadroom = 0.035;
-inline constexpr double kBoard = 0.01;          ///< boards and side panels
-inline constexpr double kBaseHeight = 0.12;     ///< floor of the lowest level above the table
+inline constexpr double kBoard = 0.01;           ///< boards and side panels
+inline constexpr double kBaseHeight = 0.12;      ///< floor of the lowest level above the table
 inline constexpr double kPedestalHeight = 0.03;  ///< front slot; each slot behind is kPedestalStep taller
 inline constexpr double kPedestalStep = 0.03;
-inline constexpr double kPedestalWidth = 0.03;  ///< narrower than the cube
+inline constexpr double kPedestalWidth = 0.03;    ///< narrower than the cube
 inline constexpr double kPedestalSurface = 0.05;  ///< resting polygon on a pedestal (holds the 4 cm footprint)
-inline constexpr double kSlotSpacing = 0.06;    ///< centre to centre, front to rear
-inline constexpr double kFrontInset = 0.04;     ///< front slot centre behind the front edge
-inline constexpr double kBackGap = 0.04;        ///< rear slot centre to the back of the cubby
+inline constexpr double kSlotSpacing = 0.06;      ///< centre to centre, front to rear
+inline constexpr double kFrontInset = 0.04;       ///< front slot centre behind the front edge
+inline constexpr double kBackGap = 0.04;          ///< rear slot centre to the back of the cubby
 
 /// One cube place in a cubby.
 struct Slot {
-  Vec3 p_W;            ///< cube centre
+  Vec3 p_W;  ///< cube centre
   int column = 0;
   int level = 0;
-  int depth = 0;       ///< 0 = front
+  int depth = 0;        ///< 0 = front
   std::string surface;  ///< id of its pedestal's resting surface
 };
 
 struct Unit {
-  std::vector<Slot> slots;  ///< column-major: (column, level, depth) with depth fastest
-  double depth = 0.0;       ///< back to front edge
-  double width = 0.0;       ///< outside, side panel to side panel
-  double height = 0.0;      ///< table to the top of the top board
+  std::vector<Slot> slots;    ///< column-major: (column, level, depth) with depth fastest
+  double depth = 0.0;         ///< back to front edge
+  double width = 0.0;         ///< outside, side panel to side panel
+  double height = 0.0;        ///< table to the top of the top board
   double cubby_height = 0.0;  ///< floor to the board above
   int columns = 0, levels = 0, depth_slots = 0;
   const Slot& slot(int column, int level, int depth_index) const;

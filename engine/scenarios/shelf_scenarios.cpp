@@ -20,10 +20,10 @@ using layout::Vec2;
 
 inline std::size_t at(int i) { return static_cast<std::size_t>(i); }
 
-constexpr double kRobotToShelf = 0.45;    ///< base axis to the shelf front edge
-constexpr double kRowSpacing = 1.2;       ///< robots side by side along a shelf
-constexpr double kDivider = 0.02;         ///< thickness of the panel behind the cubbies
-constexpr double kDividerHeight = 1.5;    ///< out of reach over the top
+constexpr double kRobotToShelf = 0.45;     ///< base axis to the shelf front edge
+constexpr double kRowSpacing = 1.2;        ///< robots side by side along a shelf
+constexpr double kDivider = 0.02;          ///< thickness of the panel behind the cubbies
+constexpr double kDividerHeight = 1.5;     ///< out of reach over the top
 constexpr double kDividerEndMargin = 0.1;  ///< divider beyond the outermost cubby
 constexpr double kTableMargin = 0.3;
 constexpr double kTableThickness = 0.05;
@@ -150,8 +150,8 @@ GeneratedLayout generateShelfWall(const FamilyInput& in) {
     const shelf::Slot& slot = units[at(face)].slot(cubby / levels, cubby % levels, m % 2 == 0 ? 1 : 0);
     const double yaw = robot_frames[at(face)].yaw;
     const Vec2 start = clusters[at(face)][at(m)];
-    const int index = b.addObject("obj_" + std::to_string(i), kCubeSize, onTable(start, robot_frames[at(mirror(face))].yaw),
-                                  yawPose(slot.p_W, yaw));
+    const int index = b.addObject("obj_" + std::to_string(i), kCubeSize,
+                                  onTable(start, robot_frames[at(mirror(face))].yaw), yawPose(slot.p_W, yaw));
     // Front objects (odd m) block the rear one placed just before them in the same cubby.
     if (m % 2 == 1) {
       const int rear = index - faces;  // the previous object of this face
@@ -196,7 +196,8 @@ GeneratedLayout generateStocking(const FamilyInput& in) {
   b.addBox("back_panel", Vec3(2.0 * divider_half, kDivider, kDividerHeight),
            Vec3(0.0, 0.5 * kDivider, 0.5 * kDividerHeight));
   b.addRectSurface("table_top", 0.0, Vec2::Zero(), Vec2(2.0 * table_half_x, 2.0 * table_half_y));
-  const shelf::Unit unit = shelf::addUnit(b, "shelf_", {.origin = Vec2::Zero(), .yaw = -0.5 * pi}, columns, levels, layers);
+  const shelf::Unit unit =
+      shelf::addUnit(b, "shelf_", {.origin = Vec2::Zero(), .yaw = -0.5 * pi}, columns, levels, layers);
 
   // Staging posts behind the stocker: one more than the items moved out of one cubby.
   const int posts = layers;

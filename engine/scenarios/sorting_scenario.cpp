@@ -86,7 +86,7 @@ int goalRobot(int s, int robots, const std::vector<int>& wall_gaps) {
   auto blocked = [&](int gap) { return std::find(wall_gaps.begin(), wall_gaps.end(), gap) != wall_gaps.end(); };
   int ccw = 0;  // steps counter-clockwise before a wall
   while (ccw < robots - 1 && !blocked((s + ccw) % robots)) ++ccw;
-  int cw = 0;   // steps clockwise before a wall
+  int cw = 0;  // steps clockwise before a wall
   while (cw < robots - 1 && !blocked(((s - cw - 1) % robots + robots) % robots)) ++cw;
   // s sits at position cw of an arc of cw + ccw + 1 robots; its mirror is ccw - cw steps away.
   int steps = ccw - cw;
@@ -115,8 +115,8 @@ GeneratedLayout generateRing(const FamilyInput& in, int robots, int objects, con
     ++arriving[at(goal_robot[at(k)])];
   }
 
-  const double table_half = ring.radius + std::max(layout::AreaSpec{}.max_reach + kTableMargin,
-                                                   walls.empty() ? 0.0 : kWallHalfLength + 0.05);
+  const double table_half =
+      ring.radius + std::max(layout::AreaSpec{}.max_reach + kTableMargin, walls.empty() ? 0.0 : kWallHalfLength + 0.05);
   auto keep = [&](int self) {
     return [&, self](const Vec2& p) {
       for (int r = 0; r < robots; ++r) {
@@ -139,8 +139,9 @@ GeneratedLayout generateRing(const FamilyInput& in, int robots, int objects, con
       const auto right = layout::gridSlots(ring.frames[at(r)], {}, layout::Side::kRight, pitch, keep(r));
       const int box_slots = std::max(arriving[at(r)], kMinBoxSlots);
       fits = static_cast<int>(left.size()) >= starting[at(r)] && static_cast<int>(right.size()) >= box_slots;
-      if (fits) areas.push_back({.cluster = layout::compactCluster(left, starting[at(r)], in.rng),
-                                 .box = layout::compactCluster(right, box_slots, in.rng)});
+      if (fits)
+        areas.push_back({.cluster = layout::compactCluster(left, starting[at(r)], in.rng),
+                         .box = layout::compactCluster(right, box_slots, in.rng)});
     }
     if (fits) break;
     areas.clear();
@@ -161,8 +162,8 @@ GeneratedLayout generateRing(const FamilyInput& in, int robots, int objects, con
   SceneBuilder b(in.library, sceneName(in, short_params), generatorRecord(in));
   for (int r = 0; r < robots; ++r) {
     const layout::WorkFrame& f = ring.frames[at(r)];
-    b.addRobot("ur5e_" + std::to_string(r), layout::kUr5eModel, Vec3(f.origin.x(), f.origin.y(), 0.0),
-               f.ur5eBaseYaw(), layout::kUr5eHome, {"grasp"});
+    b.addRobot("ur5e_" + std::to_string(r), layout::kUr5eModel, Vec3(f.origin.x(), f.origin.y(), 0.0), f.ur5eBaseYaw(),
+               layout::kUr5eHome, {"grasp"});
   }
   b.addBox("table", Vec3(2.0 * table_half, 2.0 * table_half, kTableThickness), Vec3(0.0, 0.0, -0.5 * kTableThickness));
   for (const Wall& w : walls) {
@@ -183,7 +184,8 @@ GeneratedLayout generateRing(const FamilyInput& in, int robots, int objects, con
     const int g = goal_robot[at(k)];
     const Vec2 p = areas[at(s)].cluster[at(next_start[at(s)]++)];
     const Vec2 q = areas[at(g)].box[at(next_goal[at(g)]++)];
-    b.addObject("obj_" + std::to_string(k), cube, yawPose(Vec3(p.x(), p.y(), 0.5 * layout::kCube), ring.frames[at(s)].yaw),
+    b.addObject("obj_" + std::to_string(k), cube,
+                yawPose(Vec3(p.x(), p.y(), 0.5 * layout::kCube), ring.frames[at(s)].yaw),
                 yawPose(Vec3(q.x(), q.y(), 0.5 * layout::kCube), ring.frames[at(g)].yaw));
   }
   return {.scene = b.build(), .validation = {}};
@@ -194,21 +196,25 @@ GeneratedLayout generateRing(const FamilyInput& in, int robots, int objects, con
 GeneratedLayout generateSorting(const FamilyInput& in) {
   const int robots = in.params.get("robots");
   const int objects = in.params.get("objects");
-  return generateRing(in, robots, objects, {},
-                      "r" + std::to_string(robots) + "-o" + std::to_string(objects));
+  return generateRing(in, robots, objects, {}, "r" + std::to_string(robots) + "-o" + std::to_string(objects));
 }
 
 GeneratedLayout generateWall(const FamilyInput& in) {
   const int robots = in.params.get("robots");
   const int objects = in.params.get("objects");
   const int walls = in.params.get("walls");
-  DASH_THROW_UNLESS(2 * walls <= robots, "scenario wall: walls=" + std::to_string(walls) + " needs robots >= " +
-                                             std::to_string(2 * walls) + " (every arc between walls holds at "
-                                             "least 2 robots), got robots=" + std::to_string(robots));
-  // Walls spread evenly round the ring, turned by a random offset.
+  DASH_THROW_UNLESS(2 * walls <= robots, "scenario wall: walls=" + std::to_string(walls) +
+                                             " needs robots >= " + std::to_string(2 * walls) +
+                                             " (every arc between walls holds at "
+                                             "least 2 robots), got robots=" +
+                                             std::to_string(robots));
+  // Walls fence off W - 1 pairs of neighbours side by side and leave the rest of the ring as one
+  // long arc, starting at a random place. The long arc is what makes the lazy assumption fail: once it
+  // holds more than robots/2 + 1 robots (robots >= 4 walls - 1), the robots at its ends are closer
+  // through the wall than along the arc, yet must send to each other along it.
   const int offset = static_cast<int>(portable::integer(in.rng, 0, robots - 1));
   std::vector<int> gaps;
-  for (int k = 0; k < walls; ++k) gaps.push_back((offset + (k * robots) / walls) % robots);
+  for (int k = 0; k < walls; ++k) gaps.push_back((offset + 2 * k) % robots);
   std::sort(gaps.begin(), gaps.end());
   return generateRing(in, robots, objects, gaps,
                       "r" + std::to_string(robots) + "-o" + std::to_string(objects) + "-w" + std::to_string(walls));

@@ -33,6 +33,18 @@ bool TaskConstraintSet::add(const TaskConstraint& c) {
   return true;
 }
 
+std::vector<TaskConstraint> TaskConstraintSet::removeTemporary() {
+  std::vector<TaskConstraint> removed, kept;
+  for (const TaskConstraint& c : constraints_) (c.temporary ? removed : kept).push_back(c);
+  if (removed.empty()) return removed;
+  constraints_.clear();
+  by_post_.clear();
+  by_pre_.clear();
+  interactions_.clear();
+  for (const TaskConstraint& c : kept) add(c);
+  return removed;
+}
+
 bool TaskConstraintSet::forbidsInteraction(HyperarcId id, const TaskArc& arc) const {
   for (int i : interactions_) {
     const TaskConstraint& c = constraints_[i];

@@ -26,6 +26,9 @@ struct TaskConstraint {
   GraspClass giver_grasp = GraspClass::kTop;
   GraspClass receiver_grasp = GraspClass::kTop;
   std::string cause;  ///< the conflict that produced it, for logs
+  /// Fed back from the motion layer: holds for the next task query only (the paper does not remove a
+  /// hyperarc for ever because one motion failed).
+  bool temporary = false;
 
   bool sameAs(const TaskConstraint& o) const;
 };
@@ -36,6 +39,8 @@ class TaskConstraintSet {
   /// Adds a constraint unless an equal one exists; returns whether it was new.
   bool add(const TaskConstraint& c);
   const std::vector<TaskConstraint>& all() const { return constraints_; }
+  /// Removes the temporary constraints; returns them.
+  std::vector<TaskConstraint> removeTemporary();
   bool empty() const { return constraints_.empty(); }
   std::size_t size() const { return constraints_.size(); }
 

@@ -84,7 +84,9 @@ bool TaskLayer::addConstraint(const TaskConstraint& c) {
     content = "(" + graph_.label(c.pre, space_) + ", " + graph_.label(c.post, space_) + ")";
     vertices = {c.pre.value(), c.post.value()};
   }
-  emitter_->constraint(toLogKind(c.kind), log::ConstraintAction::Created,
+  // Motion failures fed back as temporary hyperarc bans are the paper's motion constraints.
+  const log::ConstraintKind kind = c.temporary ? log::ConstraintKind::Motion : toLogKind(c.kind);
+  emitter_->constraint(kind, log::ConstraintAction::Created,
                        static_cast<std::uint32_t>(constraints_.size() - 1), std::move(content), std::move(vertices),
                        c.cause);
   return true;
@@ -207,6 +209,10 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
     }
     emitter_->counter("collision_checks_task", static_cast<std::int64_t>(sampler_.context().counters().configuration_checks));
     if (conflicts.feasible()) {
+      for (const TaskConstraint& c : constraints_.removeTemporary())
+        emitter_->constraint(c.kind == TaskConstraint::Kind::kInteraction ? log::ConstraintKind::Motion
+                                                                           : toLogKind(c.kind),
+                             log::ConstraintAction::Lifted, 0, "lifted after one task query", {}, c.cause);
       result.status = TaskLayerStatus::kFeasible;
       result.plan = std::move(query.plan);
       result.transitions = std::move(conflicts.transitions);

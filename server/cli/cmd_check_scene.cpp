@@ -14,7 +14,11 @@ const char* const kCheckSceneHelp =
     "usage: dashbench check-scene FILE\n"
     "Load a dashbench.scene/1 file and report every problem found: robots colliding at home, objects\n"
     "colliding at their start or goal, objects not resting on a surface or another object, objects no\n"
-    "robot can grasp at their start or goal. Exit 0 if none, 1 if problems, 2 if the file is invalid.\n";
+    "robot can grasp at their start or goal. A grasp counts if some robot with the \"grasp\" capability\n"
+    "can hold the object there without a collision among the obstacles and the fixed objects: other\n"
+    "movable objects are not in the way for it, since a plan may move them first or place them later\n"
+    "(a rear shelf slot blocked by the object that goes in front of it is fine; one blocked by an\n"
+    "obstacle or a fixed object is not). Exit 0 if none, 1 if problems, 2 if the file is invalid.\n";
 
 int runCheckScene(const std::vector<std::string>& words) {
   Args args(words, {});

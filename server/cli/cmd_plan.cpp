@@ -29,8 +29,8 @@ const char* const kPlanHelp =
     "Exit codes: 0 solved, 3 not solved in time or infeasible, 2 bad input.\n";
 
 namespace {
-std::atomic<bool> g_stop{false};
-extern "C" void onInterrupt(int) { g_stop.store(true); }
+std::atomic<bool> g_stop{false};  // set by SIGINT/SIGTERM: the deadline's stop flag
+void onPlanInterrupt(int) { g_stop.store(true); }
 }  // namespace
 
 int runPlan(const std::vector<std::string>& words) {
@@ -45,8 +45,8 @@ int runPlan(const std::vector<std::string>& words) {
   settings.test_fault = args.get("test-fault", "");
   auto planner = makePlanner(args.get("planner", "lazy-dash"));
 
-  std::signal(SIGINT, onInterrupt);
-  std::signal(SIGTERM, onInterrupt);
+  std::signal(SIGINT, onPlanInterrupt);
+  std::signal(SIGTERM, onPlanInterrupt);
   ProgressSink progress(stderr, args.has("verbose"));
   const Deadline deadline(settings.time_limit, &g_stop);
   const PlanResult result = planner->solve(scene, settings, deadline, args.has("quiet") ? nullptr : &progress);

@@ -19,6 +19,14 @@ int runFk(const std::vector<std::string>& words);
 extern const char* const kFkHelp;
 int runIk(const std::vector<std::string>& words);
 extern const char* const kIkHelp;
+int runController(const std::vector<std::string>& words);
+extern const char* const kControllerHelp;
+int runBatch(const std::vector<std::string>& words);
+extern const char* const kBatchHelp;
+int runReport(const std::vector<std::string>& words);
+extern const char* const kReportHelp;
+int runRunOne(const std::vector<std::string>& words);
+extern const char* const kRunOneHelp;
 
 const std::vector<Command>& allCommands() {
   static const std::vector<Command> commands = {
@@ -33,6 +41,14 @@ const std::vector<Command>& allCommands() {
       {"validate", "check a plan file against its scene and the plan contract", kValidateHelp, runValidate},
       {"fk", "forward kinematics of a robot model (flange and TCP poses)", kFkHelp, runFk},
       {"ik", "all inverse-kinematics solutions of a robot model for a TCP pose", kIkHelp, runIk},
+      {"controller", "the agent next to one arm: takes dispatched plans from the server (sim or UR driver)",
+       kControllerHelp, runController},
+      {"batch", "experiment batches from spec files: plan, run (a process per run), resume, status",
+       kBatchHelp, runBatch},
+      {"report", "the paper's tables from a results database: sizes, time breakdown, success rates",
+       kReportHelp, runReport},
+      {"run-one", "(internal) one run of a batch in its own process; started by `batch run`", kRunOneHelp,
+       runRunOne},
   };
   return commands;
 }

@@ -5,6 +5,7 @@
 
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/grasp_candidates.h"
+#include "engine/collision/segment_queries.h"
 #include "tests/collision/collision_test_util.h"
 
 namespace dash {
@@ -114,14 +115,11 @@ struct HeldCubeSetup {
     if (with_wall) test::addObstacle(scene, "wall", Vec3(0.01, 0.3, 0.2), makePose(Vec3(0.51, 0.0, 0.1)));
     world = std::make_unique<CollisionWorld>(scene);
     context = std::make_unique<CollisionContext>(*world);
-    const auto candidates = graspCandidates(*scene.robots[0].model, scene.robots[0].X_WB, scene.objects[0].shape, X_WO);
-    const auto top = std::find_if(candidates.begin(), candidates.end(), [](const GraspCandidate& c) {
-      return c.face == GraspCandidate::Face::kTop && c.rotation == 0;
-    });
-    if (top == candidates.end()) return;
-    state = {.robot = 0, .held = {.object = 0, .X_TO = top->X_TO}};
+    // Top grasp, fingers closing along world x (built here: graspCandidates drops cubes too wide to fit).
+    const Pose X_WT = test::toolDown(X_WO.translation());
+    state = {.robot = 0, .held = {.object = 0, .X_TO = X_WT.inverse() * X_WO}};
     // An IK solution whose empty arm clears the table and itself.
-    for (const JointVector& q : inverseKinematics(*scene.robots[0].model, scene.robots[0].X_WB, top->X_WT)) {
+    for (const JointVector& q : inverseKinematics(*scene.robots[0].model, scene.robots[0].X_WB, X_WT)) {
       const RobotState empty{.robot = 0, .q = q};
       if (!robotInCollision(*world, *context, empty, ObjectLayout::empty(scene), nullptr, CheckScope::kStaticOnly)) {
         state.q = q;
@@ -208,6 +206,43 @@ TEST(RobotQueries, HeldCubeAgainstOtherObjectsAndTheOtherRobot) {
   EXPECT_EQ(report.b.kind, Kind::kRobotBody);
   EXPECT_EQ(report.b.robot, 1);
   EXPECT_FALSE(robotInCollision(world, context, reaching, ObjectLayout::empty(scene)));  // alone: free
+}
+
+TEST(RobotQueries, GantryToolTouchesTheLidItGrasps) {
+  Scene scene = test::emptyScene();
+  test::addTable(scene);
+  SceneRobot gantry;
+  gantry.id = "gantry";
+  gantry.model_name = "gantry3";
+  gantry.model = scene.library->find("gantry3");
+  gantry.home = test::joints({0.0, 0.0, 0.0});
+  gantry.capabilities = {"grasp"};
+  scene.robots.push_back(gantry);
+  scene.objects.push_back({.id = "container", .shape = BoxShape{Vec3(0.1, 0.1, 0.12)}, .X_WO_start = makePose(Vec3(0.5, 0.3, 0.06)), .fixed = true});
+  scene.objects.push_back({.id = "lid", .shape = BoxShape{Vec3(0.1, 0.1, 0.01)}, .X_WO_start = makePose(Vec3(0.5, 0.3, 0.125))});
+  const CollisionWorld world(scene);
+  CollisionContext context(world);
+  const ObjectLayout layout = ObjectLayout::atStart(scene);
+  const auto candidates = graspCandidates(*gantry.model, gantry.X_WB, scene.objects[1].shape, scene.objects[1].X_WO_start);
+  ASSERT_EQ(candidates.size(), 1u);
+  const auto q = inverseKinematics(*gantry.model, gantry.X_WB, candidates[0].X_WT);
+  ASSERT_EQ(q.size(), 1u);
+  CollisionReport report;
+  // The tool's bottom face is the TCP: it touches the lid's top face, which is contact, not overlap.
+  EXPECT_FALSE(robotInCollision(world, context, {.robot = 0, .q = q[0]}, layout, &report)) << describe(report, scene);
+  const RobotState holding{.robot = 0, .q = q[0], .held = {.object = 1, .X_TO = candidates[0].X_TO}};
+  EXPECT_FALSE(robotInCollision(world, context, holding, layout, &report)) << describe(report, scene);
+  // 5 mm lower the tool is inside the resting lid, or the held lid inside the container.
+  const JointVector lower = q[0] + test::joints({0.0, 0.0, 0.005});
+  EXPECT_TRUE(robotInCollision(world, context, {.robot = 0, .q = lower}, layout, &report));
+  EXPECT_EQ(report.b, CollisionElement::object(1));
+  EXPECT_TRUE(robotInCollision(world, context, {.robot = 0, .q = lower, .held = holding.held}, layout, &report));
+  EXPECT_EQ(report.a, CollisionElement::heldObject(0, 1));
+  EXPECT_EQ(report.b, CollisionElement::object(0));
+  // Lifting the lid straight up is free; a prismatic step moves every point by exactly |dq|.
+  const JointVector lifted = test::joints({q[0][0], q[0][1], 0.0});
+  EXPECT_FALSE(segmentInCollision(world, context, holding, lifted, layout, &report)) << describe(report, scene);
+  EXPECT_NEAR(segmentSteps(world, 0, q[0], lifted, holding.held), q[0][2] / kSegmentResolution, 1.0);
 }
 
 TEST(RobotQueries, ObjectPlacement) {

@@ -19,7 +19,7 @@ constexpr int kFinishedRuns = 3;
 // writes events into it until it is killed. Small commit batches make a kill mid-commit likely.
 [[noreturn]] void writerChild(const std::string& path, int report_fd) {
   try {
-    ResultsDb db(path, OpenMode::ReadWrite, DbOptions{.commit_every_events = 64, .commit_every_seconds = 0.01});
+    ResultsDb db(path, OpenMode::ReadWrite, DbOptions{.batch_events = 64, .batch_seconds = 0.01});
     for (int i = 0; i < kFinishedRuns; ++i) {
       testing::recordRun(db, testing::sampleMeta("sorting", R"({"robots":2,"objects":4})", "lazy-dash", i), 40);
       const char done = 'r';

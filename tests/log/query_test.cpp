@@ -43,6 +43,8 @@ TEST_F(ReadOnlyQuery, WritesAreRefusedWithTheGuardNamed) {
   expectRefused("WITH x AS (SELECT 1) INSERT INTO dash_batches (id, created) SELECT 'y', 'now' FROM x",
                 QueryGuard::Write, "write statement (INSERT)");
   expectRefused("UPDATE dash_runs SET status = 'solved'", QueryGuard::Write, "write statement (UPDATE)");
+  expectRefused("WITH x AS (SELECT 1) UPDATE dash_runs SET status = 'x'", QueryGuard::Write, "write statement (UPDATE)");
+  EXPECT_THROW(runReadOnlyQuery(path_, "WITH x AS (SELECT 1) UPDATE sqlite_master SET sql = ''"), InputError);
   expectRefused("VACUUM INTO '" + dir_.file("copy.db") + "'", QueryGuard::Write, "write statement (VACUUM)");
   expectRefused("REINDEX", QueryGuard::Write, "write statement (REINDEX)");
   expectRefused("EXPLAIN DELETE FROM dash_runs", QueryGuard::Write, "write statement (DELETE)");

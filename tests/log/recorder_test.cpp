@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <thread>
 
 #include "engine/log/results_db.h"
@@ -134,13 +135,13 @@ TEST(Recorder, EventsAfterFinishAreDropped) {
   em.vertex(Layer::Task, 0);
   db.finishRun(uuid, {});
   em.vertex(Layer::Task, 1);
-  EXPECT_EQ(recorder->storedEvents(), 1);
+  EXPECT_EQ(recorder->acceptedEvents(), 1);
   EXPECT_EQ(db.getRun(uuid)->event_count, 1);
 }
 
 TEST(Recorder, SeveralThreadsShareOneRecorder) {
   testing::TempDir dir;
-  ResultsDb db(dir.file("r.db"), OpenMode::ReadWrite, DbOptions{.commit_every_events = 100});
+  ResultsDb db(dir.file("r.db"), OpenMode::ReadWrite, DbOptions{.batch_events = 100});
   const std::string uuid = db.beginRun(testing::sampleMeta());
   auto recorder = db.recorder(uuid);
   constexpr int kThreads = 4, kPerThread = 2000;
@@ -154,6 +155,30 @@ TEST(Recorder, SeveralThreadsShareOneRecorder) {
   for (auto& th : threads) th.join();
   db.finishRun(uuid, {});
   EXPECT_EQ(db.getRun(uuid)->summary.sizes->vertices[static_cast<int>(Layer::Motion)], kThreads * kPerThread);
+}
+
+TEST(Recorder, AFinishIsNotHeldUpByAnotherRunStillRecording) {
+  testing::TempDir dir;
+  ResultsDb db(dir.file("r.db"), OpenMode::ReadWrite, DbOptions{.batch_events = 16});
+  const std::string busy_run = db.beginRun(testing::sampleMeta());
+  const std::string quick_run = db.beginRun(testing::sampleMeta());
+  auto busy_recorder = db.recorder(busy_run);
+  auto quick_recorder = db.recorder(quick_run);
+  std::atomic<bool> stop{false};
+  std::thread busy([&] {
+    EventEmitter em(busy_recorder.get());
+    for (std::uint32_t i = 0; !stop.load(); ++i) em.vertex(Layer::Motion, i);
+  });
+  EventEmitter em(quick_recorder.get());
+  testing::emitScriptedRun(em, 10);
+  db.finishRun(quick_run, {});  // returns while the other run keeps the writer busy
+  EXPECT_EQ(db.getRun(quick_run)->status, RunStatus::Solved);
+  stop = true;
+  busy.join();
+  db.finishRun(busy_run, {});
+  const auto busy_record = db.getRun(busy_run);
+  EXPECT_EQ(busy_record->event_count, busy_recorder->acceptedEvents());
+  EXPECT_EQ(busy_record->summary.sizes->vertices[static_cast<int>(Layer::Motion)], busy_recorder->acceptedEvents());
 }
 
 TEST(Recorder, ReadersSeeRunsWhileTheWriterWrites) {

@@ -191,6 +191,26 @@ TEST_F(ExamplePlan, RejectsACubeTakenThroughTheTable) {
   expectKind(report, ProblemKind::kHeldObjectCollision);
 }
 
+TEST_F(ExamplePlan, MalformedPlansBuiltInCodeAreProblemsNotExceptions) {
+  plan_.events[0].t = -1.0;
+  plan_.robots[0].points[0].t = -0.5;
+  ValidationReport report;
+  EXPECT_NO_THROW(report = check());
+  expectKind(report, ProblemKind::kTimeOrder);
+  expectKind(report, ProblemKind::kStartTime);
+
+  plan_ = test::examplePlan();
+  plan_.robots[0].joint_names.pop_back();
+  for (auto& p : plan_.robots[0].points) p.q.conservativeResize(5);
+  EXPECT_NO_THROW(report = check());
+  expectKind(report, ProblemKind::kJointNames);
+
+  plan_ = test::examplePlan();
+  plan_.robots[0].points.clear();
+  EXPECT_NO_THROW(report = check());
+  expectKind(report, ProblemKind::kStartTime);
+}
+
 TEST(ValidationReport, SummaryAndCounts) {
   ValidationReport report;
   EXPECT_TRUE(report.valid());

@@ -29,7 +29,9 @@ const std::vector<Case>& cases() {
   return all;
 }
 
-std::string json(const Case& c, std::uint64_t seed) { return sceneToJson(test::generate(c.family, c.params, seed).scene); }
+std::string json(const Case& c, std::uint64_t seed) {
+  return sceneToJson(test::generate(c.family, c.params, seed).scene);
+}
 
 TEST(ScenarioDeterminism, SameSeedSameBytes) {
   for (const Case& c : cases()) {

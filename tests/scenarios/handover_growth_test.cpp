@@ -15,7 +15,8 @@ TEST(SortingHandovers, MinimumGrowsWithRobots) {
   int previous = 0;
   for (const int robots : {2, 4, 8, 16, 32}) {
     SCOPED_TRACE("robots " + std::to_string(robots));
-    const auto g = test::generate("sorting", {{"robots", std::to_string(robots)}, {"objects", std::to_string(robots)}}, 3);
+    const auto g =
+        test::generate("sorting", {{"robots", std::to_string(robots)}, {"objects", std::to_string(robots)}}, 3);
     ASSERT_EQ(static_cast<int>(g.report.transfers.size()), robots);
     int least = 1 << 30, most = 0;
     for (const auto& t : g.report.transfers) {

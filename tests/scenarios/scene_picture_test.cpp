@@ -1,8 +1,8 @@
-#include <gtest/gtest.h>
+#include "engine/scenarios/scene_picture.h"
 
+#include <gtest/gtest.h>
 #include <zlib.h>
 
-#include "engine/scenarios/scene_picture.h"
 #include "scenario_test_util.h"
 
 namespace dash {
@@ -28,7 +28,8 @@ TEST(ScenePicture, PngChunksAreWellFormedAndDecodeToTheImage) {
     const std::string type = png.substr(at + 4, 4);
     const std::string body = png.substr(at + 4, 4 + length);
     EXPECT_EQ(read32(png, at + 8 + length),
-              static_cast<std::uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))))
+              static_cast<std::uint32_t>(
+                  crc32(0L, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))))
         << type;
     if (type == "IDAT") idat += png.substr(at + 8, length);
     types.push_back(type);

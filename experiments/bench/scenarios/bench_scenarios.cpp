@@ -24,9 +24,7 @@ void generate(benchmark::State& state, const std::string& family,
   state.counters["seconds_goal"] = 10.0;
 }
 
-void BM_SortingLargest(benchmark::State& state) {
-  generate(state, "sorting", {{"robots", "32"}, {"objects", "128"}});
-}
+void BM_SortingLargest(benchmark::State& state) { generate(state, "sorting", {{"robots", "32"}, {"objects", "128"}}); }
 BENCHMARK(BM_SortingLargest)->Unit(benchmark::kMillisecond)->Iterations(5);
 
 void BM_SortingLargestToJson(benchmark::State& state) {
@@ -40,7 +38,9 @@ void BM_WallLargest(benchmark::State& state) {
 }
 BENCHMARK(BM_WallLargest)->Unit(benchmark::kMillisecond)->Iterations(5);
 
-void BM_ShelfWallLargest(benchmark::State& state) { generate(state, "shelf-wall", {{"robots", "8"}, {"objects", "32"}}); }
+void BM_ShelfWallLargest(benchmark::State& state) {
+  generate(state, "shelf-wall", {{"robots", "8"}, {"objects", "32"}});
+}
 BENCHMARK(BM_ShelfWallLargest)->Unit(benchmark::kMillisecond)->Iterations(5);
 
 void BM_StockingLargest(benchmark::State& state) { generate(state, "stocking", {{"layers", "3"}, {"objects", "28"}}); }

@@ -1,0 +1,359 @@
+#include "engine/conflict/scheduler.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dash {
+
+namespace {
+
+struct Participant {
+  int robot = -1;
+  const StepVisit* visit = nullptr;
+  std::vector<JointVector> transit;
+  double transit_time = 0.0;
+  double approach_time = 0.0;
+  /// Handover arrival modes 1 and 2 (one robot in place first): transits replanned around the partner.
+  std::vector<JointVector> staggered[3];
+  double staggered_time[3] = {0.0, 0.0, 0.0};
+  bool staggered_tried[3] = {false, false, false};
+};
+
+ObjectLayout startLayout(const TaskSpace& space) {
+  ObjectLayout layout = ObjectLayout::atStart(space.scene());
+  for (int o = 0; o < space.objectCount(); ++o) layout.place(o, space.location(o, space.startLocation(o)).X_WO);
+  return layout;
+}
+
+}  // namespace
+
+Scheduler::Scheduler(const CollisionWorld& world, CollisionContext& context, SchedulerParams params)
+    : world_(&world), context_(&context), params_(params), checker_(world, context) {}
+
+double Scheduler::duration(int robot, const JointVector& a, const JointVector& b) const {
+  const JointVector& vmax = world_->scene().robots[robot].model->limits.velocity_max;
+  double t = 0.0;
+  for (int i = 0; i < a.size(); ++i) t = std::max(t, std::abs(b[i] - a[i]) / (params_.velocity_scale * vmax[i]));
+  // Round up to the millisecond so that times written to the plan keep every speed within limits.
+  return std::max(params_.min_segment, std::ceil(t * 1000.0) / 1000.0);
+}
+
+double Scheduler::pathDuration(int robot, const std::vector<JointVector>& path) const {
+  double t = 0.0;
+  for (std::size_t i = 1; i < path.size(); ++i) t += duration(robot, path[i - 1], path[i]);
+  return t;
+}
+
+void Scheduler::appendPath(RobotTimeline& timeline, double start, const std::vector<JointVector>& path) const {
+  double t = start;
+  timeline.append(t, path.front());
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    t += duration(timeline.robot(), path[i - 1], path[i]);
+    timeline.append(t, path[i]);
+  }
+}
+
+ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
+                                MotionLayerResult motion, const TaskSpace& space, const MoveReplanner& replan,
+                                const Deadline& deadline) {
+  const Scene& scene = space.scene();
+  const int robots = static_cast<int>(scene.robots.size());
+  ScheduleResult result;
+  std::vector<RobotTimeline> timelines;
+  for (int r = 0; r < robots; ++r) timelines.emplace_back(r, scene.robots[r].home);
+  ObjectTimeline objects(startLayout(space));
+  std::vector<std::size_t> next_visit(static_cast<std::size_t>(robots), 0);
+  std::vector<double> step_time(plan.steps.size(), 0.0);
+  std::vector<PlanEvent> events;
+  const std::uint64_t checks_before = context_->counters().configuration_checks;
+
+  auto fail = [&](int step, std::string why) {
+    result.ok = false;
+    result.failed_step = step;
+    result.reason = std::move(why);
+    result.stats.checks = static_cast<std::int64_t>(context_->counters().configuration_checks - checks_before);
+    return result;
+  };
+  // The other robots standing still from time t on (their schedules end before t), for replanning.
+  auto parkedAt = [&](int self, double t) {
+    std::vector<RobotState> parked;
+    for (const RobotTimeline& tl : timelines)
+      if (tl.robot() != self && tl.end() <= t) parked.push_back({tl.robot(), tl.last(), tl.heldAt(kForever / 2)});
+    return parked;
+  };
+
+  for (int k = 0; k < static_cast<int>(plan.steps.size()); ++k) {
+    const TaskArc& a = plan.steps[k].action;
+    const TransitionConfig& tc = transitions[k];
+    std::vector<Participant> parts;
+    for (int role = 0; role < (a.type == TaskArcType::kHandover ? 2 : 1); ++role) {
+      const int r = role == 1 ? a.robot2 : a.robot;
+      const StepVisit& visit = motion.robots[r].visits[next_visit[r]++];
+      DASH_DEMAND(visit.step == k);
+      parts.push_back({r, &visit, visit.transit, pathDuration(r, visit.transit), duration(r, visit.q_pre, visit.q)});
+    }
+    double t_dep = 0.0;
+    for (int d : plan.steps[k].after) t_dep = std::max(t_dep, step_time[d] + params_.dwell);
+    auto earliest = [&] {
+      double t = t_dep;
+      for (const Participant& p : parts) t = std::max(t, timelines[p.robot].end() + p.transit_time + p.approach_time);
+      return t;
+    };
+    double T = earliest();
+    const double give_up = T + params_.max_delay;
+    bool scheduled = false;
+    std::optional<ScheduleConflict> last_conflict;
+    std::vector<int> blockers;  // robots found standing in the way of this step
+    // Replans the participants' transits for an arrival mode around the robots standing still and the
+    // partner: arriving together, each avoids the partner where it stands now; staggered, whoever goes
+    // first avoids the partner where it stands now and whoever goes second avoids the first one in its
+    // place (the giver at the handover pose with the object, the receiver at its approach start).
+    auto replanTransits = [&](int mode) {
+      const int first = mode == 1 ? 0 : 1;
+      for (int i = 0; i < static_cast<int>(parts.size()); ++i) {
+        Participant& p = parts[i];
+        if (p.transit.size() < 2) continue;
+        const double depart = timelines[p.robot].end();
+        // Every robot whose schedule has ended stands still from now on, blockers included.
+        std::vector<RobotState> parked = parkedAt(p.robot, depart);
+        std::erase_if(parked, [&](const RobotState& st) {
+          return std::any_of(parts.begin(), parts.end(), [&](const Participant& q) { return q.robot == st.robot; });
+        });
+        for (int b : blockers)
+          if (std::none_of(parked.begin(), parked.end(), [&](const RobotState& st) { return st.robot == b; }))
+            parked.push_back({b, timelines[b].last(), timelines[b].heldAt(kForever / 2)});
+        if (parts.size() == 2 && (mode > 0 || parts[0].staggered_tried[0])) {
+          const Participant& other = parts[1 - i];
+          if (i == first || mode == 0) {
+            parked.push_back({other.robot, timelines[other.robot].last(), timelines[other.robot].heldAt(kForever / 2)});
+          } else {
+            const bool other_is_giver = i == 1;
+            parked.push_back({other.robot, other_is_giver ? other.visit->q : other.visit->q_pre,
+                              other_is_giver ? other.visit->held_before : HeldObject{}});
+          }
+        }
+        const MotionContext ctx{timelines[p.robot].heldAt(depart), objects.layoutAt(depart), parked};
+        auto path = replan(p.robot, p.transit.front(), p.transit.back(), ctx);
+        if (!path) continue;
+        ++result.stats.replans;
+        if (mode == 0) {
+          p.transit = *path;
+          p.transit_time = pathDuration(p.robot, *path);
+        } else {
+          p.staggered[mode] = *path;
+          p.staggered_time[mode] = pathDuration(p.robot, *path);
+        }
+      }
+    };
+    // When each participant reaches its approach start (it then waits there and approaches so as to
+    // arrive at T). Two robots arriving together can cross each other's way; staggering them (giver
+    // first, or receiver first waiting back at its approach start) often clears it without delay.
+    const int modes = parts.size() == 2 ? 3 : 1;
+    auto arrivals = [&](int mode, double T) {
+      auto travel = [&](int i) {
+        return parts[i].staggered[mode].empty() ? parts[i].transit_time : parts[i].staggered_time[mode];
+      };
+      std::vector<double> at;
+      for (const Participant& p : parts) at.push_back(T - p.approach_time);
+      if (mode == 1) at[0] = at[1] - travel(1);  // giver in place before the receiver leaves
+      if (mode == 2) {                           // receiver waits while the giver comes
+        at[0] = at[1];
+        at[1] = at[0] - travel(0);
+      }
+      return at;
+    };
+    while (!scheduled && T <= give_up) {
+      std::optional<ScheduleConflict> round_conflict;
+      for (int mode = 0; mode < modes && !scheduled; ++mode) {
+        if (deadline.expired()) return fail(k, "deadline");
+        const std::vector<double> arrive = arrivals(mode, T);
+        bool fits = true;
+        for (std::size_t i = 0; i < parts.size(); ++i) {
+          const double travel =
+              parts[i].staggered[mode].empty() ? parts[i].transit_time : parts[i].staggered_time[mode];
+          fits = fits && arrive[i] - travel >= timelines[parts[i].robot].end() - 1e-9;
+        }
+        if (!fits) continue;
+        std::vector<RobotTimeline> trial = timelines;
+        for (std::size_t i = 0; i < parts.size(); ++i) {
+          const Participant& p = parts[i];
+          RobotTimeline& c = trial[p.robot];
+          const bool own = !p.staggered[mode].empty();
+          const std::vector<JointVector>& path = own ? p.staggered[mode] : p.transit;
+          const double depart = arrive[i] - (own ? p.staggered_time[mode] : p.transit_time);
+          c.append(depart, c.last());  // wait where it stands: always clear (its standing was checked)
+          appendPath(c, depart, path);
+          c.append(T - p.approach_time, p.visit->q_pre);
+          c.append(T, p.visit->q);
+        }
+        // The transition itself at time T.
+        const int o = a.object;
+        if (a.type == TaskArcType::kPick) trial[a.robot].grasp(T, {o, tc.X_TO});
+        if (a.type == TaskArcType::kPlace) trial[a.robot].release(T);
+        if (a.type == TaskArcType::kHandover) {
+          trial[a.robot].release(T);
+          trial[a.robot2].grasp(T, {o, tc.X_TO2});
+        }
+        std::optional<ScheduleConflict> conflict;
+        for (const Participant& p : parts) {
+          conflict = checker_.check(trial[p.robot], timelines[p.robot].end(), kForever, trial, objects);
+          if (conflict) break;
+        }
+        if (!conflict && a.type == TaskArcType::kPlace) conflict = checker_.checkResting(o, tc.X_WO, T, trial, a.robot);
+        const bool with_partner =
+            conflict && parts.size() == 2 && (conflict->other == parts[0].robot || conflict->other == parts[1].robot);
+        if (with_partner && !parts[0].staggered_tried[mode]) {
+          parts[0].staggered_tried[mode] = true;
+          replanTransits(mode);
+          --mode;  // the same arrival mode again, with the new transits
+          continue;
+        }
+        // Another robot standing still in the way (its schedule has ended) will not move before this
+        // step is done: waiting cannot help, so move around it.
+        if (conflict && conflict->other >= 0 && !with_partner && timelines[conflict->other].end() <= conflict->t &&
+            std::find(blockers.begin(), blockers.end(), conflict->other) == blockers.end()) {
+          blockers.push_back(conflict->other);
+          replanTransits(0);
+          for (int m = 1; m < 3; ++m)
+            if (parts[0].staggered_tried[m]) replanTransits(m);
+          --mode;
+          continue;
+        }
+        if (!conflict) {
+          timelines = std::move(trial);
+          if (a.type == TaskArcType::kPick) objects.pick(o, T);
+          if (a.type == TaskArcType::kPlace) objects.place(o, T, tc.X_WO);
+          step_time[k] = T;
+          scheduled = true;
+          break;
+        }
+        round_conflict = conflict;
+      }
+      if (scheduled) break;
+      const std::optional<ScheduleConflict> conflict = round_conflict;
+      if (conflict) last_conflict = conflict;
+      if (!conflict) {  // no mode fitted this T yet
+        T += params_.delay_step;
+        continue;
+      }
+      ++result.stats.delays;
+      T += params_.delay_step;
+    }
+    if (!scheduled) {
+      std::string with = "?";
+      if (last_conflict && last_conflict->other >= 0) with = "robot " + scene.robots[last_conflict->other].id;
+      if (last_conflict && last_conflict->object >= 0) with = "object " + scene.objects[last_conflict->object].id;
+      if (last_conflict && last_conflict->other < 0 && last_conflict->object < 0) with = "an obstacle";
+      return fail(k, "could not schedule step " + std::to_string(k) + " (" + describeStep(plan.steps[k], space) +
+                         ") within " + std::to_string(static_cast<int>(params_.max_delay)) +
+                         " s of delay; last conflict with " + with);
+    }
+
+    // Events: the receiver grasps at T and the giver lets go at the same instant (formats.md allows it).
+    const std::string& actor_id = scene.robots[a.robot].id;
+    switch (a.type) {
+      case TaskArcType::kPick:
+        events.push_back({PlanEvent::Type::kGrasp, T, actor_id, scene.objects[a.object].id, tc.X_TO, -1});
+        break;
+      case TaskArcType::kPlace:
+        events.push_back({PlanEvent::Type::kRelease, T, actor_id, scene.objects[a.object].id, Pose::Identity(), -1});
+        break;
+      case TaskArcType::kHandover:
+        events.push_back(
+            {PlanEvent::Type::kGrasp, T, scene.robots[a.robot2].id, scene.objects[a.object].id, tc.X_TO2, -1});
+        events.push_back({PlanEvent::Type::kRelease, T, actor_id, scene.objects[a.object].id, Pose::Identity(), -1});
+        break;
+      case TaskArcType::kInspect:
+        events.push_back({PlanEvent::Type::kInspect, T, actor_id, "", Pose::Identity(), a.task});
+        break;
+      default:
+        break;
+    }
+
+    // Retreats, giver first: each leaves after the gripper has closed or opened, as soon as it is clear.
+    for (const Participant& p : parts) {
+      const StepVisit& v = *p.visit;
+      if ((v.q_post - v.q).cwiseAbs().maxCoeff() < 1e-12) continue;
+      const double d = duration(p.robot, v.q, v.q_post);
+      for (double rho = T + params_.dwell; rho <= T + params_.max_delay; rho += params_.delay_step) {
+        RobotTimeline c = timelines[p.robot];
+        c.append(rho, v.q);
+        c.append(rho + d, v.q_post);
+        if (!checker_.check(c, timelines[p.robot].end(), kForever, timelines, objects)) {
+          timelines[p.robot] = std::move(c);
+          break;
+        }
+        ++result.stats.delays;
+      }
+      // If no retreat was clear the robot stays at q (already checked) and leaves from there.
+    }
+    // The next visit's transit must start where this robot now stands.
+    for (const Participant& p : parts) {
+      auto& visits = motion.robots[p.robot].visits;
+      if (next_visit[p.robot] < visits.size()) {
+        StepVisit& next = visits[next_visit[p.robot]];
+        if ((next.transit.front() - timelines[p.robot].last()).cwiseAbs().maxCoeff() > 1e-12) {
+          const MotionContext ctx{
+              timelines[p.robot].heldAt(kForever / 2), objects.layoutAt(timelines[p.robot].end()), {}};
+          auto path = replan(p.robot, timelines[p.robot].last(), next.transit.back(), ctx);
+          if (!path) return fail(k, "no path after a skipped retreat of " + scene.robots[p.robot].id);
+          next.transit = *path;
+        }
+      }
+    }
+  }
+
+  // Home, when the scene wants every robot to end there.
+  for (int r = 0; r < robots && scene.end_at_home; ++r) {
+    std::vector<JointVector> path = motion.robots[r].home_path;
+    if (path.empty() || (path.front() - timelines[r].last()).cwiseAbs().maxCoeff() > 1e-12) {
+      const MotionContext ctx{{}, objects.layoutAt(timelines[r].end()), {}};
+      auto p = replan(r, timelines[r].last(), scene.robots[r].home, ctx);
+      if (!p) return fail(-1, "no path home for " + scene.robots[r].id);
+      path = *p;
+    }
+    if (path.size() < 2) continue;
+    bool done = false, replanned = false;
+    for (double start = timelines[r].end(); start <= timelines[r].end() + params_.max_delay && !done;) {
+      if (deadline.expired()) return fail(-1, "deadline");
+      RobotTimeline c = timelines[r];
+      appendPath(c, start, path);
+      const auto conflict = checker_.check(c, timelines[r].end(), kForever, timelines, objects);
+      if (!conflict) {
+        timelines[r] = std::move(c);
+        done = true;
+        break;
+      }
+      if (conflict->other >= 0 && timelines[conflict->other].end() <= conflict->t && !replanned) {
+        replanned = true;
+        const MotionContext ctx{{}, objects.layoutAt(start), parkedAt(r, start)};
+        if (auto p = replan(r, path.front(), path.back(), ctx)) {
+          path = *p;
+          ++result.stats.replans;
+          continue;
+        }
+      }
+      ++result.stats.delays;
+      start += params_.delay_step;
+    }
+    if (!done) return fail(-1, "could not bring " + scene.robots[r].id + " home without collisions");
+  }
+
+  Plan& out = result.plan;
+  for (int r = 0; r < robots; ++r) {
+    RobotTrajectory traj;
+    traj.robot = scene.robots[r].id;
+    traj.joint_names = scene.robots[r].model->joint_names;
+    for (const TimedPoint& p : timelines[r].points()) traj.points.push_back({p.t, p.q});
+    out.robots.push_back(std::move(traj));
+  }
+  std::stable_sort(events.begin(), events.end(), [](const PlanEvent& x, const PlanEvent& y) { return x.t < y.t; });
+  out.events = std::move(events);
+  out.scene = scene.name;
+  out.makespan = out.lastTime();
+  result.ok = true;
+  result.stats.checks = static_cast<std::int64_t>(context_->counters().configuration_checks - checks_before);
+  return result;
+}
+
+}  // namespace dash

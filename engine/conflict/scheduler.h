@@ -1,0 +1,69 @@
+#pragma once
+// Motion conflict resolution by scheduled adaptive robot coordination (paper, Algorithm 3), in the
+// form this workbench uses: the task plan's dependency graph orders the transitions; each robot's
+// motions from the optimistic schedule are placed in time one transition at a time, handovers
+// synchronised (both robots at their handover configurations at the same instant), and every new
+// timed piece is checked in continuous time against everything already scheduled (ScheduleChecker).
+// A conflict is resolved first by retiming (a later departure: the robot waits where it stands, which
+// is always clear), then by replanning the move in the space of the robot with the robots in its way
+// standing still (the subproblem of ARC with a fixed window). What cannot be resolved is reported,
+// with the step it happened at, for the planner to turn into a constraint.
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/conflict/schedule_checker.h"
+#include "engine/core/deadline.h"
+#include "engine/motion/motion_layer.h"
+#include "engine/plan/plan.h"
+
+namespace dash {
+
+struct SchedulerParams {
+  double velocity_scale = 0.5;    ///< fraction of each joint's velocity_max used for motions
+  double dwell = 0.1;             ///< seconds a gripper needs to close or open
+  double delay_step = 0.25;       ///< retiming granularity, seconds
+  double max_delay = 30.0;        ///< give up retiming a transition after this much delay
+  double min_segment = 0.02;      ///< shortest segment duration, seconds
+};
+
+struct ScheduleStats {
+  int delays = 0;       ///< retiming steps taken
+  int replans = 0;      ///< moves replanned around robots in the way
+  std::int64_t checks = 0;
+};
+
+struct ScheduleResult {
+  bool ok = false;
+  Plan plan;
+  int failed_step = -1;
+  std::string reason;
+  ScheduleStats stats;
+};
+
+/// Replans a move for `robot` from -> to in `context` (the robots standing still in context.parked).
+using MoveReplanner = std::function<std::optional<std::vector<JointVector>>(
+    int robot, const JointVector& from, const JointVector& to, const MotionContext& context)>;
+
+class Scheduler {
+ public:
+  Scheduler(const CollisionWorld& world, CollisionContext& context, SchedulerParams params = {});
+
+  ScheduleResult build(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
+                       MotionLayerResult motion, const TaskSpace& space, const MoveReplanner& replan,
+                       const Deadline& deadline);
+
+ private:
+  struct Attempt;
+  double duration(int robot, const JointVector& a, const JointVector& b) const;
+  void appendPath(RobotTimeline& timeline, double start, const std::vector<JointVector>& path) const;
+  double pathDuration(int robot, const std::vector<JointVector>& path) const;
+
+  const CollisionWorld* world_;
+  CollisionContext* context_;
+  SchedulerParams params_;
+  ScheduleChecker checker_;
+};
+
+}  // namespace dash

@@ -1,0 +1,188 @@
+#include "engine/dash/combined_query.h"
+
+#include <cmath>
+#include <limits>
+#include <queue>
+
+namespace dash {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kOnRoute = 1e-6;  // regret below this: on a cheapest route
+// Priority levels (lowest first); regrets and path costs (radians) stay far below the gaps.
+constexpr double kPickPenalty = 1e4;
+constexpr double kHoldMove = 1e5;
+constexpr double kReceiveMove = 2e5;
+constexpr double kInspectMove = 2.5e5;
+constexpr double kPickMove = 3e5;
+constexpr double kDetour = 3.5e5;
+constexpr double kHome = 4e5;
+constexpr double kUndoMove = 5e5;
+constexpr double kUndo = 6e5;
+constexpr double kPartnerWaiting = 5e4;  // a handover partner already in place: go there first
+
+using Kind = MotionVertex::Kind;
+using Type = MotionArc::Type;
+
+bool isObjectState(const MotionVertex& v) { return v.kind == Kind::kObject || v.kind == Kind::kHolding; }
+}  // namespace
+
+struct CombinedQuery::Summary {
+  ExtendedHyperarcId node;
+  bool valid = false;
+  std::vector<VertexId> robot_at;  ///< the vertex each robot's instance is at
+};
+
+CombinedQuery::CombinedQuery(const MotionHypergraph& graph) : graph_(&graph) { refresh(); }
+
+std::pair<VertexId, VertexId> CombinedQuery::objectMove(HyperarcId a) const {
+  const MotionGraph& g = graph_->graph();
+  const MotionArc& arc = g.property(a);
+  if (arc.type != Type::kPick && arc.type != Type::kPlace && arc.type != Type::kHandover && arc.type != Type::kMove)
+    return {};
+  VertexId from, to;
+  for (VertexId v : g.tail(a))
+    if (isObjectState(g.property(v))) from = v;
+  for (VertexId v : g.head(a))
+    if (isObjectState(g.property(v))) to = v;
+  return {from, to};
+}
+
+void CombinedQuery::refresh() {
+  const MotionGraph& g = graph_->graph();
+  const TaskSpace& space = graph_->space();
+  to_goal_.assign(g.vertexCount(), 0.0);
+  std::vector<std::vector<std::pair<VertexId, double>>> reverse(g.vertexCount());
+  using Item = std::pair<double, VertexId>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+  for (VertexId v : g.vertices()) {
+    const MotionVertex& mv = g.property(v);
+    if (!isObjectState(mv)) continue;
+    const int goal = space.goalLocation(mv.object);
+    const bool finished = goal < 0 ? mv.kind == Kind::kObject : (mv.kind == Kind::kObject && mv.placement == goal);
+    to_goal_[v.value()] = finished ? 0.0 : kInf;
+    if (finished) open.push({0.0, v});
+  }
+  for (HyperarcId a : g.hyperarcs()) {
+    const auto [from, to] = objectMove(a);
+    if (from.valid() && to.valid()) reverse[to.value()].push_back({from, graph_->cost(a)});
+  }
+  while (!open.empty()) {
+    const auto [d, v] = open.top();
+    open.pop();
+    if (d > to_goal_[v.value()]) continue;
+    for (const auto& [u, c] : reverse[v.value()])
+      if (d + c < to_goal_[u.value()]) {
+        to_goal_[u.value()] = d + c;
+        open.push({d + c, u});
+      }
+  }
+}
+
+double CombinedQuery::regret(HyperarcId a) const {
+  const auto [from, to] = objectMove(a);
+  if (!from.valid() || !to.valid()) return graph_->cost(a);
+  return graph_->cost(a) + to_goal_[to.value()] - to_goal_[from.value()];
+}
+
+double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summary& summary) const {
+  const MotionGraph& g = graph_->graph();
+  const MotionArc& arc = g.property(a);
+  if (arc.type == Type::kInspect) return 0.0;
+  if (arc.type != Type::kMove) {
+    const auto [from, to] = objectMove(a);
+    const double r = regret(a);
+    if (!std::isfinite(r)) return kInf;
+    if (to_goal_[from.value()] == 0.0 && to_goal_[to.value()] > 0.0) return kUndo + r;
+    if (r > kOnRoute) return kDetour + r;
+    return (arc.type == Type::kPick ? kPickPenalty : 0.0) + r;
+  }
+  if (!summary.valid || summary.node != state.node()) {
+    summary.valid = true;
+    summary.node = state.node();
+    summary.robot_at.assign(graph_->space().scene().robots.size(), VertexId());
+    for (ExtendedVertexId instance : state.frontier()) {
+      const VertexId v = state.vertexOf(instance);
+      const MotionVertex& mv = g.property(v);
+      if (mv.kind == Kind::kRobot || mv.kind == Kind::kHolding) summary.robot_at[mv.robot] = v;
+    }
+  }
+  auto emptyHanded = [&](int robot) {
+    const VertexId v = summary.robot_at[robot];
+    return v.valid() && g.property(v).kind == Kind::kRobot;
+  };
+  const VertexId from = g.tail(a).front();
+  const VertexId to = g.head(a).front();
+  const double cost = graph_->cost(a);
+  const MotionVertex& mv = g.property(from);
+  const TransitionCatalog& catalog = graph_->catalog();
+  if (mv.kind == Kind::kHolding) {
+    const double r = cost + to_goal_[to.value()] - to_goal_[from.value()];
+    if (!std::isfinite(r)) return kInf;
+    double level = kInf;
+    for (HyperarcId t : graph_->transitionsFrom(to)) {
+      const MotionArc& ta = g.property(t);
+      if (ta.type == Type::kPlace) level = std::min(level, kHoldMove);
+      if (ta.type == Type::kHandover) {
+        const HandoverSample& h = catalog.handovers[ta.index];
+        if (h.giver != mv.robot || !emptyHanded(h.receiver)) continue;
+        bool waiting = false;
+        for (VertexId v : g.tail(t)) waiting = waiting || (v != to && state.inFrontier(v));
+        level = std::min(level, kHoldMove - (waiting ? kPartnerWaiting : 0.0));
+      }
+    }
+    if (!std::isfinite(level)) return kInf;
+    return (r > kOnRoute ? kDetour : level) + r;
+  }
+  if (to == graph_->homeVertex(mv.robot)) return kHome + cost;
+  double best = kInf;
+  for (HyperarcId t : graph_->transitionsFrom(to)) {
+    const MotionArc& ta = g.property(t);
+    double value = kInf;
+    if (ta.type == Type::kPick) {
+      const auto [object_at, held] = objectMove(t);
+      if (!state.inFrontier(object_at)) continue;
+      const double r = regret(t);
+      const bool undo = to_goal_[object_at.value()] == 0.0 && to_goal_[held.value()] > 0.0;
+      value = (undo ? kUndoMove : kPickMove) + r;
+    } else if (ta.type == Type::kHandover) {
+      const HandoverSample& h = catalog.handovers[ta.index];
+      if (h.receiver != mv.robot) continue;
+      const VertexId giver_at = summary.robot_at[h.giver];
+      VertexId giver_vertex;
+      for (VertexId v : g.tail(t))
+        if (v != to) giver_vertex = v;
+      if (!giver_at.valid()) continue;
+      const MotionVertex& gv = g.property(giver_at);
+      const MotionVertex& need = g.property(giver_vertex);
+      if (gv.kind != Kind::kHolding || gv.object != need.object || gv.grasp != need.grasp) continue;
+      value = kReceiveMove - (giver_at == giver_vertex ? kPartnerWaiting : 0.0) + regret(t);
+    } else if (ta.type == Type::kInspect) {
+      bool ready = true;
+      for (VertexId v : g.tail(t)) ready = ready && (v == to || state.inFrontier(v));
+      if (ready) value = kInspectMove;
+    }
+    best = std::min(best, value);
+  }
+  return best + cost;
+}
+
+HyperpathResult CombinedQuery::run(const std::unordered_set<HyperarcId>& forbidden, const CombinedQueryParams& params,
+                                   const Deadline& deadline, std::function<void(const ExtendedVertex&)> on_vertex,
+                                   std::function<void(const ExtendedHyperarc&)> on_hyperarc) const {
+  HyperpathSearchParams search;
+  search.algorithm = HyperpathAlgorithm::kGreedy;
+  if (!forbidden.empty())
+    search.allowed = [&forbidden](const HyperpathState&, HyperarcId a) { return !forbidden.contains(a); };
+  search.costToGo = [this](VertexId v) { return to_goal_[v.value()]; };
+  search.arcCost = [this](HyperarcId a) { return graph_->cost(a); };
+  auto summary = std::make_shared<Summary>();
+  search.priority = [this, summary](const HyperpathState& state, HyperarcId a) { return priority(state, a, *summary); };
+  search.deadline = deadline;
+  search.maxExpansions = params.max_expansions;
+  search.onExtendedVertex = std::move(on_vertex);
+  search.onExtendedHyperarc = std::move(on_hyperarc);
+  return findHyperpath(graph_->graph(), {graph_->source(), graph_->sink()}, search);
+}
+
+}  // namespace dash

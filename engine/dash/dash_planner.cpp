@@ -1,0 +1,323 @@
+#include "engine/dash/dash_planner.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <set>
+#include <unordered_set>
+
+#include "engine/collision/collision_queries.h"
+#include "engine/core/rng.h"
+#include "engine/dash/dash_task_graph.h"
+#include "engine/dash/motion_hypergraph.h"
+#include "engine/dash/plan_extraction.h"
+#include "engine/dash/resting_conflicts.h"
+#include "engine/motion/lazy_roadmap.h"
+#include "engine/placement/placement_region.h"
+#include "engine/plan/plan_validator.h"
+#include "engine/task/geometric_reachability.h"
+
+namespace dash {
+
+namespace {
+
+constexpr int kPlacementAttempts = 200;
+
+void applyTestFault(const PlannerSettings& settings) {
+  if (settings.test_fault == "abort") std::abort();
+  if (settings.test_fault == "ignore-deadline") {
+    volatile std::uint64_t spin = 0;
+    for (;;) spin = spin + 1;  // never returns: the batch runner must kill it from outside
+  }
+}
+
+double pathLength(const Plan& plan) {
+  double total = 0.0;
+  for (const RobotTrajectory& r : plan.robots)
+    for (std::size_t i = 1; i < r.points.size(); ++i) total += (r.points[i].q - r.points[i - 1].q).norm();
+  return total;
+}
+
+bool graspable(GeometricReachability& reach, int robot, int object, const Pose& X_WO) {
+  return reach.canGrasp(robot, object, X_WO, GraspClass::kTop) || reach.canGrasp(robot, object, X_WO, GraspClass::kSide);
+}
+
+// DaSH pre-samples object placements without asking whether a plan needs them (paper, "Analysis and
+// Discussion"): stable poses on a support surface near a robot that can take the object from its start
+// or put it at its goal, clear of obstacles and of every other known object location.
+void presamplePlacements(TaskSpace& space, const Scene& scene, GeometricReachability& reach,
+                         TransitionSampler& sampler, Rng& rng, const DashParams& params) {
+  if (params.placements_per_object <= 0 || scene.surfaces.empty()) return;
+  std::vector<PlacementRegion> regions;
+  for (const SceneSurface& s : scene.surfaces) regions.emplace_back(s);
+  const ObjectLayout none = ObjectLayout::empty(scene);
+  for (int o = 0; o < space.objectCount(); ++o) {
+    if (space.isFixed(o)) continue;
+    std::vector<int> robots;
+    for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r) {
+      if (!scene.robots[r].hasCapability("grasp")) continue;
+      bool takes = graspable(reach, r, o, space.location(o, space.startLocation(o)).X_WO);
+      if (space.goalLocation(o) >= 0) takes = takes || graspable(reach, r, o, space.location(o, space.goalLocation(o)).X_WO);
+      if (takes) robots.push_back(r);
+    }
+    if (robots.empty()) continue;
+    const BoxShape& box = scene.objects[o].shape;
+    for (int added = 0, attempt = 0; added < params.placements_per_object && attempt < kPlacementAttempts; ++attempt) {
+      const int r = robots[static_cast<std::size_t>(rng.integer(0, static_cast<std::int64_t>(robots.size()) - 1))];
+      const int s = static_cast<int>(rng.integer(0, static_cast<std::int64_t>(regions.size()) - 1));
+      const auto pose = regions[s].sampleNear(box, scene.robots[r].X_WB.translation(), params.placement_radius, rng, 4);
+      if (!pose) continue;
+      bool clear = true;
+      for (int j = 0; j < space.objectCount() && clear; ++j)
+        for (const ObjectLocation& l : space.locations(j))
+          clear = clear && (l.X_WO.translation() - pose->translation()).norm() >= params.placement_spacing;
+      if (!clear || objectInCollision(sampler.world(), sampler.context(), o, *pose, none)) continue;
+      if (!graspable(reach, r, o, *pose)) continue;
+      space.addExtraLocation(o, *pose, s);
+      ++added;
+    }
+  }
+}
+
+/// The conflict a failed schedule reports: the last move of each participant into the step that
+/// could not be scheduled (its transition when it did not move), or the ways home.
+MotionConflict scheduleConflict(const ExtractedPlan& plan, const ScheduleResult& schedule) {
+  MotionConflict c;
+  c.kind = MotionConflict::Kind::kSchedule;
+  c.step = schedule.failed_step;
+  c.what = schedule.reason;
+  if (schedule.failed_step >= 0) {
+    const TaskStep& step = plan.plan.steps[schedule.failed_step];
+    const int participants = step.action.type == TaskArcType::kHandover ? 2 : 1;
+    for (int role = 0; role < participants; ++role) {
+      const auto& moves = plan.step_moves[schedule.failed_step][role];
+      c.robots.push_back(role == 0 ? step.action.robot : step.action.robot2);
+      const HyperarcId arc = moves.empty() ? step.arc : moves.back();
+      if (std::find(c.arcs.begin(), c.arcs.end(), arc) == c.arcs.end()) c.arcs.push_back(arc);
+    }
+    return c;
+  }
+  for (int r = 0; r < static_cast<int>(plan.home_moves.size()); ++r)
+    if (!plan.home_moves[r].empty()) {
+      c.robots.push_back(r);
+      c.arcs.push_back(plan.home_moves[r].back());
+    }
+  return c;
+}
+
+}  // namespace
+
+PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& settings, const Deadline& deadline,
+                              log::EventSink* sink) {
+  applyTestFault(settings);
+  seedOmplOnce(settings.seed);
+  log::EventEmitter emitter(sink);
+  const CollisionWorld world(scene);
+  CollisionContext context(world);
+  Rng rng(Rng::derive(settings.seed, 23));
+  TaskSpace space(scene);
+  TransitionSampler sampler(world, context);
+  GeometricReachability reach(sampler);
+  PlanResult result;
+  std::int64_t eager = 0, lazy = 0;
+  std::size_t extended_vertices = 0, extended_hyperarcs = 0;
+  auto checks = [&] { return static_cast<std::int64_t>(context.counters().configuration_checks); };
+
+  DashTaskGraph task_graph;
+  TransitionCatalog catalog;
+  std::unique_ptr<MotionHypergraph> motion;
+  RoadmapSet roadmaps;
+  auto roadmapTotals = [&](std::int64_t& vertices, std::int64_t& edges) {
+    vertices = edges = 0;
+    for (const auto& r : roadmaps) {
+      vertices += static_cast<std::int64_t>(r->vertexCount());
+      edges += static_cast<std::int64_t>(r->edgeCount());
+    }
+  };
+  auto emitCounters = [&] {
+    std::int64_t v = 0, e = 0;
+    roadmapTotals(v, e);
+    emitter.counter("roadmap_vertices", v);
+    emitter.counter("roadmap_edges", e);
+    emitter.counter("collision_checks_eager", eager);
+    emitter.counter("collision_checks_lazy", lazy);
+  };
+  int motion_constraints = 0;
+  int queries = 0;
+  auto finish = [&](PlanOutcome outcome, std::string message) {
+    PlanStats& st = result.stats;
+    st.phase_seconds = emitter.phaseTotals();
+    st.sizes.task_vertices = task_graph.vertexCount();
+    st.sizes.task_hyperarcs = task_graph.hyperarcCount();
+    if (motion) {
+      st.sizes.motion_vertices = motion->graph().vertexCount();
+      st.sizes.motion_hyperarcs = motion->graph().hyperarcCount();
+    }
+    st.sizes.motion_extended_vertices = extended_vertices;
+    st.sizes.motion_extended_hyperarcs = extended_hyperarcs;
+    st.iterations = queries;
+    st.collision_checks_eager = eager;
+    st.collision_checks_lazy = lazy;
+    roadmapTotals(st.roadmap_vertices, st.roadmap_edges);
+    st.motion_constraints = motion_constraints;
+    emitCounters();
+    result.outcome = outcome;
+    result.message = std::move(message);
+    return result;
+  };
+  auto timeout = [&](const std::string& where) {
+    return finish(deadline.stopRequested() ? PlanOutcome::kCancelled : PlanOutcome::kTimeout, where + ": timeout");
+  };
+
+  // 1. Task space hypergraph (location-free object elements), placements pre-sampled.
+  {
+    log::PhaseTimer timer(emitter, log::Phase::TaskConstruction);
+    const std::int64_t before = checks();
+    presamplePlacements(space, scene, reach, sampler, rng, params_);
+    DashTaskGraphObserver observer;
+    if (emitter.enabled()) {
+      observer.onVertex = [&](VertexId v, const TaskElement& e) {
+        emitter.vertex(log::Layer::Task, v.value(), dashElementLabel(e, scene));
+      };
+      observer.onHyperarc = [&](HyperarcId a, const TaskArc& arc) {
+        emitter.hyperarc(log::Layer::Task, taskArcTypeName(arc.type), a.value(), {}, {});
+      };
+    }
+    task_graph = buildDashTaskGraph(space, reach.oracle(), observer);
+    eager += checks() - before;
+  }
+  if (deadline.expired()) return timeout("task space construction");
+
+  // 2. Motion hypergraph, exhaustively: every transition, validated roadmaps, every move.
+  {
+    log::PhaseTimer timer(emitter, log::Phase::MotionConstruction);
+    const std::int64_t before = checks();
+    catalog = sampleTransitions(sampler, space, task_graph, params_.transitions, deadline);
+    motion = std::make_unique<MotionHypergraph>(space, catalog, emitter);
+    for (int r = 0; r < world.robotCount(); ++r) {
+      for (int holding = 0; holding < 2; ++holding) {
+        roadmaps.push_back(std::make_unique<ValidatedRoadmap>(world, context, r, params_.roadmap));
+        roadmaps.back()->growTo(holding ? params_.holding_roadmap_samples : params_.empty_roadmap_samples, deadline);
+      }
+    }
+    motion->connectMoves(roadmaps, {}, deadline);
+    eager += checks() - before;
+  }
+  emitCounters();
+  if (deadline.expired()) return timeout("motion hypergraph construction");
+
+  // 3-4. Query, conflict resolution, constraint tree (depth first).
+  CombinedQuery query(*motion);
+  std::vector<std::vector<HyperarcId>> open{{}};
+  std::set<std::vector<HyperarcId>> seen{{}};
+  std::vector<int> growths(static_cast<std::size_t>(world.robotCount()), 0);
+  std::function<void(const ExtendedVertex&)> on_vertex = [&](const ExtendedVertex& v) {
+    emitter.vertex(log::Layer::MotionExtended, static_cast<std::uint32_t>(extended_vertices++),
+                   emitter.enabled() ? motion->label(v.vertex) : std::string());
+  };
+  std::function<void(const ExtendedHyperarc&)> on_hyperarc = [&](const ExtendedHyperarc& a) {
+    const auto id = static_cast<std::uint32_t>(extended_hyperarcs++);
+    if (!emitter.enabled()) return;
+    std::vector<std::uint32_t> head, tail;
+    for (ExtendedVertexId v : a.produced) head.push_back(v.value());
+    for (ExtendedVertexId v : a.consumed) tail.push_back(v.value());
+    emitter.hyperarc(log::Layer::MotionExtended, motionArcTypeName(motion->graph().property(a.hyperarc).type), id,
+                     std::move(head), std::move(tail));
+  };
+  std::string last_failure = "no hyperpath from the start to the goal in the motion hypergraph";
+  while (!open.empty()) {
+    if (deadline.expired()) return timeout("constraint tree");
+    if (queries >= params_.max_tree_nodes)
+      return finish(PlanOutcome::kInfeasible, "gave up after " + std::to_string(queries) +
+                                                  " constraint tree nodes; last conflict: " + last_failure);
+    const std::vector<HyperarcId> node = std::move(open.back());
+    open.pop_back();
+    emitter.setIteration(queries++);
+    const std::unordered_set<HyperarcId> forbidden(node.begin(), node.end());
+    HyperpathResult path;
+    {
+      log::PhaseTimer timer(emitter, log::Phase::MotionQuery);
+      path = query.run(forbidden, params_.query, deadline, on_vertex, on_hyperarc);
+    }
+    if (!path.found()) {
+      if (path.status == HyperpathStatus::kDeadline) return timeout("combined query");
+      continue;  // no hyperpath under these constraints: back up the tree
+    }
+    ExtractedPlan extracted = extractPlan(*motion, path);
+    if (settings.task_only) {
+      // DaSH has no task layer of its own: its transitions, as queried, before conflict resolution.
+      result.task_plan_json = extracted.plan.toJson(space);
+      return finish(PlanOutcome::kSolved, extracted.plan.describe(space));
+    }
+    std::optional<MotionConflict> conflict;
+    ScheduleResult schedule;
+    {
+      log::PhaseTimer timer(emitter, log::Phase::ConflictResolution);
+      const std::int64_t before = checks();
+      RestingConflictStats resting;
+      conflict = resolveRestingConflicts(extracted, *motion, world, context, roadmaps, deadline, resting);
+      if (!conflict) {
+        Scheduler scheduler(world, context, params_.scheduler);
+        const MoveReplanner replan = [&](int r, const JointVector& from, const JointVector& to,
+                                         const MotionContext& ctx) {
+          return roadmaps[static_cast<std::size_t>(r) * 2 + (ctx.held.holding() ? 1 : 0)]->plan(from, to, ctx, deadline);
+        };
+        schedule = scheduler.build(extracted.plan, extracted.transitions, extracted.motion, space, replan, deadline);
+        if (!schedule.ok) conflict = scheduleConflict(extracted, schedule);
+      }
+      lazy += checks() - before;
+    }
+    if (!conflict) {
+      Plan plan = std::move(schedule.plan);
+      plan.planner = name();
+      const ValidationReport report = validatePlan(scene, plan);
+      if (!report.valid())  // a plan that fails validation is a bug in the planner, never a result
+        return finish(PlanOutcome::kInfeasible, "internal error: the planned schedule failed validation: " +
+                                                    report.problems.front().message);
+      result.stats.makespan = plan.makespan;
+      result.stats.path_length = pathLength(plan);
+      result.plan = std::move(plan);
+      return finish(PlanOutcome::kSolved, "solved");
+    }
+    if (deadline.expired()) return timeout("conflict resolution");
+    last_failure = conflict->what;
+
+    // CBS-MP's probabilistic break rule: grow the roadmaps, or grow the constraint tree.
+    std::vector<int> growable;
+    for (int r : conflict->robots)
+      if (growths[r] < params_.max_roadmap_growths) growable.push_back(r);
+    const bool grow = conflict->kind != MotionConflict::Kind::kTransition && !growable.empty() &&
+                      rng.uniform01() < params_.grow_roadmap_probability;
+    if (grow || conflict->arcs.empty()) {
+      if (growable.empty()) continue;  // nothing to forbid and nothing to grow: a dead node
+      log::PhaseTimer timer(emitter, log::Phase::MotionConstruction);
+      const std::int64_t before = checks();
+      for (int r : growable) {
+        ++growths[r];
+        for (int holding = 0; holding < 2; ++holding) {
+          ValidatedRoadmap& rm = *roadmaps[static_cast<std::size_t>(r) * 2 + holding];
+          rm.growTo(rm.milestoneCount() + params_.growth_samples, deadline);
+        }
+      }
+      motion->connectMoves(roadmaps, growable, deadline);
+      query.refresh();
+      eager += checks() - before;
+      emitCounters();
+      open.push_back(node);
+      continue;
+    }
+    for (auto it = conflict->arcs.rbegin(); it != conflict->arcs.rend(); ++it) {
+      std::vector<HyperarcId> child = node;
+      child.push_back(*it);
+      std::sort(child.begin(), child.end());
+      if (!seen.insert(child).second) continue;
+      emitter.constraint(log::ConstraintKind::Motion, log::ConstraintAction::Created,
+                         static_cast<std::uint32_t>(motion_constraints++), "forbid " + motion->label(*it), {},
+                         conflict->what);
+      open.push_back(std::move(child));
+    }
+  }
+  return finish(PlanOutcome::kInfeasible, "constraint tree exhausted: no hyperpath avoids the motion constraints; "
+                                          "last conflict: " + last_failure);
+}
+
+}  // namespace dash

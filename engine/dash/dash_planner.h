@@ -1,0 +1,64 @@
+#pragma once
+// DaSH (Decomposable State Space Hypergraph; Motes, Chen, Bretl, Morales, Amato, IEEE T-RO 39(5),
+// 2023), the baseline of the Lazy-DaSH paper (../shared/paper/lazy-dash.tex, "Comparison with DaSH",
+// "Method Descriptions"), on the workbench's geometry:
+//  1. task space hypergraph H_T with location-free object elements (dash_task_graph.h) and
+//     pre-sampled object placements besides each object's start and goal;
+//  2. motion hypergraph H_M built exhaustively before any query (motion_hypergraph.h): transition
+//     configurations for every transition of H_T (transition_catalog.h), fully validated PRM roadmaps
+//     (og::PRM, validated_roadmap.h) and move hyperarcs joining every transition in every planning
+//     space; every collision check here is "eager";
+//  3. the combined task-and-motion query on H_M (combined_query.h), the greedy hyperpath query with
+//     motion costs;
+//  4. conflict resolution: resting-object conflicts by CBS-MP's low-level search (resting_conflicts.h),
+//     robot-robot conflicts by the Scheduler Lazy-DaSH also uses (the paper gives both planners the
+//     same scheduler "for a fair comparison"); an unresolved conflict triggers CBS-MP's probabilistic
+//     break rule (Solis et al. 2021): with probability grow_roadmap_probability the roadmaps of the
+//     robots involved grow and the same node is queried again, otherwise the constraint tree grows by
+//     one child per motion hyperarc involved, each forbidding it in the queries below (a motion
+//     constraint). A transition conflict always grows the tree: more roadmap samples cannot move a
+//     sampled transition configuration.
+// DaSH has no task conflict detection and no task space expansion: only motion constraints drive its
+// replanning. That is what the paper shows failing on Wall, Shelf-wall and Stocking.
+//
+// Departures, on purpose: the constraint tree is searched depth-first (the greedy query is not
+// cost-optimal, so CBS's best-first order buys nothing); a move hyperarc's path is the roadmap's
+// shortest path, shortened only by conflict resolution's replanning.
+#include <cstddef>
+
+#include "engine/conflict/scheduler.h"
+#include "engine/dash/combined_query.h"
+#include "engine/dash/transition_catalog.h"
+#include "engine/dash/validated_roadmap.h"
+#include "engine/planners/planner.h"
+
+namespace dash {
+
+struct DashParams {
+  int placements_per_object = 1;           ///< pre-sampled stable placements besides start and goal
+  double placement_radius = 0.75;          ///< metres from the base of a robot that can take the object
+  double placement_spacing = 0.09;         ///< centre distance to every other known object location
+  TransitionCatalogParams transitions;
+  ValidatedRoadmapParams roadmap;
+  std::size_t empty_roadmap_samples = 150;    ///< og::PRM milestones per robot, empty hand
+  std::size_t holding_roadmap_samples = 100;  ///< og::PRM milestones per robot, holding
+  std::size_t growth_samples = 50;            ///< milestones added per roadmap growth
+  int max_roadmap_growths = 8;                ///< per robot
+  double grow_roadmap_probability = 0.3;      ///< CBS-MP break rule: grow roadmaps rather than the tree
+  int max_tree_nodes = 400;                   ///< constraint tree nodes queried at most
+  CombinedQueryParams query;
+  SchedulerParams scheduler;
+};
+
+class DashPlanner final : public Planner {
+ public:
+  explicit DashPlanner(DashParams params = {}) : params_(params) {}
+  std::string name() const override { return "dash"; }
+  PlanResult solve(const Scene& scene, const PlannerSettings& settings, const Deadline& deadline,
+                   log::EventSink* sink) override;
+
+ private:
+  DashParams params_;
+};
+
+}  // namespace dash

@@ -1,0 +1,262 @@
+#include "engine/dash/motion_hypergraph.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dash {
+
+namespace {
+std::vector<double> keyOf(const JointVector& q) { return std::vector<double>(q.data(), q.data() + q.size()); }
+std::int16_t i16(int v) { return static_cast<std::int16_t>(v); }
+bool sameHeld(const HeldObject& a, const HeldObject& b) {
+  return a.object == b.object && (!a.holding() || a.X_TO.matrix() == b.X_TO.matrix());
+}
+}  // namespace
+
+const char* motionArcTypeName(MotionArc::Type t) {
+  switch (t) {
+    case MotionArc::Type::kSource: return "source";
+    case MotionArc::Type::kSink: return "sink";
+    case MotionArc::Type::kMove: return "move";
+    case MotionArc::Type::kPick: return "pick";
+    case MotionArc::Type::kPlace: return "place";
+    case MotionArc::Type::kHandover: return "handover";
+    case MotionArc::Type::kInspect: return "inspect";
+  }
+  return "?";
+}
+
+VertexId MotionHypergraph::vertex(const MotionVertex& v) {
+  const auto [id, inserted] = graph_.addVertex(v);
+  if (inserted) {
+    transitions_from_.emplace_back();
+    if (emitter_->enabled()) emitter_->vertex(log::Layer::Motion, id.value(), label(id));
+  }
+  return id;
+}
+
+HyperarcId MotionHypergraph::arc(std::vector<VertexId> tail, std::vector<VertexId> head, const MotionArc& a,
+                                 double cost) {
+  const auto [id, inserted] = graph_.addHyperarc(std::move(tail), std::move(head), a);
+  if (inserted) {
+    cost_.push_back(cost);
+    if (emitter_->enabled()) {
+      std::vector<std::uint32_t> h, t;
+      for (VertexId v : graph_.head(id)) h.push_back(v.value());
+      for (VertexId v : graph_.tail(id)) t.push_back(v.value());
+      emitter_->hyperarc(log::Layer::Motion, motionArcTypeName(a.type), id.value(), std::move(h), std::move(t));
+    }
+  }
+  return id;
+}
+
+int MotionHypergraph::configIndex(int robot, const JointVector& q) {
+  auto key = std::make_pair(robot, keyOf(q));
+  if (auto it = config_index_.find(key); it != config_index_.end()) return it->second;
+  configs_.push_back(q);
+  config_index_.emplace(std::move(key), static_cast<int>(configs_.size()) - 1);
+  return static_cast<int>(configs_.size()) - 1;
+}
+
+int MotionHypergraph::graspIndex(const Pose& X_TO) {
+  for (std::size_t i = 0; i < grasps_.size(); ++i)
+    if (grasps_[i].matrix() == X_TO.matrix()) return static_cast<int>(i);
+  grasps_.push_back(X_TO);
+  return static_cast<int>(grasps_.size()) - 1;
+}
+
+VertexId MotionHypergraph::robotVertex(int robot, const JointVector& q) {
+  MotionVertex v;
+  v.kind = MotionVertex::Kind::kRobot;
+  v.robot = i16(robot);
+  v.config = configIndex(robot, q);
+  return vertex(v);
+}
+
+VertexId MotionHypergraph::holdingVertex(int robot, const HeldObject& held, const JointVector& q) {
+  MotionVertex v;
+  v.kind = MotionVertex::Kind::kHolding;
+  v.robot = i16(robot);
+  v.object = i16(held.object);
+  v.grasp = graspIndex(held.X_TO);
+  v.config = configIndex(robot, q);
+  return vertex(v);
+}
+
+MotionHypergraph::Space& MotionHypergraph::space(int robot, const HeldObject& held) {
+  for (Space& s : spaces_)
+    if (s.robot == robot && sameHeld(s.held, held)) return s;
+  spaces_.push_back({robot, held, {}, {}});
+  return spaces_.back();
+}
+
+MotionHypergraph::MotionHypergraph(const TaskSpace& space_in, const TransitionCatalog& catalog,
+                                   log::EventEmitter& emitter)
+    : space_(&space_in), catalog_(&catalog), emitter_(&emitter) {
+  const Scene& scene = space_in.scene();
+  const int robots = static_cast<int>(scene.robots.size());
+  auto objectVertex = [&](int o, int p) {
+    MotionVertex v;
+    v.kind = MotionVertex::Kind::kObject;
+    v.object = i16(o);
+    v.placement = i16(p);
+    return vertex(v);
+  };
+  auto taskVertex = [&](int k, bool done) {
+    MotionVertex v;
+    v.kind = done ? MotionVertex::Kind::kTaskDone : MotionVertex::Kind::kTaskPending;
+    v.task = i16(k);
+    return vertex(v);
+  };
+  const VertexId src = vertex(MotionVertex{.kind = MotionVertex::Kind::kSource});
+  const VertexId snk = vertex(MotionVertex{.kind = MotionVertex::Kind::kSink});
+  std::vector<VertexId> start, goal;
+  for (int r = 0; r < robots; ++r) {
+    home_.push_back(robotVertex(r, scene.robots[r].home));
+    start.push_back(home_.back());
+    goal.push_back(home_.back());
+    Space& s = space(r, {});
+    s.entries.push_back(home_.back());
+    s.exits.push_back(home_.back());
+  }
+  for (int o = 0; o < space_in.objectCount(); ++o) {
+    for (int p = 0; p < static_cast<int>(space_in.locations(o).size()); ++p) objectVertex(o, p);
+    start.push_back(objectVertex(o, space_in.startLocation(o)));
+    if (space_in.goalLocation(o) >= 0) goal.push_back(objectVertex(o, space_in.goalLocation(o)));
+  }
+  for (int k = 0; k < static_cast<int>(scene.tasks.size()); ++k) {
+    start.push_back(taskVertex(k, false));
+    goal.push_back(taskVertex(k, true));
+  }
+  source_ = arc({src}, start, MotionArc{MotionArc::Type::kSource}, 0.0);
+  sink_ = arc(goal, {snk}, MotionArc{MotionArc::Type::kSink}, 0.0);
+
+  for (std::size_t i = 0; i < catalog.grasps.size(); ++i) {
+    const GraspSample& g = catalog.grasps[i];
+    const VertexId pre = robotVertex(g.robot, g.q_pre);
+    const VertexId hold = holdingVertex(g.robot, g.held, g.q_hold);
+    const VertexId at = objectVertex(g.object, g.placement);
+    const double cost = (g.q_pre - g.q).norm() + (g.q - g.q_hold).norm();
+    const int index = static_cast<int>(i);
+    transitions_from_[pre.value()].push_back(arc({pre, at}, {hold}, {MotionArc::Type::kPick, index}, cost));
+    transitions_from_[hold.value()].push_back(arc({hold}, {pre, at}, {MotionArc::Type::kPlace, index}, cost));
+    Space& empty = space(g.robot, {});
+    empty.entries.push_back(pre);
+    empty.exits.push_back(pre);
+    Space& holding = space(g.robot, g.held);
+    holding.entries.push_back(hold);
+    holding.exits.push_back(hold);
+  }
+  for (std::size_t i = 0; i < catalog.handovers.size(); ++i) {
+    const HandoverSample& h = catalog.handovers[i];
+    const VertexId v1 = holdingVertex(h.giver, h.held, h.q1);
+    const VertexId v1post = robotVertex(h.giver, h.q1_post);
+    const VertexId v2pre = robotVertex(h.receiver, h.q2_pre);
+    const VertexId v2post = holdingVertex(h.receiver, h.held2, h.q2_post);
+    const double cost = (h.q1 - h.q1_post).norm() + (h.q2_pre - h.q2).norm() + (h.q2 - h.q2_post).norm();
+    const HyperarcId a = arc({v1, v2pre}, {v1post, v2post}, {MotionArc::Type::kHandover, static_cast<int>(i)}, cost);
+    transitions_from_[v1.value()].push_back(a);
+    transitions_from_[v2pre.value()].push_back(a);
+    space(h.giver, h.held).exits.push_back(v1);
+    space(h.giver, {}).entries.push_back(v1post);
+    space(h.receiver, {}).exits.push_back(v2pre);
+    space(h.receiver, h.held2).entries.push_back(v2post);
+  }
+  for (std::size_t i = 0; i < catalog.inspects.size(); ++i) {
+    const InspectSample& s = catalog.inspects[i];
+    const VertexId pre = robotVertex(s.robot, s.q_pre);
+    const VertexId pending = taskVertex(s.task, false);
+    const VertexId done = taskVertex(s.task, true);
+    const double cost = 2.0 * (s.q_pre - s.q).norm();
+    const int lid = scene.tasks[s.task].requires_removed_object;
+    const int index = static_cast<int>(i);
+    if (lid < 0) {
+      transitions_from_[pre.value()].push_back(arc({pre, pending}, {pre, done}, {MotionArc::Type::kInspect, index}, cost));
+    } else {
+      for (int p = 0; p < static_cast<int>(space_in.locations(lid).size()); ++p) {
+        if (p == space_in.startLocation(lid)) continue;
+        const VertexId at = objectVertex(lid, p);
+        transitions_from_[pre.value()].push_back(
+            arc({pre, pending, at}, {pre, done, at}, {MotionArc::Type::kInspect, index, p}, cost));
+      }
+    }
+    Space& empty = space(s.robot, {});
+    empty.entries.push_back(pre);
+    empty.exits.push_back(pre);
+  }
+}
+
+void MotionHypergraph::connectMoves(RoadmapSet& roadmaps, const std::vector<int>& robots, const Deadline& deadline) {
+  for (Space& sp : spaces_) {
+    if (!robots.empty() && std::find(robots.begin(), robots.end(), sp.robot) == robots.end()) continue;
+    if (deadline.expired()) return;
+    ValidatedRoadmap& roadmap = *roadmaps[static_cast<std::size_t>(sp.robot) * 2 + (sp.held.holding() ? 1 : 0)];
+    const int s = roadmap.space(sp.held);
+    for (auto* list : {&sp.entries, &sp.exits}) {
+      std::sort(list->begin(), list->end());
+      list->erase(std::unique(list->begin(), list->end()), list->end());
+    }
+    std::map<VertexId, int> at;
+    for (const auto* list : {&sp.entries, &sp.exits})
+      for (VertexId v : *list)
+        if (!at.contains(v)) at[v] = roadmap.anchor(s, configs_[graph_.property(v).config]);
+    for (VertexId e : sp.entries) {
+      if (deadline.expired()) return;
+      const ValidatedRoadmap::Tree tree = roadmap.shortestPaths(s, at[e]);
+      for (VertexId x : sp.exits) {
+        if (x == e || !std::isfinite(tree.dist[at[x]])) continue;
+        const auto key = std::make_pair(e.value(), x.value());
+        if (auto it = move_of_.find(key); it != move_of_.end()) {
+          MovePath& m = moves_[it->second];
+          if (tree.dist[at[x]] < m.length - 1e-12) {  // a shorter path through new milestones
+            m.path = roadmap.pathTo(s, tree, at[x]);
+            m.length = tree.dist[at[x]];
+            cost_[graph_.find({e}, {x}, MotionArc{MotionArc::Type::kMove, it->second})->value()] = m.length;
+          }
+          continue;
+        }
+        const int index = static_cast<int>(moves_.size());
+        moves_.push_back({sp.robot, sp.held, e, x, roadmap.pathTo(s, tree, at[x]), tree.dist[at[x]]});
+        move_of_.emplace(key, index);
+        arc({e}, {x}, MotionArc{MotionArc::Type::kMove, index}, tree.dist[at[x]]);
+      }
+    }
+  }
+}
+
+std::string MotionHypergraph::label(VertexId id) const {
+  const MotionVertex& v = graph_.property(id);
+  const Scene& scene = space_->scene();
+  switch (v.kind) {
+    case MotionVertex::Kind::kSource: return "source";
+    case MotionVertex::Kind::kSink: return "sink";
+    case MotionVertex::Kind::kRobot: return scene.robots[v.robot].id + "@c" + std::to_string(v.config);
+    case MotionVertex::Kind::kHolding:
+      return scene.robots[v.robot].id + "+" + scene.objects[v.object].id + "#g" + std::to_string(v.grasp) + "@c" +
+             std::to_string(v.config);
+    case MotionVertex::Kind::kObject: return space_->locationLabel(v.object, v.placement);
+    case MotionVertex::Kind::kTaskPending: return "inspect#" + std::to_string(v.task) + " pending";
+    case MotionVertex::Kind::kTaskDone: return "inspect#" + std::to_string(v.task) + " done";
+  }
+  return "?";
+}
+
+std::string MotionHypergraph::label(HyperarcId id) const {
+  const MotionArc& a = graph_.property(id);
+  std::string s = motionArcTypeName(a.type);
+  s += " [";
+  bool first = true;
+  for (VertexId v : graph_.tail(id)) {
+    s += (first ? "" : ", ") + label(v);
+    first = false;
+  }
+  s += "] -> [";
+  first = true;
+  for (VertexId v : graph_.head(id)) {
+    s += (first ? "" : ", ") + label(v);
+    first = false;
+  }
+  return s + "]";
+}
+
+}  // namespace dash

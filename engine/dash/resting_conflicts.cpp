@@ -1,0 +1,111 @@
+#include "engine/dash/resting_conflicts.h"
+
+#include "engine/collision/collision_queries.h"
+#include "engine/collision/segment_queries.h"
+
+namespace dash {
+
+namespace {
+
+/// Objects resting before each step and after the last one, in the plan's order.
+std::vector<ObjectLayout> layoutsAlong(const TaskPlan& plan, const TaskSpace& space) {
+  ObjectLayout layout = ObjectLayout::atStart(space.scene());
+  for (int o = 0; o < space.objectCount(); ++o) layout.place(o, space.location(o, space.startLocation(o)).X_WO);
+  std::vector<ObjectLayout> out;
+  for (const TaskStep& step : plan.steps) {
+    out.push_back(layout);
+    if (step.action.type == TaskArcType::kPick) layout.remove(step.action.object);
+    if (step.action.type == TaskArcType::kPlace)
+      layout.place(step.action.object, space.location(step.action.object, step.action.location).X_WO);
+  }
+  out.push_back(layout);
+  return out;
+}
+
+class Checker {
+ public:
+  Checker(const CollisionWorld& world, CollisionContext& context) : world_(world), context_(context) {}
+  bool stateHits(int robot, const JointVector& q, const HeldObject& held, const ObjectLayout& layout) {
+    return robotInCollision(world_, context_, RobotState{robot, q, held}, layout, nullptr, CheckScope::kObjectsOnly);
+  }
+  bool segmentHits(int robot, const JointVector& a, const JointVector& b, const HeldObject& held,
+                   const ObjectLayout& layout) {
+    return segmentInCollision(world_, context_, RobotState{robot, a, held}, b, layout, nullptr,
+                              SegmentOptions{.scope = CheckScope::kObjectsOnly});
+  }
+  bool pathHits(int robot, const std::vector<JointVector>& path, const HeldObject& held, const ObjectLayout& layout) {
+    for (std::size_t i = 1; i < path.size(); ++i)
+      if (segmentHits(robot, path[i - 1], path[i], held, layout)) return true;
+    return path.size() == 1 && stateHits(robot, path.front(), held, layout);
+  }
+
+ private:
+  const CollisionWorld& world_;
+  CollisionContext& context_;
+};
+
+}  // namespace
+
+std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const MotionHypergraph& graph,
+                                                      const CollisionWorld& world, CollisionContext& context,
+                                                      RoadmapSet& roadmaps, const Deadline& deadline,
+                                                      RestingConflictStats& stats) {
+  const TaskSpace& space = graph.space();
+  const Scene& scene = space.scene();
+  const std::vector<ObjectLayout> layouts = layoutsAlong(plan.plan, space);
+  Checker check(world, context);
+  for (int r = 0; r < static_cast<int>(plan.motion.robots.size()); ++r) {
+    RobotMotionPlan& robot = plan.motion.robots[r];
+    for (StepVisit& v : robot.visits) {
+      const int k = v.step;
+      const int role = v.receiver ? 1 : 0;
+      const HyperarcId transition = plan.plan.steps[k].arc;
+      const HeldObject& at_q = v.held_before.holding() ? v.held_before : v.held_after;
+      if (check.stateHits(r, v.q_pre, v.held_before, layouts[k]) || check.stateHits(r, v.q, at_q, layouts[k]) ||
+          check.segmentHits(r, v.q_pre, v.q, v.held_before, layouts[k]) ||
+          check.stateHits(r, v.q_post, v.held_after, layouts[k + 1]) ||
+          check.segmentHits(r, v.q, v.q_post, v.held_after, layouts[k + 1]))
+        return MotionConflict{MotionConflict::Kind::kTransition, k, {r}, {transition},
+                              "step " + std::to_string(k) + " (" + describeStep(plan.plan.steps[k], space) +
+                                  "): a transition configuration of " + scene.robots[r].id + " hits a resting object"};
+      // The transit, move by move: the first move that hits a resting object names the conflict.
+      const std::vector<HyperarcId>& moves = plan.step_moves[k][role];
+      HyperarcId hit;
+      for (HyperarcId m : moves)
+        if (check.pathHits(r, graph.move(graph.graph().property(m).index).path, v.held_before, layouts[k])) {
+          hit = m;
+          break;
+        }
+      if (!hit.valid()) continue;
+      const MotionContext ctx{v.held_before, layouts[k], {}};
+      auto& roadmap = *roadmaps[static_cast<std::size_t>(r) * 2 + (v.held_before.holding() ? 1 : 0)];
+      if (auto path = roadmap.plan(v.transit.front(), v.transit.back(), ctx, deadline)) {
+        v.transit = std::move(*path);
+        ++stats.replans;
+        continue;
+      }
+      return MotionConflict{MotionConflict::Kind::kMove, k, {r}, {hit},
+                            scene.robots[r].id + " has no way round the resting objects to step " + std::to_string(k) +
+                                " (" + describeStep(plan.plan.steps[k], space) + ")"};
+    }
+    HyperarcId hit;
+    for (HyperarcId m : plan.home_moves[r])
+      if (check.pathHits(r, graph.move(graph.graph().property(m).index).path, HeldObject{}, layouts.back())) {
+        hit = m;
+        break;
+      }
+    if (!hit.valid()) continue;
+    const MotionContext ctx{{}, layouts.back(), {}};
+    if (auto path = roadmaps[static_cast<std::size_t>(r) * 2]->plan(robot.home_path.front(), robot.home_path.back(),
+                                                                     ctx, deadline)) {
+      robot.home_path = std::move(*path);
+      ++stats.replans;
+      continue;
+    }
+    return MotionConflict{MotionConflict::Kind::kMove, -1, {r}, {hit},
+                          scene.robots[r].id + " has no way home round the resting objects"};
+  }
+  return std::nullopt;
+}
+
+}  // namespace dash

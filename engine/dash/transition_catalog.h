@@ -1,0 +1,72 @@
+#pragma once
+// DaSH's transition sampling: configurations for EVERY transition of H_T before any query (DaSH
+// "pre-samples feasible configurations for each transition", paper, "Overview"). For each pick/place
+// hyperarc (robot, object, class): grasp configurations at every placement of the object (start,
+// goal, pre-sampled); for each handover hyperarc (giver, receiver, object, class pair): object poses
+// between the two arms with a giver configuration holding a grasp the giver can actually have and a
+// receiver grasp configuration, the two free of each other; for each inspect hyperarc: inspection
+// configurations. Every configuration (and its approach/retreat, backed off along the TCP axis) is
+// checked against what never moves: these are the eager checks of DaSH. Resting objects and other
+// robots are left to conflict resolution.
+#include <vector>
+
+#include "engine/core/deadline.h"
+#include "engine/dash/dash_task_graph.h"
+#include "engine/task/transition_sampler.h"
+
+namespace dash {
+
+/// A grasp of one object at one placement: used by the pick there and by the place there.
+struct GraspSample {
+  int robot = -1;
+  int object = -1;
+  int placement = -1;  ///< location index in the TaskSpace
+  GraspClass grasp = GraspClass::kTop;
+  HeldObject held;     ///< the object and X_TO while held
+  JointVector q;       ///< at the object
+  JointVector q_pre;   ///< backed off with an empty hand: approach before a pick, retreat after a place
+  JointVector q_hold;  ///< backed off holding it: retreat after a pick, approach before a place
+};
+
+struct HandoverSample {
+  int giver = -1;
+  int receiver = -1;
+  int object = -1;
+  GraspClass grasp = GraspClass::kTop;   ///< giver's class
+  GraspClass grasp2 = GraspClass::kTop;  ///< receiver's class
+  Pose X_WO = Pose::Identity();          ///< the object at the handover
+  HeldObject held;                       ///< giver's grasp
+  HeldObject held2;                      ///< receiver's grasp
+  JointVector q1;       ///< giver at the handover (it brings the object straight there)
+  JointVector q1_post;  ///< giver backed off, empty hand
+  JointVector q2;       ///< receiver at the handover
+  JointVector q2_pre;   ///< receiver backed off, empty hand
+  JointVector q2_post;  ///< receiver backed off, holding
+};
+
+struct InspectSample {
+  int robot = -1;
+  int task = -1;
+  JointVector q;
+  JointVector q_pre;  ///< approach start and retreat end
+};
+
+struct TransitionCatalogParams {
+  int grasps_per_class = 2;          ///< grasp configurations per (robot, object, placement, class)
+  int handover_poses = 8;            ///< object poses tried per handover hyperarc
+  int handovers_per_class_pair = 1;  ///< handover samples kept per handover hyperarc
+  int inspect_configs = 2;           ///< per inspect hyperarc
+  double approach_distance = 0.06;   ///< metres the TCP backs off along its approach axis
+};
+
+struct TransitionCatalog {
+  std::vector<GraspSample> grasps;
+  std::vector<HandoverSample> handovers;
+  std::vector<InspectSample> inspects;
+};
+
+/// Samples every transition of `graph`. Stops early (with what it has) when the deadline passes.
+TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace& space, const DashTaskGraph& graph,
+                                    const TransitionCatalogParams& params, const Deadline& deadline);
+
+}  // namespace dash

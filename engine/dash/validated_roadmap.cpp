@@ -1,0 +1,375 @@
+#include "engine/dash/validated_roadmap.h"
+
+#include <ompl/base/MotionValidator.h>
+#include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/SpaceInformation.h>
+#include <ompl/base/StateValidityChecker.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/planners/prm/PRM.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <set>
+#include <utility>
+
+#include "engine/collision/collision_queries.h"
+#include "engine/collision/segment_queries.h"
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+namespace dash {
+
+namespace {
+constexpr double kPi = 3.141592653589793;
+constexpr double kSameConfig = 1e-12;
+
+JointVector toJoints(const ob::State* s, int dof) {
+  const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
+  JointVector q(dof);
+  for (int i = 0; i < dof; ++i) q[i] = v->values[i];
+  return q;
+}
+
+std::vector<double> keyOf(const JointVector& q) { return std::vector<double>(q.data(), q.data() + q.size()); }
+
+bool sameGrasp(const HeldObject& a, const HeldObject& b, const CollisionWorld& world) {
+  if (a.holding() != b.holding()) return false;
+  if (!a.holding()) return true;
+  return world.scene().objects[a.object].shape.size == world.scene().objects[b.object].shape.size &&
+         a.X_TO.matrix() == b.X_TO.matrix();
+}
+}  // namespace
+
+struct ValidatedRoadmap::Space {
+  HeldObject held;  ///< the geometry every vertex and edge of this space was validated with
+  std::vector<JointVector> q;
+  std::vector<std::vector<std::pair<int, double>>> adj;
+  std::vector<int> of_milestone;  ///< og::PRM vertex -> vertex here, -1 where invalid with `held`
+  std::vector<int> anchor_list;
+  std::map<std::vector<double>, int> anchors;
+  std::size_t synced = 0;  ///< og::PRM vertices already brought in
+  std::size_t edges = 0;
+
+  int addVertex(const JointVector& c) {
+    q.push_back(c);
+    adj.emplace_back();
+    return static_cast<int>(q.size()) - 1;
+  }
+  void addEdge(int a, int b) {
+    const double d = (q[a] - q[b]).norm();
+    adj[a].push_back({b, d});
+    adj[b].push_back({a, d});
+    ++edges;
+  }
+};
+
+// Static validity with an empty hand: what og::PRM builds the shared roadmap with.
+struct ValidatedRoadmap::Checker {
+  const CollisionWorld* world;
+  CollisionContext* context;
+  int robot;
+  int dof;
+  ObjectLayout none;
+
+  bool stateValid(const JointVector& q) const {
+    return !robotInCollision(*world, *context, RobotState{robot, q, {}}, none, nullptr, CheckScope::kStaticOnly);
+  }
+  bool motionValid(const JointVector& a, const JointVector& b) const {
+    return !segmentInCollision(*world, *context, RobotState{robot, a, {}}, b, none, nullptr,
+                               SegmentOptions{.scope = CheckScope::kStaticOnly});
+  }
+};
+
+namespace {
+
+class StateChecker final : public ob::StateValidityChecker {
+ public:
+  StateChecker(const ob::SpaceInformationPtr& si, const ValidatedRoadmap::Checker* c)
+      : ob::StateValidityChecker(si), c_(c) {}
+  bool isValid(const ob::State* s) const override { return c_->stateValid(toJoints(s, c_->dof)); }
+
+ private:
+  const ValidatedRoadmap::Checker* c_;
+};
+
+class SegmentValidator final : public ob::MotionValidator {
+ public:
+  SegmentValidator(const ob::SpaceInformationPtr& si, const ValidatedRoadmap::Checker* c)
+      : ob::MotionValidator(si), c_(c) {}
+  bool checkMotion(const ob::State* s1, const ob::State* s2) const override {
+    const bool ok = c_->motionValid(toJoints(s1, c_->dof), toJoints(s2, c_->dof));
+    ok ? ++valid_ : ++invalid_;
+    return ok;
+  }
+  // PRM only needs the yes/no answer; report the start as the last valid state.
+  bool checkMotion(const ob::State* s1, const ob::State* s2, std::pair<ob::State*, double>& last) const override {
+    if (checkMotion(s1, s2)) return true;
+    if (last.first != nullptr) si_->copyState(last.first, s1);
+    last.second = 0.0;
+    return false;
+  }
+
+ private:
+  const ValidatedRoadmap::Checker* c_;
+};
+
+}  // namespace
+
+ValidatedRoadmap::ValidatedRoadmap(const CollisionWorld& world, CollisionContext& context, int robot,
+                                   ValidatedRoadmapParams params)
+    : world_(&world), context_(&context), robot_(robot), params_(params) {
+  const RobotModel& model = *world.scene().robots[robot].model;
+  dof_ = model.dof();
+  checker_ = std::make_shared<Checker>(Checker{&world, &context, robot, dof_, ObjectLayout::empty(world.scene())});
+  auto state_space = std::make_shared<ob::RealVectorStateSpace>(dof_);
+  ob::RealVectorBounds bounds(dof_);
+  const bool revolute = model.kinematics == KinematicsKind::kUrDh;
+  for (int i = 0; i < dof_; ++i) {
+    // The same planning range as inverseKinematics (joints wrapped into [-pi, pi]).
+    bounds.setLow(i, revolute ? std::max(model.limits.position_min[i], -kPi) : model.limits.position_min[i]);
+    bounds.setHigh(i, revolute ? std::min(model.limits.position_max[i], kPi) : model.limits.position_max[i]);
+  }
+  state_space->setBounds(bounds);
+  si_ = std::make_shared<ob::SpaceInformation>(state_space);
+  si_->setStateValidityChecker(std::make_shared<StateChecker>(si_, checker_.get()));
+  si_->setMotionValidator(std::make_shared<SegmentValidator>(si_, checker_.get()));
+  si_->setup();
+  prm_ = std::make_shared<og::PRM>(si_, false);
+  prm_->setMaxNearestNeighbors(params_.neighbours);
+  // og::PRM takes its edge-cost objective from the problem definition in setup(): give it an empty one.
+  prm_->setProblemDefinition(std::make_shared<ob::ProblemDefinition>(si_));
+  prm_->setup();
+}
+
+ValidatedRoadmap::~ValidatedRoadmap() = default;
+
+std::size_t ValidatedRoadmap::milestoneCount() const { return prm_->milestoneCount(); }
+
+void ValidatedRoadmap::growTo(std::size_t milestones, const Deadline& deadline) {
+  if (prm_->milestoneCount() < milestones) {
+    const ob::PlannerTerminationCondition ptc(
+        [this, milestones, &deadline] { return prm_->milestoneCount() >= milestones || deadline.expired(); });
+    prm_->growRoadmap(ptc);
+  }
+  for (auto& s : spaces_) sync(*s);
+}
+
+bool ValidatedRoadmap::stateFree(const Space& space, const JointVector& q) {
+  return !robotInCollision(*world_, *context_, RobotState{robot_, q, space.held}, checker_->none, nullptr,
+                           CheckScope::kStaticOnly);
+}
+
+bool ValidatedRoadmap::segmentFree(const Space& space, const JointVector& a, const JointVector& b) {
+  return !segmentInCollision(*world_, *context_, RobotState{robot_, a, space.held}, b, checker_->none, nullptr,
+                             SegmentOptions{.scope = CheckScope::kStaticOnly});
+}
+
+// Brings the og::PRM milestones and edges added since the last call into `space`. With an empty hand
+// they are valid as og::PRM checked them; with a held object each is checked again with it.
+void ValidatedRoadmap::sync(Space& space) {
+  const og::PRM::Graph& g = prm_->getRoadmap();
+  const std::size_t n = boost::num_vertices(g);
+  if (n == space.synced) return;
+  const auto states = boost::get(og::PRM::vertex_state_t(), g);
+  const bool holding = space.held.holding();
+  const std::size_t first_new = space.synced;
+  space.of_milestone.resize(n, -1);
+  std::vector<int> fresh;
+  for (std::size_t v = first_new; v < n; ++v) {
+    const JointVector q = toJoints(states[v], dof_);
+    if (holding && !stateFree(space, q)) continue;
+    space.of_milestone[v] = space.addVertex(q);
+    fresh.push_back(space.of_milestone[v]);
+  }
+  for (const auto& e : boost::make_iterator_range(boost::edges(g))) {
+    const std::size_t u = boost::source(e, g), w = boost::target(e, g);
+    if (std::max(u, w) < first_new) continue;  // og::PRM only ever adds edges at a new milestone
+    const int a = space.of_milestone[u], b = space.of_milestone[w];
+    if (a < 0 || b < 0) continue;
+    if (holding && !segmentFree(space, space.q[a], space.q[b])) continue;
+    space.addEdge(a, b);
+  }
+  space.synced = n;
+  // New milestones near existing anchors: the anchors' connections predate them.
+  if (!space.anchor_list.empty())
+    for (int v : fresh) connectAnchor(space, v, true);
+}
+
+int ValidatedRoadmap::space(const HeldObject& held) {
+  for (std::size_t i = 0; i < spaces_.size(); ++i)
+    if (sameGrasp(spaces_[i]->held, held, *world_)) return static_cast<int>(i);
+  auto s = std::make_unique<Space>();
+  s->held = held;
+  sync(*s);
+  spaces_.push_back(std::move(s));
+  return static_cast<int>(spaces_.size()) - 1;
+}
+
+// Connects `vertex` to its nearest vertices of the space (or nearest anchors only) by validated edges.
+void ValidatedRoadmap::connectAnchor(Space& space, int vertex, bool to_anchors_only) {
+  std::vector<std::pair<double, int>> near;
+  const JointVector& q = space.q[vertex];
+  auto consider = [&](int v) {
+    if (v != vertex) near.push_back({(space.q[v] - q).norm(), v});
+  };
+  if (to_anchors_only) {
+    for (int v : space.anchor_list) consider(v);
+  } else {
+    for (int v = 0; v < static_cast<int>(space.q.size()); ++v) consider(v);
+  }
+  const std::size_t k = std::min<std::size_t>(params_.anchor_neighbours, near.size());
+  std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(k), near.end());
+  for (std::size_t i = 0; i < k; ++i) {
+    const int v = near[i].second;
+    const bool linked = std::any_of(space.adj[vertex].begin(), space.adj[vertex].end(),
+                                    [v](const auto& e) { return e.first == v; });
+    if (linked || !segmentFree(space, q, space.q[v])) continue;
+    space.addEdge(vertex, v);
+  }
+}
+
+int ValidatedRoadmap::anchor(int s, const JointVector& q) {
+  Space& space = *spaces_[s];
+  auto key = keyOf(q);
+  if (auto it = space.anchors.find(key); it != space.anchors.end()) return it->second;
+  const int v = space.addVertex(q);
+  space.anchors.emplace(std::move(key), v);
+  space.anchor_list.push_back(v);
+  connectAnchor(space, v, false);
+  return v;
+}
+
+const JointVector& ValidatedRoadmap::config(int s, int vertex) const { return spaces_[s]->q[vertex]; }
+
+ValidatedRoadmap::Tree ValidatedRoadmap::shortestPaths(int s, int from) const {
+  const Space& space = *spaces_[s];
+  Tree tree;
+  tree.dist.assign(space.q.size(), std::numeric_limits<double>::infinity());
+  tree.pred.assign(space.q.size(), -1);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+  tree.dist[from] = 0.0;
+  open.push({0.0, from});
+  while (!open.empty()) {
+    const auto [d, v] = open.top();
+    open.pop();
+    if (d > tree.dist[v]) continue;
+    for (const auto& [w, len] : space.adj[v]) {
+      if (d + len < tree.dist[w]) {
+        tree.dist[w] = d + len;
+        tree.pred[w] = v;
+        open.push({tree.dist[w], w});
+      }
+    }
+  }
+  return tree;
+}
+
+std::vector<JointVector> ValidatedRoadmap::pathTo(int s, const Tree& tree, int to) const {
+  std::vector<JointVector> path;
+  if (!std::isfinite(tree.dist[to])) return path;
+  for (int v = to; v >= 0; v = tree.pred[v]) path.push_back(spaces_[s]->q[v]);
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+std::optional<std::vector<JointVector>> ValidatedRoadmap::plan(const JointVector& a, const JointVector& b,
+                                                               const MotionContext& context,
+                                                               const Deadline& deadline) {
+  if ((a - b).cwiseAbs().maxCoeff() < kSameConfig) return std::vector<JointVector>{a};
+  auto stateOk = [&](const JointVector& q, CheckScope scope) {
+    const RobotState self{robot_, q, context.held};
+    if (context.parked.empty()) return !robotInCollision(*world_, *context_, self, context.layout, nullptr, scope);
+    std::vector<RobotState> states{self};
+    states.insert(states.end(), context.parked.begin(), context.parked.end());
+    return !robotsInCollision(*world_, *context_, states, context.layout, nullptr, CheckScope::kAll);
+  };
+  auto motionOk = [&](const JointVector& p, const JointVector& r, CheckScope scope) {
+    if (context.parked.empty())
+      return !segmentInCollision(*world_, *context_, RobotState{robot_, p, context.held}, r, context.layout, nullptr,
+                                 SegmentOptions{.scope = scope});
+    std::vector<RobotMotion> motions{{RobotState{robot_, p, context.held}, r}};
+    for (const RobotState& parked : context.parked) motions.push_back({parked, parked.q});
+    return !motionsInCollision(*world_, *context_, motions, context.layout);
+  };
+  // Cheapest first: the straight segment, checked against everything.
+  if (motionOk(a, b, CheckScope::kAll)) return std::vector<JointVector>{a, b};
+  if (!stateOk(a, CheckScope::kAll) || !stateOk(b, CheckScope::kAll)) return std::nullopt;
+
+  const int s = space(context.held);
+  const int va = anchor(s, a);
+  const int vb = anchor(s, b);
+  Space& sp = *spaces_[s];
+  // Roadmap vertices and edges are statically valid; only the context's part is checked here.
+  std::vector<signed char> vertex_ok(sp.q.size(), -1);
+  vertex_ok[va] = vertex_ok[vb] = 1;
+  std::set<std::pair<int, int>> bad_edges, good_edges;
+  auto edgeKey = [](int x, int y) { return std::make_pair(std::min(x, y), std::max(x, y)); };
+  using Item = std::pair<double, int>;
+  while (!deadline.expired()) {
+    std::vector<double> g(sp.q.size(), std::numeric_limits<double>::infinity());
+    std::vector<int> pred(sp.q.size(), -1);
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+    g[va] = 0.0;
+    open.push({(sp.q[va] - b).norm(), va});
+    while (!open.empty()) {
+      const auto [f, v] = open.top();
+      open.pop();
+      if (v == vb) break;
+      if (f - (sp.q[v] - b).norm() > g[v] + 1e-12) continue;
+      for (const auto& [w, len] : sp.adj[v]) {
+        if (vertex_ok[w] == 0 || bad_edges.contains(edgeKey(v, w))) continue;
+        if (g[v] + len < g[w]) {
+          g[w] = g[v] + len;
+          pred[w] = v;
+          open.push({g[w] + (sp.q[w] - b).norm(), w});
+        }
+      }
+    }
+    if (!std::isfinite(g[vb])) return std::nullopt;
+    std::vector<int> path;
+    for (int v = vb; v >= 0; v = pred[v]) path.push_back(v);
+    std::reverse(path.begin(), path.end());
+    // Lazy-PRM's order: vertices first (all invalid ones go), then the first invalid edge.
+    bool retry = false;
+    for (int v : path) {
+      if (vertex_ok[v] < 0) vertex_ok[v] = stateOk(sp.q[v], CheckScope::kObjectsOnly) ? 1 : 0;
+      retry = retry || vertex_ok[v] == 0;
+    }
+    if (retry) continue;
+    for (std::size_t i = 1; i < path.size() && !retry; ++i) {
+      const auto key = edgeKey(path[i - 1], path[i]);
+      if (good_edges.contains(key)) continue;
+      if (motionOk(sp.q[path[i - 1]], sp.q[path[i]], CheckScope::kObjectsOnly)) {
+        good_edges.insert(key);
+      } else {
+        bad_edges.insert(key);
+        retry = true;
+      }
+    }
+    if (retry) continue;
+    std::vector<JointVector> out;
+    for (int v : path) out.push_back(sp.q[v]);
+    out.front() = a;
+    out.back() = b;
+    return out;
+  }
+  return std::nullopt;
+}
+
+std::size_t ValidatedRoadmap::vertexCount() const {
+  std::size_t n = 0;
+  for (const auto& s : spaces_) n += s->q.size();
+  return n;
+}
+
+std::size_t ValidatedRoadmap::edgeCount() const {
+  std::size_t n = 0;
+  for (const auto& s : spaces_) n += s->edges;
+  return n;
+}
+
+}  // namespace dash

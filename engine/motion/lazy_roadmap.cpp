@@ -1,0 +1,172 @@
+#include "engine/motion/lazy_roadmap.h"
+
+#include <ompl/base/MotionValidator.h>
+#include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/SpaceInformation.h>
+#include <ompl/base/StateValidityChecker.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/PathGeometric.h>
+#include <ompl/geometric/PathSimplifier.h>
+#include <ompl/geometric/planners/prm/LazyPRM.h>
+#include <ompl/util/Console.h>
+#include <ompl/util/RandomNumbers.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include "engine/collision/collision_queries.h"
+#include "engine/collision/segment_queries.h"
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+namespace dash {
+
+namespace {
+constexpr double kPi = 3.141592653589793;
+
+JointVector toJoints(const ob::State* s, int dof) {
+  const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
+  JointVector q(dof);
+  for (int i = 0; i < dof; ++i) q[i] = v->values[i];
+  return q;
+}
+
+void fromJoints(const JointVector& q, ob::State* s) {
+  auto* v = s->as<ob::RealVectorStateSpace::StateType>();
+  for (int i = 0; i < q.size(); ++i) v->values[i] = q[i];
+}
+}  // namespace
+
+// Validity of states and straight motions for one robot in the current MotionContext.
+struct LazyRoadmap::Checker {
+  const CollisionWorld* world;
+  CollisionContext* context;
+  int robot;
+  int dof;
+  MotionContext motion;
+
+  bool stateValid(const JointVector& q) const {
+    const RobotState self{robot, q, motion.held};
+    if (motion.parked.empty()) return !robotInCollision(*world, *context, self, motion.layout);
+    std::vector<RobotState> states{self};
+    states.insert(states.end(), motion.parked.begin(), motion.parked.end());
+    return !robotsInCollision(*world, *context, states, motion.layout);
+  }
+  bool motionValid(const JointVector& a, const JointVector& b) const {
+    if (motion.parked.empty())
+      return !segmentInCollision(*world, *context, RobotState{robot, a, motion.held}, b, motion.layout);
+    std::vector<RobotMotion> motions{{RobotState{robot, a, motion.held}, b}};
+    for (const RobotState& p : motion.parked) motions.push_back({p, p.q});
+    return !motionsInCollision(*world, *context, motions, motion.layout);
+  }
+};
+
+namespace {
+
+class StateChecker final : public ob::StateValidityChecker {
+ public:
+  StateChecker(const ob::SpaceInformationPtr& si, const LazyRoadmap::Checker* c)
+      : ob::StateValidityChecker(si), c_(c) {}
+  bool isValid(const ob::State* s) const override { return c_->stateValid(toJoints(s, c_->dof)); }
+
+ private:
+  const LazyRoadmap::Checker* c_;
+};
+
+class SegmentValidator final : public ob::MotionValidator {
+ public:
+  SegmentValidator(const ob::SpaceInformationPtr& si, const LazyRoadmap::Checker* c) : ob::MotionValidator(si), c_(c) {}
+  bool checkMotion(const ob::State* s1, const ob::State* s2) const override {
+    const bool ok = c_->motionValid(toJoints(s1, c_->dof), toJoints(s2, c_->dof));
+    ok ? ++valid_ : ++invalid_;
+    return ok;
+  }
+  // Only the end result is needed by Lazy-PRM; report the start as the last valid state.
+  bool checkMotion(const ob::State* s1, const ob::State* s2, std::pair<ob::State*, double>& last) const override {
+    if (checkMotion(s1, s2)) return true;
+    if (last.first != nullptr) si_->copyState(last.first, s1);
+    last.second = 0.0;
+    return false;
+  }
+
+ private:
+  const LazyRoadmap::Checker* c_;
+};
+
+}  // namespace
+
+void seedOmplOnce(std::uint64_t seed) {
+  static std::atomic<bool> seeded{false};  // OMPL's generator is process-global; so is this guard
+  if (!seeded.exchange(true)) {
+    ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
+    ompl::RNG::setSeed(static_cast<std::uint_fast32_t>(seed & 0x7fffffff) + 1);
+  }
+}
+
+LazyRoadmap::LazyRoadmap(const CollisionWorld& world, CollisionContext& context, int robot, RoadmapParams params)
+    : world_(&world), context_(&context), robot_(robot), params_(params) {
+  const RobotModel& model = *world.scene().robots[robot].model;
+  const int dof = model.dof();
+  checker_ = std::make_shared<Checker>(Checker{&world, &context, robot, dof, {}});
+  auto space = std::make_shared<ob::RealVectorStateSpace>(dof);
+  ob::RealVectorBounds bounds(dof);
+  for (int i = 0; i < dof; ++i) {
+    const bool revolute = model.kinematics == KinematicsKind::kUrDh;
+    bounds.setLow(i, revolute ? std::max(model.limits.position_min[i], -kPi) : model.limits.position_min[i]);
+    bounds.setHigh(i, revolute ? std::min(model.limits.position_max[i], kPi) : model.limits.position_max[i]);
+  }
+  space->setBounds(bounds);
+  si_ = std::make_shared<ob::SpaceInformation>(space);
+  si_->setStateValidityChecker(std::make_shared<StateChecker>(si_, checker_.get()));
+  si_->setMotionValidator(std::make_shared<SegmentValidator>(si_, checker_.get()));
+  si_->setup();
+  planner_ = std::make_shared<og::LazyPRM>(si_, false);
+  const double range = model.kinematics == KinematicsKind::kUrDh ? params_.max_edge_length : 0.3;
+  planner_->setRange(range);
+  planner_->setMaxNearestNeighbors(params_.neighbours);
+  planner_->setup();
+}
+
+LazyRoadmap::~LazyRoadmap() = default;
+
+std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_start, const JointVector& q_goal,
+                                                           const MotionContext& motion, const Deadline& deadline) {
+  if (!last_context_ || !last_context_->sameAs(motion)) {
+    checker_->motion = motion;
+    planner_->clearValidity();
+    last_context_ = motion;
+  }
+  auto pdef = std::make_shared<ob::ProblemDefinition>(si_);
+  ob::ScopedState<> start(si_), goal(si_);
+  fromJoints(q_start, start.get());
+  fromJoints(q_goal, goal.get());
+  pdef->setStartAndGoalStates(start, goal);
+  planner_->clearQuery();
+  planner_->setProblemDefinition(pdef);
+  const double budget = std::min(params_.query_seconds, std::max(0.0, deadline.secondsLeft()));
+  const ob::PlannerTerminationCondition ptc(
+      [&deadline, end = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget)] {
+        return deadline.expired() || std::chrono::steady_clock::now() >= end;
+      });
+  const ob::PlannerStatus status = planner_->solve(ptc);
+  if (status != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
+  auto path = std::static_pointer_cast<og::PathGeometric>(pdef->getSolutionPath());
+  if (params_.simplify) {
+    og::PathSimplifier simplifier(si_);
+    simplifier.reduceVertices(*path);
+    simplifier.shortcutPath(*path);
+  }
+  std::vector<JointVector> out;
+  for (std::size_t i = 0; i < path->getStateCount(); ++i) out.push_back(toJoints(path->getState(i), checker_->dof));
+  // The end points are exactly the requested configurations (OMPL copies them).
+  out.front() = q_start;
+  out.back() = q_goal;
+  return out;
+}
+
+std::size_t LazyRoadmap::vertexCount() const { return planner_->milestoneCount(); }
+std::size_t LazyRoadmap::edgeCount() const { return planner_->edgeCount(); }
+
+}  // namespace dash

@@ -1,0 +1,62 @@
+#pragma once
+// An edge-unvalidated roadmap for one robot (OMPL's Lazy-PRM, Bohlin & Kavraki 2000), reused across
+// the queries of a run. Lazy-PRM checks vertices and edges only on the paths it returns and caches the
+// result. Validity here depends on the motion context (held object, resting objects), so when the
+// context changes the cached flags are cleared (clearValidity) while the roadmap itself is kept.
+// Departure from a context-free Lazy-PRM: vertices or edges found invalid in one context are removed by
+// OMPL for good; the roadmap keeps sampling, so it regrows where they were.
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "engine/collision/collision_context.h"
+#include "engine/core/deadline.h"
+#include "engine/motion/motion_context.h"
+
+namespace ompl::geometric {
+class LazyPRM;
+}
+namespace ompl::base {
+class SpaceInformation;
+}
+
+namespace dash {
+
+struct RoadmapParams {
+  double max_edge_length = 1.5;         ///< radians (joint space) or metres (gantry), OMPL setRange
+  unsigned int neighbours = 10;         ///< k nearest neighbours
+  double query_seconds = 2.0;           ///< per query, within the deadline
+  bool simplify = true;                 ///< shortcut the found path
+};
+
+class LazyRoadmap {
+ public:
+  LazyRoadmap(const CollisionWorld& world, CollisionContext& context, int robot, RoadmapParams params = {});
+  ~LazyRoadmap();
+
+  /// A collision-free path q_start -> q_goal in `motion` (straight segments, checked at the segment
+  /// resolution), or nullopt. Grows the roadmap as needed.
+  std::optional<std::vector<JointVector>> query(const JointVector& q_start, const JointVector& q_goal,
+                                                const MotionContext& motion, const Deadline& deadline);
+  std::size_t vertexCount() const;
+  std::size_t edgeCount() const;
+  int robot() const { return robot_; }
+
+  struct Checker;  ///< validity in the current context (defined in the .cpp)
+
+ private:
+  const CollisionWorld* world_;
+  CollisionContext* context_;
+  int robot_;
+  RoadmapParams params_;
+  std::shared_ptr<Checker> checker_;
+  std::shared_ptr<ompl::base::SpaceInformation> si_;
+  std::shared_ptr<ompl::geometric::LazyPRM> planner_;
+  std::optional<MotionContext> last_context_;
+};
+
+/// OMPL's random generator is process-global: seed it once per process, before any planner exists
+/// (later calls are ignored), and keep OMPL's console output to warnings.
+void seedOmplOnce(std::uint64_t seed);
+
+}  // namespace dash

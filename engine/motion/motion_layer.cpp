@@ -1,0 +1,205 @@
+#include "engine/motion/motion_layer.h"
+
+#include "engine/collision/collision_queries.h"
+#include "engine/collision/segment_queries.h"
+#include "engine/robots/kinematics.h"
+
+namespace dash {
+
+namespace {
+
+struct Roles {
+  HeldObject before;
+  HeldObject after;
+};
+
+Roles heldAround(const TaskArc& a, const TransitionConfig& tc, bool receiver) {
+  switch (a.type) {
+    case TaskArcType::kPick:
+      return {{}, {a.object, tc.X_TO}};
+    case TaskArcType::kPlace:
+      return {{a.object, tc.X_TO}, {}};
+    case TaskArcType::kHandover:
+      return receiver ? Roles{{}, {a.object, tc.X_TO2}} : Roles{{a.object, tc.X_TO}, {}};
+    default:
+      return {};
+  }
+}
+
+/// Objects resting before each step and after the last one, following the plan's order.
+std::vector<ObjectLayout> layoutsAlong(const TaskPlan& plan, const TaskSpace& space) {
+  ObjectLayout layout = ObjectLayout::atStart(space.scene());
+  for (int o = 0; o < space.objectCount(); ++o) layout.place(o, space.location(o, space.startLocation(o)).X_WO);
+  std::vector<ObjectLayout> out;
+  for (const TaskStep& step : plan.steps) {
+    out.push_back(layout);
+    if (step.action.type == TaskArcType::kPick) layout.remove(step.action.object);
+    if (step.action.type == TaskArcType::kPlace)
+      layout.place(step.action.object, space.location(step.action.object, step.action.location).X_WO);
+  }
+  out.push_back(layout);
+  return out;
+}
+
+double jointDistance(const JointVector& a, const JointVector& b) { return (a - b).cwiseAbs().sum(); }
+
+}  // namespace
+
+MotionLayer::MotionLayer(const CollisionWorld& world, CollisionContext& context, log::EventEmitter& emitter,
+                         MotionLayerParams params)
+    : world_(&world), context_(&context), emitter_(&emitter), params_(params) {
+  roadmaps_.resize(static_cast<std::size_t>(world.robotCount()) * 2);
+}
+
+LazyRoadmap& MotionLayer::roadmap(int robot, bool holding) {
+  auto& slot = roadmaps_[static_cast<std::size_t>(robot) * 2 + (holding ? 1 : 0)];
+  if (!slot) slot = std::make_unique<LazyRoadmap>(*world_, *context_, robot, params_.roadmap);
+  return *slot;
+}
+
+std::size_t MotionLayer::roadmapVertices() const {
+  std::size_t n = 0;
+  for (const auto& r : roadmaps_) n += r ? r->vertexCount() : 0;
+  return n;
+}
+
+std::size_t MotionLayer::roadmapEdges() const {
+  std::size_t n = 0;
+  for (const auto& r : roadmaps_) n += r ? r->edgeCount() : 0;
+  return n;
+}
+
+std::uint32_t MotionLayer::motionVertex(const std::string& label) {
+  const auto id = static_cast<std::uint32_t>(motion_vertices_++);
+  emitter_->vertex(log::Layer::Motion, id, label);
+  return id;
+}
+
+void MotionLayer::motionArc(const char* type, std::uint32_t from, std::uint32_t to) {
+  const auto id = static_cast<std::uint32_t>(motion_hyperarcs_++);
+  emitter_->hyperarc(log::Layer::Motion, type, id, {to}, {from});
+  // The motion query traverses it: one motion-extended vertex and hyperarc.
+  const auto ev = static_cast<std::uint32_t>(extended_vertices_++);
+  emitter_->vertex(log::Layer::MotionExtended, ev);
+  emitter_->hyperarc(log::Layer::MotionExtended, type, static_cast<std::uint32_t>(extended_hyperarcs_++), {ev},
+                     {ev > 0 ? ev - 1 : ev});
+}
+
+std::optional<std::vector<JointVector>> MotionLayer::connect(int robot, const JointVector& from, const JointVector& to,
+                                                             const MotionContext& motion, const Deadline& deadline) {
+  if (jointDistance(from, to) < 1e-9) return std::vector<JointVector>{from};
+  // Cheapest check first: the straight segment.
+  if (motion.parked.empty() &&
+      !segmentInCollision(*world_, *context_, RobotState{robot, from, motion.held}, to, motion.layout))
+    return std::vector<JointVector>{from, to};
+  return roadmap(robot, motion.held.holding()).query(from, to, motion, deadline);
+}
+
+std::optional<JointVector> MotionLayer::backedOff(int robot, const JointVector& q, const HeldObject& held,
+                                                  const ObjectLayout& layout, const std::optional<Vec3>& direction_W) {
+  const SceneRobot& r = world_->scene().robots[robot];
+  const Pose X_WT = forwardKinematics(*r.model, r.X_WB, q).X_WT;
+  Pose X_WTpre = X_WT * makePose(Vec3(0, 0, -params_.approach_distance));
+  if (direction_W) X_WTpre = makePose(params_.approach_distance * direction_W->normalized()) * X_WT;
+  std::optional<JointVector> best;
+  for (const JointVector& cand : inverseKinematics(*r.model, r.X_WB, X_WTpre)) {
+    if (best && jointDistance(cand, q) >= jointDistance(*best, q)) continue;
+    const RobotState state{robot, cand, held};
+    if (robotInCollision(*world_, *context_, state, layout)) continue;
+    if (segmentInCollision(*world_, *context_, state, q, layout)) continue;
+    best = cand;
+  }
+  return best;
+}
+
+MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
+                                    const TaskSpace& space, const Deadline& deadline) {
+  const Scene& scene = space.scene();
+  const int robots = static_cast<int>(scene.robots.size());
+  MotionLayerResult result;
+  result.robots.resize(static_cast<std::size_t>(robots));
+  const std::vector<ObjectLayout> layouts = layoutsAlong(plan, space);
+  std::vector<JointVector> at(static_cast<std::size_t>(robots));
+  std::vector<std::uint32_t> last_vertex(static_cast<std::size_t>(robots));
+  for (int r = 0; r < robots; ++r) {
+    at[r] = scene.robots[r].home;
+    last_vertex[r] = motionVertex(scene.robots[r].id + " home");
+  }
+
+  for (int k = 0; k < static_cast<int>(plan.steps.size()); ++k) {
+    const TaskArc& a = plan.steps[k].action;
+    const TransitionConfig& tc = transitions[k];
+    bool giver_backs_off = true;
+    Vec3 giver_approach_W = Vec3::UnitZ();
+    for (int role = 0; role < (a.type == TaskArcType::kHandover ? 2 : 1); ++role) {
+      if (deadline.expired()) {
+        result.status = MotionStatus::kTimeout;
+        return result;
+      }
+      const bool receiver = role == 1;
+      const int r = receiver ? a.robot2 : a.robot;
+      const Roles held = heldAround(a, tc, receiver);
+      StepVisit visit;
+      visit.step = k;
+      visit.receiver = receiver;
+      visit.q = receiver ? tc.q2 : tc.q;
+      visit.held_before = held.before;
+      visit.held_after = held.after;
+      const bool giver = a.type == TaskArcType::kHandover && !receiver;
+      // The giver brings the object straight to the handover pose; everyone else approaches along the
+      // TCP axis so that fingers slide around the object instead of sweeping through it.
+      visit.q_pre = giver ? visit.q : backedOff(r, visit.q, held.before, layouts[k]).value_or(visit.q);
+      if (receiver && !giver_backs_off) {
+        // The giver cannot back off (its approach axis leads out of reach): the receiver pulls the
+        // object out of the giver's open fingers along the giver's approach axis instead.
+        visit.q_post = backedOff(r, visit.q, held.after, layouts[k + 1], giver_approach_W).value_or(visit.q);
+      } else {
+        visit.q_post = backedOff(r, visit.q, held.after, layouts[k + 1]).value_or(visit.q);
+      }
+      if (giver) {
+        giver_backs_off = (visit.q_post - visit.q).cwiseAbs().maxCoeff() > 1e-12;
+        const SceneRobot& sr = scene.robots[r];
+        giver_approach_W = forwardKinematics(*sr.model, sr.X_WB, visit.q).X_WT.linear().col(2);
+      }
+      const auto transit = connect(r, at[r], visit.q_pre, MotionContext{held.before, layouts[k], {}}, deadline);
+      if (!transit) {
+        result.status = deadline.expired() ? MotionStatus::kTimeout : MotionStatus::kFailed;
+        result.failed_step = k;
+        result.reason = "no path for " + scene.robots[r].id + " to step " + std::to_string(k) + " (" +
+                        describeStep(plan.steps[k], space) + ")";
+        return result;
+      }
+      visit.transit = *transit;
+      const std::string name = scene.robots[r].id + " step " + std::to_string(k);
+      const std::uint32_t v_pre = motionVertex(name + " pre");
+      const std::uint32_t v_q = motionVertex(name);
+      const std::uint32_t v_post = motionVertex(name + " post");
+      motionArc("move", last_vertex[r], v_pre);
+      motionArc("move", v_pre, v_q);
+      motionArc("transition", v_q, v_q);
+      motionArc("move", v_q, v_post);
+      last_vertex[r] = v_post;
+      at[r] = visit.q_post;
+      result.robots[r].visits.push_back(std::move(visit));
+    }
+  }
+  if (scene.end_at_home) {
+    for (int r = 0; r < robots; ++r) {
+      const auto home = connect(r, at[r], scene.robots[r].home, MotionContext{{}, layouts.back(), {}}, deadline);
+      if (!home) {
+        result.status = deadline.expired() ? MotionStatus::kTimeout : MotionStatus::kFailed;
+        result.reason = "no path home for " + scene.robots[r].id;
+        return result;
+      }
+      result.robots[r].home_path = *home;
+      const std::uint32_t v_home = motionVertex(scene.robots[r].id + " home (end)");
+      motionArc("move", last_vertex[r], v_home);
+    }
+  }
+  emitter_->counter("roadmap_vertices", static_cast<std::int64_t>(roadmapVertices()));
+  emitter_->counter("roadmap_edges", static_cast<std::int64_t>(roadmapEdges()));
+  result.status = MotionStatus::kOk;
+  return result;
+}
+
+}  // namespace dash

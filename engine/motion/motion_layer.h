@@ -1,0 +1,89 @@
+#pragma once
+// The motion planning layer of Lazy-DaSH (paper, "Motion Planning Layer"): the motion hypergraph H_M is
+// built only for the task space elements of the current task plan, anchored at the transition
+// configurations task conflict detection already sampled; moves between them are planned lazily in the
+// motion query, in schedule order, against the objects resting at that point of the schedule
+// (straight segment first, then the robot's edge-unvalidated roadmap). The result is an optimistic
+// schedule: each robot's motions are collision-free in its own composition space; other robots are
+// ignored until conflict resolution.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/log/event_emitter.h"
+#include "engine/motion/lazy_roadmap.h"
+#include "engine/task/task_conflict_detection.h"
+#include "engine/task/task_plan.h"
+
+namespace dash {
+
+/// One robot's part in one task step: get there, do the transition, back off.
+struct StepVisit {
+  int step = -1;
+  bool receiver = false;               ///< handover receiver (else the actor / giver)
+  std::vector<JointVector> transit;    ///< from where the robot was to q_pre (first = previous end)
+  JointVector q_pre;                   ///< approach start
+  JointVector q;                       ///< the transition configuration
+  JointVector q_post;                  ///< retreat end
+  HeldObject held_before;              ///< during transit and approach
+  HeldObject held_after;               ///< during retreat
+};
+
+struct RobotMotionPlan {
+  std::vector<StepVisit> visits;
+  std::vector<JointVector> home_path;  ///< from the last retreat back home (empty if none needed)
+};
+
+struct MotionLayerParams {
+  double approach_distance = 0.06;  ///< metres the TCP backs off along its approach axis
+  RoadmapParams roadmap;
+};
+
+enum class MotionStatus { kOk, kFailed, kTimeout };
+
+struct MotionLayerResult {
+  MotionStatus status = MotionStatus::kFailed;
+  std::vector<RobotMotionPlan> robots;  ///< one per scene robot
+  int failed_step = -1;                 ///< the step whose motion could not be found
+  std::string reason;
+};
+
+class MotionLayer {
+ public:
+  MotionLayer(const CollisionWorld& world, CollisionContext& context, log::EventEmitter& emitter,
+              MotionLayerParams params = {});
+
+  MotionLayerResult plan(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
+                         const TaskSpace& space, const Deadline& deadline);
+
+  std::size_t roadmapVertices() const;
+  std::size_t roadmapEdges() const;
+  std::size_t motionVertices() const { return motion_vertices_; }
+  std::size_t motionHyperarcs() const { return motion_hyperarcs_; }
+  std::size_t extendedVertices() const { return extended_vertices_; }
+  std::size_t extendedHyperarcs() const { return extended_hyperarcs_; }
+
+  /// A path from -> to in `context`: the straight segment if it is free, else a roadmap query.
+  std::optional<std::vector<JointVector>> connect(int robot, const JointVector& from, const JointVector& to,
+                                                  const MotionContext& context, const Deadline& deadline);
+
+ private:
+  /// q moved so that the TCP goes back along its own approach axis (or along `direction_W`, a world
+  /// direction, when given) by the approach distance: free, and the straight segment to q free.
+  std::optional<JointVector> backedOff(int robot, const JointVector& q, const HeldObject& held,
+                                       const ObjectLayout& layout, const std::optional<Vec3>& direction_W = {});
+  LazyRoadmap& roadmap(int robot, bool holding);
+  std::uint32_t motionVertex(const std::string& label);
+  void motionArc(const char* type, std::uint32_t from, std::uint32_t to);
+
+  const CollisionWorld* world_;
+  CollisionContext* context_;
+  log::EventEmitter* emitter_;
+  MotionLayerParams params_;
+  std::vector<std::unique_ptr<LazyRoadmap>> roadmaps_;  ///< [robot * 2 + holding]
+  std::size_t motion_vertices_ = 0, motion_hyperarcs_ = 0;
+  std::size_t extended_vertices_ = 0, extended_hyperarcs_ = 0;
+};
+
+}  // namespace dash

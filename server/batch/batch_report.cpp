@@ -1,0 +1,217 @@
+#include "server/batch/batch_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <vector>
+
+#include "engine/scenarios/scenario_registry.h"
+
+namespace dash::batch {
+namespace {
+
+using log::RunStatus;
+
+/// A text table: first `left` columns left-aligned, the rest right-aligned.
+class Table {
+ public:
+  Table(std::vector<std::string> header, std::size_t left) : left_(left) { rows_.push_back(std::move(header)); }
+  void add(std::vector<std::string> row) { rows_.push_back(std::move(row)); }
+  std::string str() const {
+    std::vector<std::size_t> width(rows_.front().size(), 0);
+    for (const auto& r : rows_) {
+      for (std::size_t i = 0; i < r.size(); ++i) width[i] = std::max(width[i], r[i].size());
+    }
+    std::ostringstream out;
+    for (const auto& r : rows_) {
+      std::string line;
+      for (std::size_t i = 0; i < r.size(); ++i) {
+        const std::string pad(width[i] - r[i].size(), ' ');
+        line += (i == 0 ? "" : "  ") + (i < left_ ? r[i] + pad : pad + r[i]);
+      }
+      while (!line.empty() && line.back() == ' ') line.pop_back();
+      out << "  " << line << "\n";
+    }
+    return out.str();
+  }
+
+ private:
+  std::vector<std::vector<std::string>> rows_;
+  std::size_t left_;
+};
+
+std::string fmtCount(double v) {
+  if (std::isnan(v)) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, v == std::floor(v) ? "%.0f" : "%.1f", v);
+  return buf;
+}
+
+std::string fmtSeconds(double v) {
+  if (std::isnan(v)) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, v < 10 ? "%.3f" : v < 100 ? "%.2f" : "%.1f", v);
+  return buf;
+}
+
+struct Row {
+  std::vector<int> param_values;  ///< family order, for sorting
+  std::string params_text;
+  std::string planner;
+  int planner_order = 0;
+  std::vector<const log::RunRecord*> runs;  ///< finished runs (not running, not cancelled)
+};
+
+bool finishedStatus(RunStatus s) { return s != RunStatus::Running && s != RunStatus::Cancelled; }
+
+}  // namespace
+
+double median(std::vector<double> values) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+std::string formatReport(const log::ResultsDb& db, const ReportOptions& options) {
+  log::RunFilter filter;
+  filter.batch_id = options.batch_id;
+  filter.limit = std::numeric_limits<std::int32_t>::max();
+  filter.newest_first = false;
+  const std::vector<log::RunRecord> runs = db.listRuns(filter);
+
+  std::map<std::string, int> planner_order;
+  std::map<std::string, std::map<std::string, Row>> families;  // family -> row key -> row
+  std::vector<std::string> family_order;
+  for (const log::RunRecord& r : runs) {
+    if (!finishedStatus(r.status)) continue;
+    const std::string& family = r.meta.family;
+    if (!families.count(family)) family_order.push_back(family);
+    const std::string planner = r.meta.planner_config_name.empty() ? r.meta.planner : r.meta.planner_config_name;
+    planner_order.emplace(planner, static_cast<int>(planner_order.size()));
+    // Parameters in the family's order (the stored JSON object is sorted by name).
+    const nlohmann::json params = nlohmann::json::parse(r.meta.params_json, nullptr, false);
+    std::vector<std::pair<std::string, int>> ordered;
+    if (const ScenarioFamily* f = findScenarioFamily(family)) {
+      for (const ParamSpec& p : f->params) {
+        if (params.is_object() && params.contains(p.name) && params[p.name].is_number_integer()) {
+          ordered.emplace_back(p.name, params[p.name].get<int>());
+        }
+      }
+    } else if (params.is_object()) {
+      for (const auto& [k, v] : params.items()) ordered.emplace_back(k, v.is_number_integer() ? v.get<int>() : 0);
+    }
+    Row row;
+    for (const auto& [k, v] : ordered) {
+      row.param_values.push_back(v);
+      row.params_text += (row.params_text.empty() ? "" : " ") + k + "=" + std::to_string(v);
+    }
+    const std::string key = row.params_text + "\n" + planner;
+    Row& slot = families[family].try_emplace(key, row).first->second;
+    slot.planner = planner;
+    slot.planner_order = planner_order[planner];
+    slot.runs.push_back(&r);
+  }
+  if (family_order.empty()) {
+    return options.batch_id.empty() ? "no finished runs\n" : "no finished runs in batch " + options.batch_id + "\n";
+  }
+  // Families in the registry's order, unknown ones after.
+  std::vector<std::string> ordered_families;
+  for (const auto& f : scenarioFamilies()) {
+    if (families.count(f.name)) ordered_families.push_back(f.name);
+  }
+  for (const auto& f : family_order) {
+    if (!findScenarioFamily(f)) ordered_families.push_back(f);
+  }
+
+  std::ostringstream out;
+  const char* basis = options.include_unsolved ? "finished runs" : "solved runs";
+  for (const std::string& family : ordered_families) {
+    std::vector<const Row*> rows;
+    for (const auto& [key, row] : families[family]) rows.push_back(&row);
+    std::sort(rows.begin(), rows.end(), [](const Row* a, const Row* b) {
+      if (a->param_values != b->param_values) return a->param_values < b->param_values;
+      return a->planner_order < b->planner_order;
+    });
+    std::size_t count = 0;
+    for (const Row* r : rows) count += r->runs.size();
+    out << "== " << family << " (" << count << " finished runs; medians across seeds over " << basis << ") ==\n\n";
+
+    auto basisRuns = [&](const Row& row) {
+      std::vector<const log::RunRecord*> v;
+      for (const auto* r : row.runs) {
+        if (r->status == RunStatus::Solved ||
+            (options.include_unsolved && (r->status == RunStatus::Timeout || r->status == RunStatus::Infeasible))) {
+          v.push_back(r);
+        }
+      }
+      return v;
+    };
+
+    Table sizes({"params", "planner", "n", "H_T V", "H_T A", "H_TE V", "H_TE A", "H_M V", "H_M A", "H_ME V", "H_ME A"},
+                2);
+    for (const Row* row : rows) {
+      const auto basis_runs = basisRuns(*row);
+      std::vector<std::string> cells = {row->params_text, row->planner, std::to_string(basis_runs.size())};
+      for (int layer = 0; layer < log::kLayerCount; ++layer) {
+        std::vector<double> v, a;
+        for (const auto* r : basis_runs) {
+          if (!r->summary.sizes) continue;
+          v.push_back(static_cast<double>(r->summary.sizes->vertices[layer]));
+          a.push_back(static_cast<double>(r->summary.sizes->hyperarcs[layer]));
+        }
+        cells.push_back(fmtCount(median(v)));
+        cells.push_back(fmtCount(median(a)));
+      }
+      sizes.add(cells);
+    }
+    out << "Representation sizes (vertices V, hyperarcs A)\n" << sizes.str() << "\n";
+
+    // Phase indices: TaskConstruction, TaskQuery, TaskConflictDetection, MotionConstruction,
+    // MotionQuery, ConflictResolution.
+    Table times({"params", "planner", "n", "task constr", "task query", "task conflicts", "motion constr",
+                 "motion query", "conflict res", "total"},
+                2);
+    for (const Row* row : rows) {
+      const auto basis_runs = basisRuns(*row);
+      std::vector<std::string> cells = {row->params_text, row->planner, std::to_string(basis_runs.size())};
+      for (int phase = 0; phase < 6; ++phase) {
+        std::vector<double> v;
+        for (const auto* r : basis_runs) {
+          if (r->summary.phase_seconds) v.push_back((*r->summary.phase_seconds)[phase]);
+        }
+        cells.push_back(fmtSeconds(median(v)));
+      }
+      std::vector<double> total;
+      for (const auto* r : basis_runs) {
+        if (r->summary.total_time) total.push_back(*r->summary.total_time);
+      }
+      cells.push_back(fmtSeconds(median(total)));
+      times.add(cells);
+    }
+    out << "Time breakdown (s, phase totals)\n" << times.str() << "\n";
+
+    Table success({"params", "planner", "runs", "solved", "timeout", "infeasible", "crashed", "success"}, 2);
+    for (const Row* row : rows) {
+      int solved = 0, timeout = 0, infeasible = 0, crashed = 0;
+      for (const auto* r : row->runs) {
+        solved += r->status == RunStatus::Solved;
+        timeout += r->status == RunStatus::Timeout;
+        infeasible += r->status == RunStatus::Infeasible;
+        crashed += r->status == RunStatus::Crashed;
+      }
+      const std::size_t n = row->runs.size();
+      char rate[16];
+      std::snprintf(rate, sizeof rate, "%.0f%%", n > 0 ? 100.0 * solved / static_cast<double>(n) : 0.0);
+      success.add({row->params_text, row->planner, std::to_string(n), std::to_string(solved), std::to_string(timeout),
+                   std::to_string(infeasible), std::to_string(crashed), rate});
+    }
+    out << "Success rate\n" << success.str() << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace dash::batch

@@ -1,0 +1,633 @@
+#include "server/batch/batch_runner.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <ctime>
+#include <list>
+#include <random>
+#include <system_error>
+
+#include "engine/core/stopwatch.h"
+#include "engine/log/sqlite_recorder.h"
+#include "server/batch/batch_store.h"
+#include "server/batch/run_process.h"
+#include "server/batch/run_protocol.h"
+
+namespace dash::batch {
+namespace {
+
+using Seconds = std::chrono::duration<double>;
+using std::chrono::milliseconds;
+
+/// SIGTERM for time comes at time_limit * this + RunnerOptions::time_slack: a planner that honours
+/// its deadline returns first, with its own (complete) result.
+constexpr double kTimeLimitMargin = 1.05;
+constexpr int kReadsPerWakeup = 16;               ///< per pipe, so that one chatty child cannot starve the rest
+constexpr std::size_t kStderrTailBytes = 4000;    ///< kept per child for the error text of a crash
+constexpr milliseconds kPollInterval{250};        ///< at most between two looks at the timers
+constexpr milliseconds kFlushInterval{500};       ///< recorded events become visible to readers
+constexpr milliseconds kHeartbeatInterval{2000};  ///< see kStaleHeartbeatSeconds
+constexpr milliseconds kProgressInterval{1000};   ///< progress callbacks while nothing else happens
+
+std::string randomHex(int digits) {
+  static thread_local std::mt19937_64 rng(std::random_device{}() ^
+                                          static_cast<std::uint64_t>(Clock::now().time_since_epoch().count()));
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string s;
+  for (int i = 0; i < digits; ++i) s.push_back(kHex[rng() & 15u]);
+  return s;
+}
+
+/// A random (version 4) UUID.
+std::string newUuid() {
+  std::string h = randomHex(32);
+  h[12] = '4';
+  h[16] = "89ab"[std::stoi(h.substr(16, 1), nullptr, 16) & 3];
+  return h.substr(0, 8) + "-" + h.substr(8, 4) + "-" + h.substr(12, 4) + "-" + h.substr(16, 4) + "-" + h.substr(20);
+}
+
+std::string utcNow(const char* format) {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[64];
+  std::strftime(buf, sizeof buf, format, &tm);
+  return buf;
+}
+
+std::string hostName() {
+  char buf[256] = {};
+  if (gethostname(buf, sizeof buf - 1) != 0) return "unknown";
+  return buf;
+}
+
+std::string formatSeconds(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", s);
+  return buf;
+}
+
+struct Child {
+  RunSpec run;
+  std::string uuid;
+  pid_t pid = -1;
+  int msg_fd = -1;
+  int err_fd = -1;
+  proto::FrameDecoder decoder;
+  std::string stderr_tail;
+  std::unique_ptr<log::SqliteRecorder> recorder;
+  Clock::time_point spawned;
+  Clock::time_point term_at;  ///< SIGTERM for the time limit
+  Clock::time_point kill_at;  ///< SIGKILL after SIGTERM
+  bool started = false;       ///< the planner's clock started ('S')
+  bool term_sent = false;
+  bool kill_sent = false;
+  StopReason stop = StopReason::kNone;
+  std::optional<proto::ChildResult> result;
+  std::optional<proto::ChildError> error;
+  std::string protocol_error;
+  std::string spawn_error;
+};
+
+}  // namespace
+
+std::string newBatchId(const std::string& name) {
+  std::string clean;
+  for (char c : name) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_';
+    clean.push_back(ok ? c : '-');
+  }
+  if (clean.empty()) clean = "batch";
+  if (clean.size() > 40) clean.resize(40);
+  return clean + "-" + utcNow("%Y%m%d-%H%M%S") + "-" + randomHex(4);
+}
+
+struct BatchRunner::Impl {
+  // Set before the thread starts, then owned by it.
+  std::unique_ptr<log::ResultsDb> db;
+  std::unique_ptr<BatchStore> store;
+  RunnerOptions options;
+  ProgressCallback callback;
+  std::string batch_id;
+  std::vector<RunSpec> todo;
+
+  int wake_read = -1;
+  int wake_write = -1;
+  std::atomic<int> cancel_requests{0};
+  std::atomic<bool> finished{false};
+  std::thread thread;
+  bool launched = false;
+
+  mutable std::mutex mutex;  // guards progress and result
+  BatchProgress progress;
+  BatchResult result;
+
+  // Runner-thread state.
+  std::list<Child> children;
+  Stopwatch clock;
+  std::int64_t finished_here = 0;
+  bool cancelling = false;
+  bool escalated = false;
+
+  Impl() {
+    int fds[2];
+    DASH_DEMAND(pipe2(fds, O_NONBLOCK | O_CLOEXEC) == 0);
+    wake_read = fds[0];
+    wake_write = fds[1];
+  }
+  ~Impl() {
+    close(wake_read);
+    close(wake_write);
+  }
+
+  void count(log::RunStatus status, std::int64_t n = 1) {
+    switch (status) {
+      case log::RunStatus::Solved:
+        progress.solved += n;
+        break;
+      case log::RunStatus::Timeout:
+        progress.timeouts += n;
+        progress.failed += n;
+        break;
+      case log::RunStatus::Infeasible:
+        progress.failed += n;
+        break;
+      case log::RunStatus::Crashed:
+        progress.crashed += n;
+        progress.failed += n;
+        break;
+      case log::RunStatus::Cancelled:
+        progress.cancelled += n;
+        return;
+      case log::RunStatus::Running:
+        return;
+    }
+    progress.done += n;
+  }
+
+  void publish(std::optional<FinishedRun> finished_run = std::nullopt) {
+    BatchProgress copy;
+    {
+      std::lock_guard lock(mutex);
+      progress.running = static_cast<std::int64_t>(children.size());
+      progress.remaining = progress.total - progress.done;
+      progress.elapsed = clock.seconds();
+      progress.cancelling = cancelling;
+      const auto to_run = static_cast<std::int64_t>(todo.size());
+      progress.eta = finished_here > 0 && !cancelling
+                         ? progress.elapsed / static_cast<double>(finished_here) *
+                               static_cast<double>(std::max<std::int64_t>(0, to_run - finished_here))
+                         : -1.0;
+      progress.finished = std::move(finished_run);
+      copy = progress;
+      progress.finished.reset();
+    }
+    if (callback) callback(copy);
+  }
+
+  /// Batches of this file left 'running' by a runner that is gone become 'interrupted' (so that
+  /// readers of dash_batches, such as the server, see the truth without knowing about heartbeats).
+  void markDeadBatches() {
+    for (const log::BatchRecord& b : db->listBatches()) {
+      if (b.status != "running") continue;
+      const auto runner = store->runner(b.id);
+      if (!runner || !runner->alive()) db->setBatchStatus(b.id, "interrupted");
+    }
+  }
+
+  /// The store's writes need the ResultsDb's batched transaction closed first.
+  BatchStore& storeForWrite() {
+    db->flush();
+    return *store;
+  }
+
+  void launch() {
+    {
+      std::lock_guard lock(mutex);
+      progress.batch_id = batch_id;
+      progress.total = static_cast<std::int64_t>(todo.size()) + progress.skipped;
+    }
+    cancel_requests.store(0);
+    char drain[64];
+    while (read(wake_read, drain, sizeof drain) > 0) {
+    }
+    storeForWrite().setRunner(batch_id, RunnerInfo{.pid = getpid(),
+                                                   .host = hostName(),
+                                                   .started = utcNow("%Y-%m-%dT%H:%M:%SZ"),
+                                                   .heartbeat = 0.0,
+                                                   .workers = options.workers});
+    db->setBatchStatus(batch_id, "running");
+    launched = true;
+    clock.restart();
+    thread = std::thread([this] { threadMain(); });
+  }
+
+  void threadMain() {
+    std::string status = "finished";
+    std::string error;
+    try {
+      loop();
+      status = cancelling ? "cancelled" : "finished";
+    } catch (const std::exception& e) {
+      status = "interrupted";
+      error = e.what();
+      killAll();
+    }
+    try {
+      db->flush();
+      db->setBatchStatus(batch_id, status);
+      storeForWrite().clearRunner(batch_id);
+    } catch (const std::exception& e) {
+      if (error.empty()) error = e.what();
+      status = "interrupted";
+    }
+    publish();
+    {
+      std::lock_guard lock(mutex);
+      result.batch_id = batch_id;
+      result.status = status;
+      result.error = error;
+      result.progress = progress;
+    }
+    finished.store(true);
+  }
+
+  /// After a fatal runner error: kill and reap every child (their rows stay 'running': a resume re-runs them).
+  void killAll() noexcept {
+    for (Child& c : children) {
+      if (c.pid > 0) {
+        kill(c.pid, SIGKILL);
+        int st = 0;
+        waitpid(c.pid, &st, 0);
+      }
+      if (c.msg_fd >= 0) close(c.msg_fd);
+      if (c.err_fd >= 0) close(c.err_fd);
+    }
+    children.clear();
+  }
+
+  void loop() {
+    std::size_t next = 0;
+    auto last_heartbeat = Clock::now();
+    auto last_flush = Clock::now();
+    auto last_tick = Clock::now();
+    publish();
+    while (true) {
+      const int requests = cancel_requests.load();
+      if (requests > 0 && !cancelling) {
+        cancelling = true;
+        for (Child& c : children) stopChild(c, StopReason::kCancel);
+        publish();
+      }
+      if (requests > 1 && !escalated) {
+        escalated = true;
+        for (Child& c : children) {
+          if (c.pid > 0 && !c.kill_sent) {
+            kill(c.pid, SIGKILL);
+            c.kill_sent = true;
+          }
+        }
+      }
+      bool spawned = false;
+      while (!cancelling && children.size() < static_cast<std::size_t>(std::max(1, options.workers)) &&
+             next < todo.size()) {
+        spawn(todo[next++]);
+        spawned = true;
+      }
+      if (spawned) publish();
+      if (children.empty() && (cancelling || next >= todo.size())) break;
+
+      waitForActivity();
+
+      const auto now = Clock::now();
+      for (Child& c : children) {
+        if (c.pid <= 0) continue;
+        if (!c.term_sent && now >= c.term_at) {
+          stopChild(c, StopReason::kTime);
+        } else if (c.term_sent && !c.kill_sent && now >= c.kill_at) {
+          kill(c.pid, SIGKILL);
+          c.kill_sent = true;
+        }
+      }
+      for (auto it = children.begin(); it != children.end();) {
+        if (it->msg_fd < 0 && it->err_fd < 0) {
+          // Out of `children` first, so that the progress it reports no longer counts it as running.
+          std::list<Child> ended;
+          ended.splice(ended.begin(), children, it++);
+          finishChild(ended.front());
+        } else {
+          ++it;
+        }
+      }
+      if (now - last_flush >= kFlushInterval) {
+        db->flush();
+        last_flush = now;
+      }
+      if (now - last_heartbeat >= kHeartbeatInterval) {
+        storeForWrite().heartbeat(batch_id);
+        last_heartbeat = now;
+      }
+      if (now - last_tick >= kProgressInterval) {
+        publish();
+        last_tick = now;
+      }
+    }
+  }
+
+  void waitForActivity() {
+    std::vector<pollfd> fds;
+    std::vector<std::pair<Child*, bool>> owners;  // (child, is its stderr)
+    fds.push_back({wake_read, POLLIN, 0});
+    owners.emplace_back(nullptr, false);
+    auto timeout = kPollInterval;
+    const auto now = Clock::now();
+    for (Child& c : children) {
+      if (c.msg_fd >= 0) {
+        fds.push_back({c.msg_fd, POLLIN, 0});
+        owners.emplace_back(&c, false);
+      }
+      if (c.err_fd >= 0) {
+        fds.push_back({c.err_fd, POLLIN, 0});
+        owners.emplace_back(&c, true);
+      }
+      if (c.pid > 0 && !c.kill_sent) {
+        const auto due = c.term_sent ? c.kill_at : c.term_at;
+        const auto left = std::chrono::ceil<milliseconds>(due - now);
+        timeout = std::clamp(left, milliseconds(0), timeout);
+      }
+    }
+    const int n = poll(fds.data(), fds.size(), static_cast<int>(timeout.count()));
+    if (n < 0) {
+      if (errno == EINTR) return;
+      throw std::runtime_error(std::string("poll failed: ") + std::strerror(errno));
+    }
+    if (fds[0].revents != 0) {
+      char drain[64];
+      while (read(wake_read, drain, sizeof drain) > 0) {
+      }
+    }
+    for (std::size_t i = 1; i < fds.size(); ++i) {
+      if (fds[i].revents == 0) continue;
+      Child& c = *owners[i].first;
+      if (owners[i].second) {
+        readStderr(c);
+      } else {
+        readMessages(c);
+      }
+    }
+  }
+
+  void readStderr(Child& c) {
+    char buf[4096];
+    for (int i = 0; i < kReadsPerWakeup; ++i) {
+      const ssize_t n = read(c.err_fd, buf, sizeof buf);
+      if (n > 0) {
+        c.stderr_tail.append(buf, static_cast<std::size_t>(n));
+        if (c.stderr_tail.size() > kStderrTailBytes) c.stderr_tail.erase(0, c.stderr_tail.size() - kStderrTailBytes);
+        continue;
+      }
+      if (n < 0 && (errno == EAGAIN || errno == EINTR)) return;
+      close(c.err_fd);
+      c.err_fd = -1;
+      return;
+    }
+  }
+
+  void readMessages(Child& c) {
+    char buf[65536];
+    for (int i = 0; i < kReadsPerWakeup; ++i) {
+      const ssize_t n = read(c.msg_fd, buf, sizeof buf);
+      if (n > 0) {
+        if (!c.protocol_error.empty()) continue;  // drain, ignore
+        c.decoder.feed(buf, static_cast<std::size_t>(n));
+        try {
+          proto::Frame frame;
+          while (c.decoder.next(frame)) handleFrame(c, frame);
+        } catch (const proto::ProtocolError& e) {
+          c.protocol_error = e.what();
+          if (c.pid > 0 && !c.kill_sent) {
+            kill(c.pid, SIGKILL);
+            c.kill_sent = true;
+          }
+        }
+        continue;
+      }
+      if (n < 0 && (errno == EAGAIN || errno == EINTR)) return;
+      close(c.msg_fd);
+      c.msg_fd = -1;
+      return;
+    }
+  }
+
+  void handleFrame(Child& c, const proto::Frame& frame) {
+    switch (frame.type) {
+      case proto::MessageType::kHello: {
+        const proto::Hello hello = proto::decodeHello(frame.payload);
+        if (hello.version != proto::kProtocolVersion) {
+          throw proto::ProtocolError("the child speaks protocol version " + std::to_string(hello.version) +
+                                     ", the runner " + std::to_string(proto::kProtocolVersion));
+        }
+        break;
+      }
+      case proto::MessageType::kStarted: {
+        const std::string scene = proto::decodeStarted(frame.payload);
+        c.started = true;
+        if (!c.term_sent) {
+          c.term_at = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                         Seconds(c.run.time_limit * kTimeLimitMargin + options.time_slack));
+        }
+        storeForWrite().setScene(c.uuid, scene);
+        break;
+      }
+      case proto::MessageType::kEvent:
+        if (c.recorder) c.recorder->onEvent(proto::decodeEvent(frame.payload));
+        break;
+      case proto::MessageType::kResult:
+        c.result = proto::decodeResult(frame.payload);
+        break;
+      case proto::MessageType::kError:
+        c.error = proto::decodeError(frame.payload);
+        break;
+    }
+  }
+
+  void stopChild(Child& c, StopReason why) {
+    if (c.pid <= 0 || c.term_sent) return;
+    kill(c.pid, SIGTERM);
+    c.term_sent = true;
+    c.stop = why;
+    c.kill_at = Clock::now() + std::chrono::duration_cast<Clock::duration>(Seconds(options.kill_grace));
+  }
+
+  void spawn(const RunSpec& run) {
+    Child& c = children.emplace_back();
+    c.run = run;
+    c.uuid = newUuid();
+    c.spawned = Clock::now();
+    c.term_at = c.spawned + std::chrono::duration_cast<Clock::duration>(Seconds(
+                                options.setup_allowance + run.time_limit * kTimeLimitMargin + options.time_slack));
+    // Key -> uuid first, then the row: a key never refers to two rows, and a row is never unreferenced.
+    storeForWrite().assignUuid(batch_id, run.key, c.uuid);
+    log::RunMetadata meta;
+    meta.uuid = c.uuid;
+    meta.batch_id = batch_id;
+    meta.family = run.family;
+    meta.params_json = run.paramsJson();
+    meta.seed = run.seed;
+    meta.planner = run.planner;
+    meta.planner_settings_json = run.settings_json;
+    meta.planner_config_name = run.label;
+    meta.time_limit = run.time_limit;
+    if (run.memory_limit_mb > 0) meta.memory_limit = run.memory_limit_mb;
+    db->beginRun(meta);
+    c.recorder = db->recorder(c.uuid);
+
+    try {
+      const RunProcess process =
+          spawnRunProcess(options.executable.empty() ? "/proc/self/exe" : options.executable, run);
+      c.pid = process.pid;
+      c.msg_fd = process.msg_fd;
+      c.err_fd = process.err_fd;
+    } catch (const std::system_error& e) {
+      c.spawn_error = e.what();  // finished (crashed) by the loop: no descriptors to wait for
+    }
+  }
+
+  void finishChild(Child& c) {
+    RunEnd end;
+    end.run = &c.run;
+    if (c.pid > 0) {
+      rusage usage{};
+      while (wait4(c.pid, &end.wait_status, 0, &usage) < 0 && errno == EINTR) {
+      }
+      end.peak_rss_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux reports KiB
+    }
+    end.wall_seconds = Seconds(Clock::now() - c.spawned).count();
+    end.result = std::move(c.result);
+    end.error = std::move(c.error);
+    end.protocol_error = c.protocol_error;
+    end.spawn_error = c.spawn_error;
+    end.stop = c.stop;
+    end.stderr_tail = std::move(c.stderr_tail);
+    const log::RunSummary s = summarizeRun(end);
+    db->finishRun(c.uuid, s);
+    c.recorder.reset();
+    ++finished_here;
+    {
+      std::lock_guard lock(mutex);
+      count(s.status);
+    }
+    publish(FinishedRun{.key = c.run.key,
+                        .uuid = c.uuid,
+                        .status = s.status,
+                        .seconds = end.wall_seconds,
+                        .error = s.error,
+                        .exit_signal = s.exit_signal.value_or(0)});
+  }
+};
+
+BatchRunner::BatchRunner() : impl_(std::make_unique<Impl>()) {}
+
+BatchRunner::~BatchRunner() {
+  if (impl_->thread.joinable()) {
+    cancel();
+    impl_->thread.join();
+  }
+}
+
+std::string BatchRunner::start(const BatchSpec& spec, const std::string& db_path, const RunnerOptions& options,
+                               ProgressCallback progress) {
+  Impl& m = *impl_;
+  DASH_THROW_UNLESS(!m.launched, "a BatchRunner runs one batch; make another");
+  DASH_THROW_UNLESS(options.workers >= 1, "workers must be at least 1");
+  m.options = options;
+  m.callback = std::move(progress);
+  m.db = std::make_unique<log::ResultsDb>(db_path);
+  m.store = std::make_unique<BatchStore>(db_path);
+  m.batch_id = options.batch_id.empty() ? newBatchId(spec.name) : options.batch_id;
+  for (const auto& b : m.db->listBatches()) {
+    DASH_THROW_UNLESS(b.id != m.batch_id, "batch " + m.batch_id + " already exists in " + db_path);
+  }
+  DASH_THROW_UNLESS(spec.unknown_planners.empty(), "the spec names planners this build does not have");
+  m.markDeadBatches();
+  m.todo = expandRuns(spec);
+  m.progress.name = spec.name;
+  m.db->putBatch(log::BatchRecord{.id = m.batch_id, .name = spec.name, .spec_json = spec.json, .status = "queued"});
+  m.storeForWrite().addRuns(m.batch_id, m.todo);
+  m.launch();
+  return m.batch_id;
+}
+
+std::string BatchRunner::resume(const std::string& batch_id, const std::string& db_path, const RunnerOptions& options,
+                                ProgressCallback progress) {
+  Impl& m = *impl_;
+  DASH_THROW_UNLESS(!m.launched, "a BatchRunner runs one batch; make another");
+  DASH_THROW_UNLESS(options.workers >= 1, "workers must be at least 1");
+  m.options = options;
+  m.callback = std::move(progress);
+  m.db = std::make_unique<log::ResultsDb>(db_path);
+  m.store = std::make_unique<BatchStore>(db_path);
+  m.batch_id = batch_id;
+  std::optional<log::BatchRecord> batch;
+  for (const auto& b : m.db->listBatches()) {
+    if (b.id == batch_id) batch = b;
+  }
+  DASH_THROW_UNLESS(batch.has_value(), "no batch " + batch_id + " in " + db_path);
+  if (batch->status == "running" && !options.force_resume) {
+    const auto runner = m.store->runner(batch_id);
+    if (runner && runner->alive()) {
+      throw InputError("batch " + batch_id + " is still being run by process " + std::to_string(runner->pid) + " on " +
+                       runner->host + " (last heartbeat " + formatSeconds(std::max(0.0, runner->age())) +
+                       " s ago); stop it first (or use --force if that process is not a runner)");
+    }
+  }
+  m.markDeadBatches();
+  const std::vector<StoredRun> stored = m.store->runs(batch_id);
+  DASH_THROW_UNLESS(!stored.empty(), "batch " + batch_id +
+                                         " has no stored run list (it was not started by "
+                                         "`dashbench batch run`)");
+  m.progress.name = batch->name;
+  for (const StoredRun& r : stored) {
+    if (r.complete()) {
+      ++m.progress.skipped;
+      m.count(log::parseRunStatus(*r.status));
+      continue;
+    }
+    if (!r.run_uuid.empty()) m.storeForWrite().deleteRun(r.run_uuid);
+    m.todo.push_back(r.spec);
+  }
+  m.storeForWrite().deleteOrphans(batch_id);
+  m.launch();
+  return batch_id;
+}
+
+void BatchRunner::cancel() noexcept {
+  impl_->cancel_requests.fetch_add(1);
+  const char byte = 1;
+  (void)!write(impl_->wake_write, &byte, 1);
+}
+
+BatchResult BatchRunner::wait() {
+  Impl& m = *impl_;
+  if (m.thread.joinable()) m.thread.join();
+  std::lock_guard lock(m.mutex);
+  return m.result;
+}
+
+bool BatchRunner::done() const { return impl_->finished.load(); }
+
+BatchProgress BatchRunner::progress() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->progress;
+}
+
+}  // namespace dash::batch

@@ -1,0 +1,90 @@
+#include "server/batch/progress_printer.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace dash::batch {
+
+ProgressPrinter::Mode ProgressPrinter::autoMode(std::FILE* out, bool quiet) {
+  if (quiet) return Mode::kQuiet;
+  return isatty(fileno(out)) ? Mode::kBar : Mode::kLines;
+}
+
+std::string ProgressPrinter::formatDuration(double seconds) {
+  if (!(seconds >= 0) || !std::isfinite(seconds)) return "?";
+  const long s = std::lround(seconds);
+  char buf[32];
+  if (s >= 3600) {
+    std::snprintf(buf, sizeof buf, "%ldh%02ldm", s / 3600, (s % 3600) / 60);
+  } else if (s >= 60) {
+    std::snprintf(buf, sizeof buf, "%ldm%02lds", s / 60, s % 60);
+  } else {
+    std::snprintf(buf, sizeof buf, "%lds", s);
+  }
+  return buf;
+}
+
+std::string ProgressPrinter::formatBar(const BatchProgress& p, int width) {
+  const double fraction = p.total > 0 ? static_cast<double>(p.done) / static_cast<double>(p.total) : 1.0;
+  const int filled = std::clamp(static_cast<int>(std::floor(fraction * width)), 0, width);
+  std::string bar = "[" + std::string(static_cast<std::size_t>(filled), '#') +
+                    std::string(static_cast<std::size_t>(width - filled), '.') + "] ";
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%lld/%lld done  %lld failed  %lld running  %lld left", static_cast<long long>(p.done),
+                static_cast<long long>(p.total), static_cast<long long>(p.failed), static_cast<long long>(p.running),
+                static_cast<long long>(p.remaining));
+  bar += buf;
+  if (p.crashed > 0) bar += "  (" + std::to_string(p.crashed) + " crashed)";
+  if (p.cancelling) {
+    bar += "  cancelling...";
+  } else {
+    bar += "  ETA " + (p.eta >= 0 ? formatDuration(p.eta) : std::string("?"));
+  }
+  return bar;
+}
+
+std::string ProgressPrinter::formatLine(const BatchProgress& p, const FinishedRun& run) {
+  char head[64];
+  std::snprintf(head, sizeof head, "[%lld/%lld] %-10s ", static_cast<long long>(p.done),
+                static_cast<long long>(p.total), log::toString(run.status));
+  char tail[32];
+  std::snprintf(tail, sizeof tail, "  %.1f s", run.seconds);
+  std::string line = head + run.key + tail;
+  if (!run.error.empty() && run.status != log::RunStatus::Solved) {
+    std::string error = run.error;
+    std::replace(error.begin(), error.end(), '\n', ' ');
+    if (error.size() > 160) error = error.substr(0, 157) + "...";
+    line += "  (" + error + ")";
+  }
+  return line;
+}
+
+void ProgressPrinter::operator()(const BatchProgress& p) {
+  switch (mode_) {
+    case Mode::kQuiet:
+      return;
+    case Mode::kLines:
+      if (p.finished) std::fprintf(out_, "%s\n", formatLine(p, *p.finished).c_str());
+      std::fflush(out_);
+      return;
+    case Mode::kBar:
+      if (p.finished && p.finished->status == log::RunStatus::Crashed) {
+        std::fprintf(out_, "\r\033[K%s\n", formatLine(p, *p.finished).c_str());
+      }
+      std::fprintf(out_, "\r\033[K%s", formatBar(p).c_str());
+      std::fflush(out_);
+      bar_drawn_ = true;
+      return;
+  }
+}
+
+void ProgressPrinter::finish() {
+  if (mode_ == Mode::kBar && bar_drawn_) {
+    std::fprintf(out_, "\n");
+    std::fflush(out_);
+  }
+}
+
+}  // namespace dash::batch

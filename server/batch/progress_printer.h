@@ -1,0 +1,38 @@
+#pragma once
+// The terminal side of a batch's progress callback (`dashbench batch run|resume`):
+//   bar   : one line redrawn in place on a terminal: a bar, runs done, failed, running and left,
+//           and an ETA; crashed runs also get a line of their own above it;
+//   lines : a line per finished run (stderr is not a terminal: logs, CI);
+//   quiet : nothing.
+#include <cstdio>
+#include <string>
+
+#include "server/batch/batch_runner.h"
+
+namespace dash::batch {
+
+class ProgressPrinter {
+ public:
+  enum class Mode { kBar, kLines, kQuiet };
+  /// kQuiet if `quiet`, else kBar when `out` is a terminal, else kLines.
+  static Mode autoMode(std::FILE* out, bool quiet);
+
+  ProgressPrinter(std::FILE* out, Mode mode) : out_(out), mode_(mode) {}
+  void operator()(const BatchProgress& p);
+  /// Ends the bar's line (call after the batch ended).
+  void finish();
+
+  /// "[#######.......] 12/40 done  2 failed  2 running  28 left  ETA 1m20s" (`width`: the bar's cells).
+  static std::string formatBar(const BatchProgress& p, int width = 24);
+  /// "[12/40] solved     sorting/robots=4,objects=8/seed=1/lazy-dash  0.4 s" (+ the error, cut).
+  static std::string formatLine(const BatchProgress& p, const FinishedRun& run);
+  /// "1h02m", "3m05s", "12s".
+  static std::string formatDuration(double seconds);
+
+ private:
+  std::FILE* out_;
+  Mode mode_;
+  bool bar_drawn_ = false;
+};
+
+}  // namespace dash::batch

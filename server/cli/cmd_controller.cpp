@@ -1,0 +1,174 @@
+// dashbench controller: the agent that runs next to one arm and executes what the server dispatches.
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+#include "engine/core/check.h"
+#include "engine/robots/robot_model.h"
+#include "server/cli/args.h"
+#include "server/cli/command.h"
+#include "server/dispatch/controller_agent.h"
+#include "server/dispatch/sim_driver.h"
+#include "server/dispatch/ur_driver.h"
+
+namespace dash::cli {
+
+extern const char* const kControllerHelp;
+const char* const kControllerHelp =
+    "usage: dashbench controller --server URL --robot ROBOT_ID --token-file FILE --driver sim|ur [options]\n"
+    "Run the controller agent of one arm: connect to the dashbench server at URL (e.g.\n"
+    "http://192.168.1.10:8080), take dispatched trajectories from it (server-sent events: trajectory,\n"
+    "start, abort) and report the arm's joint states and status back (50 Hz while moving). Reconnects on\n"
+    "its own; if the connection drops while the arm moves, the arm is stopped. Stop with Ctrl-C.\n"
+    "\n"
+    "Common options:\n"
+    "  --model NAME            robot model (data/robots/NAME.json), default ur5e\n"
+    "  --report-hz HZ          state reports per second while moving (default 50)\n"
+    "  --quiet                 no progress lines on stderr\n"
+    "\n"
+    "--driver sim: a simulated arm that follows the trajectory in real time within the model's speeds.\n"
+    "  --sim-start Q1,..,QN    initial joint state (default all zeros)\n"
+    "  --sim-speed S           fault injection: follow at S times real time (0.5 = lag)\n"
+    "  --sim-stop-at SEC       fault injection: stop silently SEC seconds after the start\n"
+    "  --sim-refuse            fault injection: refuse every goal (INVALID_GOAL)\n"
+    "  --sim-drop-at SEC       fault injection: drop the server connection SEC seconds after the start\n"
+    "                          (it reconnects on its own)\n"
+    "\n"
+    "--driver ur: a UR arm (UR5e) running the External Control URCap, which connects to this machine.\n"
+    "  --robot-ip IP           the robot (RTDE joint states, port --rtde-port 30004), required\n"
+    "  --host-ip IP            this machine's address as the robot sees it (default: found from the\n"
+    "                          RTDE connection); must match the URCap's Host IP\n"
+    "  --listen-host ADDR      where to listen (default 0.0.0.0)\n"
+    "  --reverse-port P        default 50001   --script-port P          default 50002\n"
+    "  --trajectory-port P     default 50003   --script-command-port P  default 50004\n"
+    "                          (several robots on one machine need distinct ports)\n"
+    "  --read-timeout-ms MS    the robot stops if no message comes within MS (default 100)\n"
+    "  --keepalive-ms MS       keep-alive period (default 10)\n"
+    "  --point-type spline|movej   how points are sent (default spline: cubic)\n"
+    "  --gripper robotiq|none  grasp/release through Robotiq's URCap socket (default none)\n"
+    "  --gripper-host H        default: --robot-ip      --gripper-port P  default 63352\n";
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+void onSignal(int) { g_stop = true; }
+
+std::string readToken(const std::string& path) {
+  std::ifstream in(path);
+  DASH_THROW_UNLESS(in.good(), "cannot read the token file '" + path + "'");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string token = text.str();
+  while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back()))) token.pop_back();
+  std::size_t start = 0;
+  while (start < token.size() && std::isspace(static_cast<unsigned char>(token[start]))) ++start;
+  token = token.substr(start);
+  DASH_THROW_UNLESS(!token.empty(), "the token file '" + path + "' is empty");
+  return token;
+}
+
+int port(const Args& args, const std::string& name, int fallback) {
+  const long long p = args.integer(name, fallback);
+  DASH_THROW_UNLESS(p >= 0 && p <= 65535, "--" + name + ": not a port number");
+  return static_cast<int>(p);
+}
+
+}  // namespace
+
+int runController(const std::vector<std::string>& words) {
+  Args args(words, {.options = {"server", "robot", "token-file", "driver", "model", "report-hz", "sim-start",
+                                "sim-speed", "sim-stop-at", "sim-drop-at", "robot-ip", "host-ip", "listen-host",
+                                "reverse-port", "script-port", "trajectory-port", "script-command-port", "rtde-port",
+                                "read-timeout-ms", "keepalive-ms", "point-type", "gripper", "gripper-host",
+                                "gripper-port"},
+                    .flags = {"sim-refuse", "quiet"}});
+  dispatch::AgentOptions agent;
+  agent.server_url = args.require("server");
+  agent.robot = args.require("robot");
+  agent.token = readToken(args.require("token-file"));
+  agent.report_hz = args.number("report-hz", 50.0);
+  DASH_THROW_UNLESS(agent.report_hz >= 1.0, "--report-hz must be at least 1");
+  if (args.has("sim-drop-at")) agent.drop_at = args.number("sim-drop-at", 0.0);
+  const bool quiet = args.has("quiet");
+  if (!quiet) {
+    agent.log = [](const std::string& line) {
+      std::fprintf(stderr, "dashbench controller: %s\n", line.c_str());
+      std::fflush(stderr);
+    };
+  }
+  const std::string driver_name = args.require("driver");
+  const auto library = RobotLibrary::loadDefault();
+  const RobotModel& model = library->get(args.get("model", "ur5e"));
+
+  std::unique_ptr<dispatch::ArmDriver> driver;
+  if (driver_name == "sim") {
+    dispatch::SimDriverOptions sim;
+    if (args.has("sim-start")) {
+      const auto q = parseNumberList(args.require("sim-start"), "--sim-start");
+      DASH_THROW_UNLESS(static_cast<int>(q.size()) == model.dof(),
+                        "--sim-start: expected " + std::to_string(model.dof()) + " numbers");
+      sim.initial = JointVector::Map(q.data(), static_cast<Eigen::Index>(q.size()));
+    }
+    sim.speed = args.number("sim-speed", 1.0);
+    DASH_THROW_UNLESS(sim.speed > 0.0, "--sim-speed must be positive");
+    if (args.has("sim-stop-at")) sim.stop_at = args.number("sim-stop-at", 0.0);
+    sim.refuse = args.has("sim-refuse");
+    driver = std::make_unique<dispatch::SimDriver>(model, sim);
+  } else if (driver_name == "ur") {
+    dispatch::UrDriverOptions ur;
+    ur.robot_ip = args.require("robot-ip");
+    ur.host_ip = args.get("host-ip", "");
+    ur.listen_host = args.get("listen-host", "0.0.0.0");
+    ur.reverse_port = port(args, "reverse-port", 50001);
+    ur.script_port = port(args, "script-port", 50002);
+    ur.trajectory_port = port(args, "trajectory-port", 50003);
+    ur.script_command_port = port(args, "script-command-port", 50004);
+    ur.rtde_port = port(args, "rtde-port", 30004);
+    ur.read_timeout_ms = static_cast<int>(args.integer("read-timeout-ms", 100));
+    ur.keepalive_ms = static_cast<int>(args.integer("keepalive-ms", 10));
+    const std::string point_type = args.get("point-type", "spline");
+    DASH_THROW_UNLESS(point_type == "spline" || point_type == "movej", "--point-type: spline or movej");
+    ur.point_type = point_type == "spline" ? dispatch::ur::PointType::kSpline : dispatch::ur::PointType::kMovej;
+    const std::string gripper = args.get("gripper", "none");
+    DASH_THROW_UNLESS(gripper == "robotiq" || gripper == "none", "--gripper: robotiq or none");
+    ur.gripper = gripper == "robotiq";
+    ur.gripper_host = args.get("gripper-host", "");
+    ur.gripper_port = port(args, "gripper-port", dispatch::robotiq::kPort);
+    auto ur_driver = std::make_unique<dispatch::UrDriver>(model, ur);
+    const auto p = ur_driver->ports();
+    if (!quiet) {
+      std::fprintf(stderr,
+                   "dashbench controller: %s: listening for the robot on %s: reverse %d, script %d, trajectory %d, "
+                   "script command %d; RTDE from %s:%d\n",
+                   agent.robot.c_str(), ur.listen_host.c_str(), p.reverse, p.script, p.trajectory, p.script_command,
+                   ur.robot_ip.c_str(), ur.rtde_port);
+    }
+    driver = std::move(ur_driver);
+  } else {
+    throw InputError("--driver: expected sim or ur, got '" + driver_name + "'");
+  }
+
+  struct sigaction action {};
+  action.sa_handler = onSignal;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  std::signal(SIGPIPE, SIG_IGN);
+
+  dispatch::ControllerAgent controller(agent, *driver);
+  if (!quiet) {
+    std::fprintf(stderr, "dashbench controller: %s (%s driver, %s) -> %s\n", agent.robot.c_str(), driver_name.c_str(),
+                 model.name.c_str(), agent.server_url.c_str());
+  }
+  controller.start();
+  while (!g_stop) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  driver->abort("the controller is stopping");
+  controller.stop();
+  driver->shutdown();
+  return kExitOk;
+}
+
+}  // namespace dash::cli

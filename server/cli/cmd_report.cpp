@@ -1,0 +1,45 @@
+// dashbench report: the paper's tables (representation sizes, time breakdown, success rates) from
+// a results database, per scenario family, medians across seeds.
+#include <cstdio>
+#include <string>
+
+#include "engine/log/results_db.h"
+#include "server/batch/batch_report.h"
+#include "server/cli/args.h"
+#include "server/cli/command.h"
+
+namespace dash::cli {
+
+extern const char* const kReportHelp;
+const char* const kReportHelp =
+    "usage: dashbench report DB [--batch ID] [--all-runs]\n"
+    "Per scenario family, one row per (parameters, planner configuration), medians across seeds:\n"
+    "  - representation sizes: vertices (V) and hyperarcs (A) of H_T, H_TE, H_M and H_ME;\n"
+    "  - time breakdown from the phase totals: task construction, task query, task conflict\n"
+    "    detection, motion construction, motion query, conflict resolution, and the total;\n"
+    "  - success rate: solved runs of the finished ones, with timeouts, infeasible and crashed.\n"
+    "  --batch ID    only the runs of batch ID (default: every run of DB)\n"
+    "  --all-runs    sizes and times over every finished run, not only the solved ones\n"
+    "Runs still running and cancelled runs are left out.\n";
+
+int runReport(const std::vector<std::string>& words) {
+  Args args(words, {.options = {"batch"}, .flags = {"all-runs"}});
+  DASH_THROW_UNLESS(args.positional().size() == 1, "report needs exactly one results database DB");
+  try {
+    const log::ResultsDb db(args.positional()[0], log::OpenMode::ReadOnly);
+    if (auto id = args.get("batch")) {
+      bool known = false;
+      for (const auto& b : db.listBatches()) known |= b.id == *id;
+      DASH_THROW_UNLESS(known, "no batch " + *id + " in " + args.positional()[0]);
+    }
+    const std::string text = batch::formatReport(
+        db, batch::ReportOptions{.batch_id = args.get("batch", ""), .include_unsolved = args.has("all-runs")});
+    std::fputs(text.c_str(), stdout);
+  } catch (const log::DbError& e) {
+    std::fprintf(stderr, "dashbench report: database error: %s\n", e.what());
+    return kExitProblems;
+  }
+  return kExitOk;
+}
+
+}  // namespace dash::cli

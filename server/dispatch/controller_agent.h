@@ -1,0 +1,80 @@
+#pragma once
+// The controller agent: runs next to one arm (`dashbench controller`), connects to the dispatch
+// server, takes its commands from a server-sent event stream (dispatch_protocol.h) and reports the
+// arm's joint states and status back in batched POSTs (50 Hz while a goal is armed or running).
+// It reconnects on its own after a dropped connection; if the connection drops while the arm is
+// moving, it stops the arm first (the server aborts the other arms on its side).
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "server/dispatch/arm_driver.h"
+
+namespace dash::dispatch {
+
+struct AgentOptions {
+  std::string server_url;  ///< "http://host:port"
+  std::string robot;       ///< the scene robot's id
+  std::string token;       ///< sent as "Authorization: Bearer TOKEN"
+  double sample_hz = 100.0;       ///< joint state samples per second
+  double report_hz = 50.0;        ///< POSTs per second while a goal is armed or running
+  double idle_report_hz = 10.0;   ///< POSTs per second otherwise
+  double reconnect_delay = 0.25;  ///< s before reconnecting (doubles up to max_reconnect_delay)
+  double max_reconnect_delay = 2.0;
+  double stream_timeout = 1.0;    ///< s of silence on the stream (pings come every 50 ms) = lost server
+  std::optional<double> drop_at;  ///< fault injection: s after a start, drop the connection once
+  double drop_for = 0.5;          ///< s to stay away after that drop
+  std::function<void(const std::string&)> log;  ///< progress lines (may be empty)
+};
+
+class ControllerAgent {
+ public:
+  ControllerAgent(AgentOptions options, ArmDriver& driver);
+  ~ControllerAgent();
+  ControllerAgent(const ControllerAgent&) = delete;
+  ControllerAgent& operator=(const ControllerAgent&) = delete;
+
+  void start();
+  void stop();  ///< idempotent; the destructor calls it
+
+  bool connected() const;
+  int connections() const;  ///< command streams opened so far (1 + reconnections)
+  /// Estimated server clock minus local steady clock, in microseconds.
+  std::int64_t clockOffsetUs() const;
+
+ private:
+  void streamLoop();
+  void reportLoop();
+  bool handleEvent(const std::string& event, const std::string& data);
+  void log(const std::string& line) const;
+  void kick();  ///< report now (a status change)
+
+  AgentOptions options_;
+  ArmDriver& driver_;
+  mutable std::mutex mutex_;
+  std::condition_variable cv_;
+  std::atomic<bool> stopping_{false};
+  bool connected_ = false;
+  bool reconnect_ = false;  ///< the server called our session stale
+  std::string session_;
+  int connections_ = 0;
+  std::string dispatch_id_;
+  std::optional<std::int64_t> start_local_us_;  ///< local steady time of the current goal's start
+  bool dropped_ = false;
+  std::int64_t away_until_us_ = 0;
+  bool kicked_ = false;
+  // Clock offset: the estimate from the round trip with the smallest delay among the recent ones.
+  std::int64_t offset_us_ = 0;
+  bool offset_known_ = false;
+  std::deque<std::pair<std::int64_t, std::int64_t>> offset_samples_;  ///< (rtt, offset)
+  std::thread stream_thread_, report_thread_;
+};
+
+}  // namespace dash::dispatch

@@ -1,0 +1,135 @@
+#include "server/dispatch/dispatch_json.h"
+
+#include "server/dispatch/json_util.h"
+
+namespace dash::dispatch {
+
+using json_util::Json;
+using namespace json_util;
+
+namespace {
+
+Json resultJson(ResultCode code, const std::string& message) {
+  return {{"code", static_cast<int>(code)}, {"name", resultCodeName(code)}, {"message", message}};
+}
+
+Json controllerJson(const ControllerInfo& c, std::int64_t now_us) {
+  Json j = {{"robot", c.robot},
+            {"driver", c.driver},
+            {"model", c.model},
+            {"connected", c.connected},
+            {"ready", c.ready},
+            {"detail", c.detail},
+            {"status", armStatusName(c.status)},
+            {"dispatch_id", c.dispatch_id},
+            {"result", resultJson(c.result, c.message)},
+            {"gripper", c.gripper},
+            {"joint_names", c.joint_names},
+            {"reconnects", c.reconnects}};
+  j["q"] = c.last_sample ? vec(c.last_sample->q) : Json(nullptr);
+  j["state_age"] = c.last_report_us != 0 ? Json((now_us - c.last_report_us) * 1e-6) : Json(nullptr);
+  j["connected_for"] = c.connected ? Json((now_us - c.connected_since_us) * 1e-6) : Json(nullptr);
+  return j;
+}
+
+Json preflightJson(const PreflightReport& report) {
+  Json checks = Json::array();
+  for (const PreflightCheck& c : report.checks) {
+    checks.push_back({{"name", c.name}, {"robot", c.robot}, {"passed", c.passed}, {"message", c.message}});
+  }
+  return {{"passed", report.passed}, {"reason", report.reason()}, {"checks", checks}};
+}
+
+std::string textOf(const Json& value, const std::string& what) {
+  if (value.is_string()) return value.get<std::string>();
+  DASH_THROW_UNLESS(value.is_object(), what + ": expected a JSON object (or its text)");
+  return value.dump();
+}
+
+}  // namespace
+
+std::string controllerToJson(const ControllerInfo& c, std::int64_t now_us) { return controllerJson(c, now_us).dump(); }
+
+std::string controllersToJson(const std::vector<ControllerInfo>& list, std::int64_t now_us) {
+  Json a = Json::array();
+  for (const ControllerInfo& c : list) a.push_back(controllerJson(c, now_us));
+  return Json{{"controllers", a}}.dump();
+}
+
+std::string preflightToJson(const PreflightReport& report) { return preflightJson(report).dump(); }
+
+std::string dispatchStatusToJson(const DispatchStatus& s) {
+  Json arms = Json::array();
+  for (const ArmDispatchStatus& a : s.arms) {
+    Json aj = {{"robot", a.robot},
+               {"driver", a.driver},
+               {"status", armStatusName(a.status)},
+               {"done", a.done},
+               {"result", resultJson(a.result, a.message)},
+               {"duration", a.duration},
+               {"t", a.last_sample_t},
+               {"planned", vec(a.planned)},
+               {"actual", vec(a.actual)},
+               {"deviation", a.deviation},
+               {"max_deviation", a.max_deviation},
+               {"samples", a.samples}};
+    if (!a.trace.empty()) {
+      Json trace = Json::array();
+      for (const TracePoint& p : a.trace) trace.push_back(Json::array({p.t, vec(p.planned), vec(p.actual)}));
+      aj["trace"] = trace;
+    }
+    arms.push_back(aj);
+  }
+  return Json{{"id", s.id},
+              {"state", dispatchStateName(s.state)},
+              {"reason", s.reason},
+              {"final", s.final},
+              {"scene", s.scene},
+              {"planner", s.planner},
+              {"time_scale", s.time_scale},
+              {"duration", s.duration},
+              {"elapsed", s.elapsed},
+              {"tolerances",
+               {{"start", s.start_tolerance}, {"path", s.path_tolerance}, {"goal", s.goal_tolerance}}},
+              {"arms", arms}}
+      .dump();
+}
+
+DispatchRequestBody parseDispatchRequest(const std::string& body) {
+  const std::string w = "request";
+  const Json j = parseObject(body, w);
+  DispatchRequestBody out;
+  if (j.contains("run_id")) {
+    const Json& id = j["run_id"];
+    DASH_THROW_UNLESS(id.is_string() || id.is_number_integer(), "request.run_id: expected a string or an integer");
+    out.run_id = id.is_string() ? id.get<std::string>() : std::to_string(id.get<long long>());
+    DASH_THROW_UNLESS(!out.run_id.empty(), "request.run_id: empty");
+  } else {
+    out.plan_json = textOf(field(j, "plan", w), "request.plan");
+    out.scene_json = textOf(field(j, "scene", w), "request.scene");
+  }
+  if (j.contains("options")) {
+    const Json& o = j["options"];
+    DASH_THROW_UNLESS(o.is_object(), "request.options: expected an object");
+    const std::string p = "request.options";
+    if (o.contains("start_delay")) out.options.start_delay = num(o, "start_delay", p);
+    if (o.contains("start_tolerance")) out.options.start_tolerance = num(o, "start_tolerance", p);
+    if (o.contains("path_tolerance")) out.options.path_tolerance = num(o, "path_tolerance", p);
+    if (o.contains("goal_tolerance")) out.options.goal_tolerance = num(o, "goal_tolerance", p);
+    out.options.time_scale = numOr(o, "time_scale", 1.0, p);
+    if (o.contains("validate_geometry")) out.options.validate_geometry = boolOr(o, "validate_geometry", true, p);
+    for (const char* key : {"start_delay", "start_tolerance", "path_tolerance", "goal_tolerance"}) {
+      DASH_THROW_UNLESS(!o.contains(key) || o[key].get<double>() >= 0.0, p + "." + key + ": must not be negative");
+    }
+    DASH_THROW_UNLESS(out.options.time_scale > 0.0, p + ".time_scale: must be positive");
+  }
+  return out;
+}
+
+std::string errorToJson(const std::string& kind, const std::string& reason, const PreflightReport* preflight) {
+  Json j = {{"error", kind}, {"reason", reason}};
+  if (preflight != nullptr) j["preflight"] = preflightJson(*preflight);
+  return j.dump();
+}
+
+}  // namespace dash::dispatch

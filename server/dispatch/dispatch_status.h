@@ -1,0 +1,66 @@
+#pragma once
+// The state of one dispatch (a plan sent to several arms), per arm planned vs actual.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "server/dispatch/dispatch_types.h"
+
+namespace dash::dispatch {
+
+enum class DispatchState {
+  kArming,     ///< goals sent, waiting for every agent to accept its goal
+  kRunning,    ///< start time sent; arms moving (or about to)
+  kSucceeded,  ///< every arm reached its goal
+  kFailed,     ///< an arm failed (its result says why); every arm was aborted
+  kAborted,    ///< aborted: on request, on a path deviation, a fault or a lost agent
+  kRefused,    ///< an agent refused its goal while arming; nothing moved
+};
+
+const char* dispatchStateName(DispatchState state);  ///< "arming", "running", ...
+inline bool isActive(DispatchState s) { return s == DispatchState::kArming || s == DispatchState::kRunning; }
+
+/// One point of an arm's planned-vs-actual trace (decimated for display).
+struct TracePoint {
+  double t = 0.0;  ///< s from the start
+  JointVector planned;
+  JointVector actual;
+};
+
+struct ArmDispatchStatus {
+  std::string robot;
+  std::string driver;
+  ArmStatus status = ArmStatus::kIdle;  ///< what the agent last reported for this dispatch
+  ResultCode result = ResultCode::kSuccessful;
+  std::string message;
+  bool done = false;  ///< the arm reported a final status (or was given up on)
+  double duration = 0.0;  ///< s: when this arm's goal ends
+  JointVector planned;    ///< planned position at the time of the last sample
+  JointVector actual;     ///< the last measured position
+  double deviation = 0.0;      ///< max |actual - planned| of the last sample
+  double max_deviation = 0.0;  ///< over the dispatch so far
+  double last_sample_t = 0.0;  ///< s from the start (negative before it)
+  int samples = 0;
+  std::vector<TracePoint> trace;  ///< filled only when asked for
+};
+
+struct DispatchStatus {
+  std::string id;
+  DispatchState state = DispatchState::kArming;
+  std::string reason;  ///< why it ended (empty while active and on success)
+  std::string scene;
+  std::string planner;
+  double time_scale = 1.0;
+  double duration = 0.0;  ///< s: the latest arm end time
+  std::int64_t created_us = 0;
+  std::int64_t start_time_us = 0;  ///< 0 until the start time is set
+  std::int64_t end_time_us = 0;    ///< 0 while active
+  double elapsed = 0.0;            ///< s since the start time (negative before it)
+  bool final = false;  ///< no arm report will change it any more
+  double path_tolerance = 0.0;
+  double start_tolerance = 0.0;
+  double goal_tolerance = 0.0;
+  std::vector<ArmDispatchStatus> arms;
+};
+
+}  // namespace dash::dispatch

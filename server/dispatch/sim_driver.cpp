@@ -1,0 +1,157 @@
+#include "server/dispatch/sim_driver.h"
+
+#include <algorithm>
+
+namespace dash::dispatch {
+
+using SteadyClock = std::chrono::steady_clock;
+
+SimDriver::SimDriver(const RobotModel& model, SimDriverOptions options)
+    : model_name_(model.name),
+      joint_names_(model.joint_names),
+      velocity_max_(model.limits.velocity_max),
+      options_(std::move(options)) {
+  q_ = options_.initial.size() == model.dof() ? options_.initial : JointVector::Zero(model.dof());
+  qd_ = JointVector::Zero(model.dof());
+  thread_ = std::thread([this] { loop(); });
+}
+
+SimDriver::~SimDriver() { shutdown(); }
+
+void SimDriver::shutdown() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  cv_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+bool SimDriver::ready(std::string& detail) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const bool busy = progress_.status == ArmStatus::kArmed || progress_.status == ArmStatus::kExecuting;
+  detail = busy ? "running a goal" : "simulated arm";
+  return !busy;
+}
+
+DriverState SimDriver::state() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return {true, q_, qd_, stamp_us_};
+}
+
+ResultCode SimDriver::load(const ArmTrajectory& trajectory, const GoalLimits& limits, std::string& message) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (progress_.status == ArmStatus::kArmed || progress_.status == ArmStatus::kExecuting) {
+    message = "busy with another goal";
+    return ResultCode::kInvalidGoal;
+  }
+  ResultCode code = ResultCode::kSuccessful;
+  if (options_.refuse) {
+    code = ResultCode::kInvalidGoal;
+    message = "goal refused (--sim-refuse)";
+  } else {
+    code = checkGoal(trajectory, joint_names_, {true, q_, qd_}, velocity_max_, limits, message);
+  }
+  if (code != ResultCode::kSuccessful) {
+    progress_ = {ArmStatus::kFailed, code, message};
+    return code;
+  }
+  goal_ = trajectory;
+  limits_ = limits;
+  started_ = false;
+  next_gripper_ = 0;
+  gripper_log_.clear();
+  progress_ = {ArmStatus::kArmed, ResultCode::kSuccessful, ""};
+  return code;
+}
+
+void SimDriver::start(SteadyClock::time_point at) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (progress_.status != ArmStatus::kArmed) return;
+  start_time_ = at;
+  started_ = true;
+}
+
+void SimDriver::abort(const std::string& reason) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (progress_.status == ArmStatus::kArmed || progress_.status == ArmStatus::kExecuting) {
+    progress_ = {ArmStatus::kAborted, ResultCode::kCancelled, reason};
+    qd_.setZero();
+    started_ = false;
+    last_abort_ = SteadyClock::now();
+  }
+}
+
+DriverProgress SimDriver::progress() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return progress_;
+}
+
+std::string SimDriver::gripperState() const {
+  if (!options_.gripper) return "";
+  std::lock_guard<std::mutex> lock(mutex_);
+  return gripper_closed_ ? "closed" : "open";
+}
+
+std::optional<SteadyClock::time_point> SimDriver::lastAbortTime() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return last_abort_;
+}
+
+std::vector<std::pair<double, GripperCommand::Action>> SimDriver::gripperLog() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return gripper_log_;
+}
+
+void SimDriver::loop() {
+  const auto step = std::chrono::microseconds(static_cast<std::int64_t>(options_.step * 1e6));
+  auto last = SteadyClock::now();
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!stopping_) {
+    cv_.wait_for(lock, step, [&] { return stopping_; });
+    const auto now = SteadyClock::now();
+    const double dt = std::chrono::duration<double>(now - last).count();
+    last = now;
+    stepLocked(now, dt);
+    stamp_us_ = std::chrono::duration_cast<std::chrono::microseconds>(now.time_since_epoch()).count();
+  }
+}
+
+void SimDriver::stepLocked(SteadyClock::time_point now, double dt) {
+  const bool running = started_ && (progress_.status == ArmStatus::kArmed || progress_.status == ArmStatus::kExecuting);
+  if (!running || now < start_time_ || dt <= 0.0) {
+    qd_.setZero();
+    return;
+  }
+  progress_.status = ArmStatus::kExecuting;
+  const double elapsed = std::chrono::duration<double>(now - start_time_).count();
+  if (options_.stop_at && elapsed >= *options_.stop_at) {  // frozen: a silent stop
+    qd_.setZero();
+    return;
+  }
+  const double tau = elapsed * options_.speed;
+  const JointVector target = goal_.positionAt(tau);
+  const JointVector before = q_;
+  for (Eigen::Index j = 0; j < q_.size(); ++j) {
+    const double max_step = velocity_max_[j] * dt;
+    q_[j] += std::clamp(target[j] - q_[j], -max_step, max_step);
+  }
+  qd_ = (q_ - before) / dt;
+  while (next_gripper_ < goal_.gripper.size() && goal_.gripper[next_gripper_].t <= tau) {
+    const GripperCommand& g = goal_.gripper[next_gripper_++];
+    gripper_closed_ = g.action == GripperCommand::Action::kGrasp;
+    gripper_log_.emplace_back(elapsed, g.action);
+  }
+  const JointVector& goal = goal_.points.back().positions;
+  const bool at_goal = maxAbsDifference(q_, goal) <= limits_.goal_tolerance;
+  if (tau >= goal_.endTime() && at_goal) {
+    progress_ = {ArmStatus::kSucceeded, ResultCode::kSuccessful, ""};
+    qd_.setZero();
+  } else if (tau >= goal_.endTime() + limits_.goal_time_tolerance) {
+    progress_ = {ArmStatus::kFailed, ResultCode::kGoalToleranceViolated,
+                 "not within the goal tolerance " + std::to_string(limits_.goal_time_tolerance) + " s after the end"};
+    qd_.setZero();
+  }
+}
+
+}  // namespace dash::dispatch

@@ -1,0 +1,253 @@
+#include "server/http/http_server.h"
+
+#include <condition_variable>
+#include <cstdlib>
+#include <filesystem>
+#include <mutex>
+#include <thread>
+
+#include "engine/core/check.h"
+#include "engine/log/results_db.h"
+#include "engine/robots/robot_model.h"
+#include "server/batch/batch_store.h"
+#include "server/http/api_util.h"
+#include "server/http/batch_manager.h"
+#include "server/http/db_watcher.h"
+#include "server/http/event_hub.h"
+#include "server/http/routes.h"
+#include "server/http/scene_cache.h"
+#include "server/http/static_files.h"
+#if DASH_HTTP_WITH_DISPATCH
+#include "server/dispatch/dispatch_routes.h"
+#endif
+
+#include <httplib.h>  // last: see api_util.cpp
+
+namespace dash::http {
+
+namespace {
+
+bool isLoopbackName(const std::string& host) {
+  return host == "127.0.0.1" || host == "localhost" || host == "::1" || host == "[::1]";
+}
+
+/// The host name of a Host header, without the port.
+std::string hostName(const std::string& header) {
+  if (!header.empty() && header[0] == '[') {
+    const auto close = header.find(']');
+    return close == std::string::npos ? header : header.substr(0, close + 1);
+  }
+  return header.substr(0, header.find(':'));
+}
+
+const char* statusText(int status) {
+  switch (status) {
+    case 400: return "bad request";
+    case 401: return "unauthorized";
+    case 403: return "forbidden";
+    case 404: return "not found";
+    case 405: return "method not allowed";
+    case 413: return "request body too large";
+    case 414: return "request URI too long";
+    default: return status >= 500 ? "internal server error" : "request refused";
+  }
+}
+
+}  // namespace
+
+struct HttpServer::Impl {
+  explicit Impl(ServerOptions o)
+      : options(std::move(o)),
+        robots(RobotLibrary::loadDefault()),
+        files(options.web_root),
+        scenes(robots) {}
+
+  ServerOptions options;
+  std::shared_ptr<const RobotLibrary> robots;
+  EventHub hub;
+  StaticFiles files;
+  SceneCache scenes;
+  std::unique_ptr<BatchManager> batches;
+  std::unique_ptr<DbWatcher> watcher;
+  ApiContext ctx;
+#if DASH_HTTP_WITH_DISPATCH
+  std::unique_ptr<dispatch::DispatchService> dispatch;
+#endif
+  httplib::Server server;
+  std::thread thread;
+  int port = 0;
+  std::mutex mutex;
+  std::condition_variable cv;
+  bool started = false;
+  bool stopped = false;
+  bool finished = false;  ///< stop() is done
+
+  void configure();
+};
+
+std::string HttpServer::defaultWebRoot() {
+  if (const char* env = std::getenv("DASHBENCH_WEB"); env != nullptr && *env != '\0') return env;
+  return DASHBENCH_WEB_DIR;
+}
+
+HttpServer::HttpServer(ServerOptions options) {
+  if (options.web_root.empty()) options.web_root = defaultWebRoot();
+  DASH_THROW_UNLESS(!options.token.empty(), "the server needs a token");
+  DASH_THROW_UNLESS(options.port >= 0 && options.port <= 65535, "--port: out of range 0..65535");
+  DASH_THROW_UNLESS(options.max_body_bytes >= 1024, "the body size limit must be at least 1024 bytes");
+  DASH_THROW_UNLESS(std::filesystem::is_regular_file(std::filesystem::path(options.web_root) / "index.html"),
+                    "web root " + options.web_root + " has no index.html");
+  if (options.max_batch_workers <= 0) options.max_batch_workers = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+  const std::filesystem::path parent = std::filesystem::path(options.db_path).parent_path();
+  if (!parent.empty()) std::filesystem::create_directories(parent);
+  {
+    // Create and migrate the file, and the batch runner's tables, before any reader opens it.
+    log::ResultsDb db(options.db_path);
+    batch::BatchStore store(options.db_path);
+  }
+  impl_ = std::make_unique<Impl>(std::move(options));
+  impl_->configure();
+}
+
+HttpServer::~HttpServer() { stop(); }
+
+void HttpServer::Impl::configure() {
+  batches = std::make_unique<BatchManager>(BatchManagerOptions{.db_path = options.db_path,
+                                                               .executable = options.executable,
+                                                               .max_running = options.max_running_batches,
+                                                               .max_workers = options.max_batch_workers},
+                                           hub);
+  ctx.db_path = options.db_path;
+  ctx.token = options.token;
+  ctx.max_body_bytes = options.max_body_bytes;
+  ctx.hub = &hub;
+  ctx.batches = batches.get();
+  ctx.scenes = &scenes;
+  ctx.files = &files;
+  ctx.runs = RunQueries(options.db_path);
+  ctx.detail = RunDetail(options.db_path);
+  ctx.series = SeriesQueries(options.db_path);
+
+  const int threads = options.threads;
+  server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
+  server.set_payload_max_length(options.max_body_bytes);
+  server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
+                              {"X-Frame-Options", "DENY"},
+                              {"Referrer-Policy", "no-referrer"}});
+  if (isLoopbackName(options.host)) {
+    // A page on another site whose name resolves to 127.0.0.1 (DNS rebinding) sends its own Host.
+    server.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
+      const std::string host = hostName(req.get_header_value("Host"));
+      if (!host.empty() && !isLoopbackName(host)) {
+        replyError(res, 403, "this server answers requests to 127.0.0.1 or localhost only (Host: " + host + ")");
+        return httplib::Server::HandlerResponse::Handled;
+      }
+      return httplib::Server::HandlerResponse::Unhandled;
+    });
+  }
+  server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
+    if (res.body.empty()) replyError(res, res.status, statusText(res.status));
+  });
+  server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+    std::string what = "unknown exception";
+    try {
+      if (ep) std::rethrow_exception(ep);
+    } catch (const std::exception& e) {
+      what = e.what();
+    } catch (...) {
+    }
+    replyError(res, 500, "internal error: " + what);
+  });
+
+  registerCatalogRoutes(server, ctx);
+  registerBatchRoutes(server, ctx);
+  registerRunRoutes(server, ctx);
+  registerDataRoutes(server, ctx);
+  registerEventRoutes(server, ctx);
+#if DASH_HTTP_WITH_DISPATCH
+  if (options.dispatch) {
+    dispatch::DispatchConfig config;
+    config.library = robots;
+    config.resolve_run = [this](const std::string& run_id) -> std::optional<dispatch::PlanSource> {
+      try {
+        const std::optional<std::string> plan = ctx.detail.planText(run_id);
+        if (!plan) return std::nullopt;
+        const RunScenario s = ctx.detail.scenario(run_id);
+        return dispatch::PlanSource{.plan_json = *plan, .scene_json = scenes.sceneJson(s.family, s.params, s.seed)};
+      } catch (const HttpError&) {
+        return std::nullopt;
+      }
+    };
+    dispatch = std::make_unique<dispatch::DispatchService>(std::move(config));
+    const std::string token = options.token;
+    dispatch::registerDispatchRoutes(server, *dispatch,
+                                     [token](const httplib::Request& req) { return hasToken(req, token); });
+    ctx.dispatch_mounted = true;
+  }
+#endif
+  registerStaticRoutes(server, ctx);
+}
+
+int HttpServer::start() {
+  Impl& m = *impl_;
+  {
+    std::lock_guard lock(m.mutex);
+    DASH_THROW_UNLESS(!m.started, "the server was started already");
+    m.started = true;
+  }
+  int port = m.options.port;
+  if (port == 0) {
+    port = m.server.bind_to_any_port(m.options.host);
+  } else if (!m.server.bind_to_port(m.options.host, port)) {
+    port = -1;
+  }
+  DASH_THROW_UNLESS(port > 0, "cannot listen on " + m.options.host + ":" + std::to_string(m.options.port) +
+                                  " (is another server using the port?)");
+  m.port = port;
+  m.watcher = std::make_unique<DbWatcher>(m.options.db_path, m.hub, m.options.poll_seconds);
+  m.thread = std::thread([&m] { m.server.listen_after_bind(); });
+  return port;
+}
+
+void HttpServer::stop() {
+  if (!impl_) return;
+  Impl& m = *impl_;
+  {
+    std::lock_guard lock(m.mutex);
+    if (m.stopped) return;
+    m.stopped = true;
+  }
+  m.hub.close();
+  m.batches->shutdown();
+  if (m.watcher) m.watcher->stop();
+#if DASH_HTTP_WITH_DISPATCH
+  if (m.dispatch) m.dispatch->shutdown();
+#endif
+  m.server.stop();
+  if (m.thread.joinable()) m.thread.join();
+  {
+    std::lock_guard lock(m.mutex);
+    m.finished = true;
+  }
+  m.cv.notify_all();
+}
+
+void HttpServer::wait() {
+  Impl& m = *impl_;
+  std::unique_lock lock(m.mutex);
+  m.cv.wait(lock, [&] { return m.finished; });
+}
+
+int HttpServer::port() const { return impl_->port; }
+
+std::string HttpServer::url() const {
+  const std::string& h = impl_->options.host;
+  const std::string host = h == "0.0.0.0" || h.empty() ? "127.0.0.1" : (h.find(':') != std::string::npos ? "[" + h + "]" : h);
+  return "http://" + host + ":" + std::to_string(impl_->port);
+}
+
+bool HttpServer::dispatchMounted() const { return impl_->ctx.dispatch_mounted; }
+
+const ServerOptions& HttpServer::options() const { return impl_->options; }
+
+}  // namespace dash::http

@@ -1,0 +1,110 @@
+// GET /api/health, /api/info, /api/scenarios, /api/scenarios/FAMILY, /api/planners, /api/robots.
+#include <filesystem>
+#include <fstream>
+
+#include "engine/core/paths.h"
+#include "engine/log/db_tools.h"
+#include "engine/log/results_db.h"
+#include "engine/planners/planner.h"
+#include "engine/scenarios/scenario_registry.h"
+#include "server/http/api_json.h"
+#include "server/http/api_util.h"
+#include "server/http/routes.h"
+
+#include <httplib.h>  // last: see api_util.cpp
+
+namespace dash::http {
+
+namespace {
+
+Json familyJson(const ScenarioFamily& f) {
+  Json params = Json::array();
+  for (const ParamSpec& p : f.params) {
+    params.push_back({{"name", p.name},
+                      {"default", p.default_value},
+                      {"min", p.min},
+                      {"max", p.max},
+                      {"even_only", p.even_only},
+                      {"range", p.rangeText()},
+                      {"meaning", p.meaning}});
+  }
+  return {{"name", f.name}, {"summary", f.summary}, {"params", params}};
+}
+
+Json plannersJson() {
+  // The settings a batch spec accepts per planner (batch_spec.h); test_fault is for tests only.
+  Json settings = Json::array({{{"name", "task_only"},
+                                {"type", "bool"},
+                                {"default", false},
+                                {"meaning", "stop after the task layer (an unvalidated schedule, no motions)"}}});
+  Json list = Json::array();
+  for (const std::string& name : plannerNames()) list.push_back({{"name", name}, {"settings", settings}});
+  return list;
+}
+
+/// The robot model files (data/robots/*.json) as they are: the 3D view poses their collision bodies.
+Json robotModelsJson() {
+  Json models = Json::object();
+  const std::filesystem::path dir = std::filesystem::path(dataDirectory()) / "robots";
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".json") continue;
+    std::ifstream in(entry.path());
+    const Json model = Json::parse(in, nullptr, false);
+    if (model.is_object() && model.contains("model") && model["model"].is_string()) {
+      models[model["model"].get<std::string>()] = model;
+    }
+  }
+  return models;
+}
+
+}  // namespace
+
+void registerCatalogRoutes(httplib::Server& server, ApiContext& ctx) {
+  server.Get("/api/health", guarded([&ctx](const httplib::Request&, httplib::Response& res) {
+               replyJson(res, 200,
+                         Json{{"ok", true},
+                              {"version", DASHBENCH_VERSION},
+                              {"db", ctx.db_path},
+                              {"dispatch", ctx.dispatch_mounted},
+                              {"max_body_bytes", ctx.max_body_bytes},
+                              {"max_workers", ctx.batches->options().max_workers}}
+                             .dump());
+             }));
+
+  server.Get("/api/info", guarded([&ctx](const httplib::Request&, httplib::Response& res) {
+               const log::ResultsDb db(ctx.db_path, log::OpenMode::ReadOnly);
+               const log::DbInfo info = db.info();
+               replyJson(res, 200,
+                         Json{{"path", info.path},
+                              {"schema_version", info.schema_version},
+                              {"runs", info.runs},
+                              {"runs_by_status", info.runs_by_status},
+                              {"experiments", info.experiments},
+                              {"planner_configs", info.planner_configs},
+                              {"batches", info.batches},
+                              {"events", info.events}}
+                             .dump());
+             }));
+
+  server.Get("/api/scenarios", guarded([](const httplib::Request&, httplib::Response& res) {
+               Json list = Json::array();
+               for (const ScenarioFamily& f : scenarioFamilies()) list.push_back(familyJson(f));
+               replyJson(res, 200, Json{{"families", list}, {"planners", plannersJson()}}.dump());
+             }));
+
+  server.Get(R"(/api/scenarios/([A-Za-z0-9_\-]+))", guarded([](const httplib::Request& req, httplib::Response& res) {
+               const ScenarioFamily* f = findScenarioFamily(req.matches[1]);
+               if (f == nullptr) throw HttpError(404, "no scenario family '" + std::string(req.matches[1]) + "'");
+               replyJson(res, 200, familyJson(*f).dump());
+             }));
+
+  server.Get("/api/robots", guarded([](const httplib::Request&, httplib::Response& res) {
+               replyJson(res, 200, Json{{"models", robotModelsJson()}}.dump());
+             }));
+
+  server.Get("/api/planners", guarded([](const httplib::Request&, httplib::Response& res) {
+               replyJson(res, 200, Json{{"planners", plannersJson()}}.dump());
+             }));
+}
+
+}  // namespace dash::http

@@ -1,0 +1,99 @@
+// /api/series and /api/compare/overview (the Compare page's plots), /api/query (the read-only SQL
+// console, with the guards of `dashbench db query`) and /api/query/examples.
+#include "engine/log/db_query.h"
+#include "server/http/api_json.h"
+#include "server/http/api_util.h"
+#include "server/http/routes.h"
+
+#include <httplib.h>  // last: see api_util.cpp
+
+namespace dash::http {
+
+namespace {
+
+constexpr std::int64_t kMaxQueryRows = 10000;
+constexpr double kQueryTimeout = 10.0;
+
+const char* guardName(log::QueryGuard g) {
+  switch (g) {
+    case log::QueryGuard::Write: return "write";
+    case log::QueryGuard::Attach: return "attach";
+    case log::QueryGuard::Pragma: return "pragma";
+    case log::QueryGuard::Transaction: return "transaction";
+    case log::QueryGuard::OneStatement: return "one_statement";
+    case log::QueryGuard::TimeLimit: return "time_limit";
+  }
+  return "guard";
+}
+
+Json examples() {
+  auto q = [](const char* title, const char* sql) { return Json{{"title", title}, {"sql", sql}}; };
+  return Json::array({
+      q("Runs per status", "SELECT status, count(*) AS runs FROM dash_runs GROUP BY status ORDER BY runs DESC"),
+      q("Mean time per configuration and object count (solved runs)",
+        "SELECT c.name AS config, r.family, json_extract(r.params, '$.objects') AS objects, count(*) AS runs,\n"
+        "       round(avg(r.total_time), 4) AS mean_total_s, round(avg(r.time_task_query), 4) AS mean_task_query_s\n"
+        "FROM dash_runs r JOIN dash_planner_configs c ON c.id = r.planner_config_id\n"
+        "WHERE r.status = 'solved' GROUP BY 1, 2, 3 ORDER BY 1, 2, 3"),
+      q("Largest representations",
+        "SELECT uuid, family, params, task_vertices, task_hyperarcs, motion_vertices, motion_hyperarcs\n"
+        "FROM dash_runs ORDER BY motion_vertices DESC, task_vertices DESC LIMIT 20"),
+      q("Constraints and the conflicts that caused them",
+        "SELECT r.uuid, k.t, k.iteration, k.kind, k.action, k.content, k.conflict\n"
+        "FROM dash_constraints k JOIN dash_runs r ON r.id = k.run_id ORDER BY r.id, k.t LIMIT 200"),
+      q("Runs that did not solve, and why",
+        "SELECT uuid, family, params, planner, status, error, exit_signal FROM dash_runs\n"
+        "WHERE status NOT IN ('solved', 'running') ORDER BY id DESC LIMIT 50"),
+      q("Tagged runs", "SELECT r.uuid, t.tag, r.note FROM dash_run_tags t JOIN dash_runs r ON r.id = t.run_id ORDER BY t.tag"),
+      q("Planner Arena's runs view", "SELECT * FROM runs LIMIT 20"),
+      q("Tables and views", "SELECT type, name FROM sqlite_schema WHERE type IN ('table', 'view') ORDER BY type, name"),
+  });
+}
+
+}  // namespace
+
+void registerDataRoutes(httplib::Server& server, ApiContext& ctx) {
+  server.Get("/api/series", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
+               SeriesRequest r;
+               r.family = param(req, "family");
+               r.x = param(req, "x", "objects");
+               r.group_by = param(req, "group_by", "config");
+               r.filter = param(req, "q");
+               r.include_unsolved = param(req, "include_unsolved", "0") == "1";
+               replyJson(res, 200, ctx.series.seriesJson(r));
+             }));
+
+  server.Get("/api/compare/overview", guarded([&ctx](const httplib::Request&, httplib::Response& res) {
+               replyJson(res, 200, ctx.series.overviewJson());
+             }));
+
+  server.Get("/api/query/examples", guarded([](const httplib::Request&, httplib::Response& res) {
+               replyJson(res, 200, Json{{"examples", examples()}}.dump());
+             }));
+
+  // Read-only by construction (db_query.h), so it needs no token; it is a POST only because SQL is long.
+  server.Post("/api/query", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
+                const Json body = parseBodyObject(req);
+                if (!body.contains("sql") || !body["sql"].is_string()) throw HttpError(400, "sql: expected a string");
+                std::int64_t max_rows = 1000;
+                if (body.contains("max_rows")) {
+                  if (!body["max_rows"].is_number_integer()) throw HttpError(400, "max_rows: expected an integer");
+                  max_rows = body["max_rows"].get<std::int64_t>();
+                  if (max_rows < 1 || max_rows > kMaxQueryRows) {
+                    throw HttpError(400, "max_rows: out of range 1.." + std::to_string(kMaxQueryRows));
+                  }
+                }
+                try {
+                  const log::SqlRows rows = log::runReadOnlyQuery(
+                      ctx.db_path, body["sql"].get<std::string>(),
+                      log::QueryLimits{.max_rows = max_rows, .timeout_seconds = kQueryTimeout});
+                  Json out = rowsToJson(rows);
+                  out["max_rows"] = max_rows;
+                  replyJson(res, 200, out.dump());
+                } catch (const log::QueryRefused& e) {
+                  replyJson(res, 403, Json{{"error", std::string("refused: ") + e.what()}, {"guard", guardName(e.guard())}}.dump());
+                }
+              }));
+}
+
+}  // namespace dash::http

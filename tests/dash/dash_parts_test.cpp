@@ -1,0 +1,206 @@
+// The layers of the DaSH baseline one by one, on a two-robot sorting scene.
+#include <gtest/gtest.h>
+
+#include <unordered_set>
+
+#include "engine/collision/collision_queries.h"
+#include "engine/collision/segment_queries.h"
+#include "engine/dash/combined_query.h"
+#include "engine/dash/dash_task_graph.h"
+#include "engine/dash/motion_hypergraph.h"
+#include "engine/dash/plan_extraction.h"
+#include "engine/log/memory_sink.h"
+#include "engine/motion/lazy_roadmap.h"
+#include "engine/robots/kinematics.h"
+#include "engine/task/geometric_reachability.h"
+#include "engine/task/task_hypergraph.h"
+#include "tests/dash/dash_test_util.h"
+
+namespace dash {
+namespace {
+
+// Everything up to the motion hypergraph for one scene, as DashPlanner builds it (no pre-sampled
+// placements: the tests below count elements).
+struct Built {
+  explicit Built(Scene s) : scene(std::move(s)), world(scene), context(world), space(scene), sampler(world, context),
+                            reach(sampler) {
+    seedOmplOnce(1);
+    task_graph = buildDashTaskGraph(space, reach.oracle());
+    catalog = sampleTransitions(sampler, space, task_graph, {}, Deadline());
+  }
+  void buildMotion(log::EventEmitter& emitter) {
+    motion = std::make_unique<MotionHypergraph>(space, catalog, emitter);
+    for (int r = 0; r < world.robotCount(); ++r)
+      for (int holding = 0; holding < 2; ++holding) {
+        roadmaps.push_back(std::make_unique<ValidatedRoadmap>(world, context, r));
+        roadmaps.back()->growTo(60, Deadline());
+      }
+    motion->connectMoves(roadmaps, {}, Deadline());
+  }
+
+  Scene scene;
+  CollisionWorld world;
+  CollisionContext context;
+  TaskSpace space;
+  TransitionSampler sampler;
+  GeometricReachability reach;
+  DashTaskGraph task_graph;
+  TransitionCatalog catalog;
+  std::unique_ptr<MotionHypergraph> motion;
+  RoadmapSet roadmaps;
+};
+
+Built& sorting22() {
+  static Built built(test::dashScene("sorting", {{"robots", "2"}, {"objects", "2"}}));
+  return built;
+}
+
+TEST(DashTaskGraph, ObjectElementsAreLocationFree) {
+  const Built& b = sorting22();
+  int objects = 0;
+  for (VertexId v : b.task_graph.vertices()) {
+    const TaskElement& e = b.task_graph.property(v);
+    if (e.kind != ElementKind::kObjectAt) continue;
+    ++objects;
+    EXPECT_EQ(e.location, -1);
+  }
+  EXPECT_EQ(objects, static_cast<int>(b.scene.objects.size()));
+  // Lazy-DaSH's H_T keeps a start and a goal element per object: DaSH's is smaller.
+  TaskHypergraph lazy;
+  GeometricReachability reach(const_cast<TransitionSampler&>(b.sampler));
+  lazy.build(b.space, reach.oracle());
+  EXPECT_LT(b.task_graph.vertexCount(), lazy.graph().vertexCount());
+  int picks = 0, places = 0, handovers = 0;
+  for (HyperarcId a : b.task_graph.hyperarcs()) {
+    const TaskArc& arc = b.task_graph.property(a);
+    picks += arc.type == TaskArcType::kPick;
+    places += arc.type == TaskArcType::kPlace;
+    handovers += arc.type == TaskArcType::kHandover;
+  }
+  EXPECT_GT(picks, 0);
+  EXPECT_EQ(picks, places);
+  EXPECT_GT(handovers, 0);  // cross sorting with two robots needs one handover per object
+}
+
+TEST(DashTransitions, EveryConfigurationIsStaticallyFreeAndGraspsTheObject) {
+  Built& b = sorting22();
+  ASSERT_FALSE(b.catalog.grasps.empty());
+  ASSERT_FALSE(b.catalog.handovers.empty());
+  const ObjectLayout none = ObjectLayout::empty(b.scene);
+  for (const GraspSample& g : b.catalog.grasps) {
+    const SceneRobot& r = b.scene.robots[g.robot];
+    const Pose X_WT = forwardKinematics(*r.model, r.X_WB, g.q).X_WT;
+    const Pose& X_WO = b.space.location(g.object, g.placement).X_WO;
+    EXPECT_LT(translationDistance(X_WT * g.held.X_TO, X_WO), 1e-6);
+    EXPECT_FALSE(robotInCollision(b.world, b.context, {g.robot, g.q, g.held}, none));
+    EXPECT_FALSE(robotInCollision(b.world, b.context, {g.robot, g.q_pre, {}}, none));
+    EXPECT_FALSE(robotInCollision(b.world, b.context, {g.robot, g.q_hold, g.held}, none));
+  }
+  for (const HandoverSample& h : b.catalog.handovers) {
+    const RobotState both[2] = {{h.giver, h.q1, h.held}, {h.receiver, h.q2, {}}};
+    EXPECT_FALSE(robotsInCollision(b.world, b.context, both, none, nullptr, CheckScope::kStaticOnly));
+    const SceneRobot& g = b.scene.robots[h.giver];
+    const SceneRobot& r = b.scene.robots[h.receiver];
+    EXPECT_LT(translationDistance(forwardKinematics(*g.model, g.X_WB, h.q1).X_WT * h.held.X_TO, h.X_WO), 1e-6);
+    EXPECT_LT(translationDistance(forwardKinematics(*r.model, r.X_WB, h.q2).X_WT * h.held2.X_TO, h.X_WO), 1e-6);
+    EXPECT_TRUE(handoverClassesCompatible(h.grasp, h.grasp2));
+  }
+}
+
+TEST(ValidatedRoadmap, PathsAreValidAndPlanAvoidsRestingObjects) {
+  Built& b = sorting22();
+  ValidatedRoadmap roadmap(b.world, b.context, 0);
+  roadmap.growTo(80, Deadline());
+  EXPECT_EQ(roadmap.milestoneCount(), 80u);
+  const int s = roadmap.space({});
+  const GraspSample* g = nullptr;
+  for (const GraspSample& c : b.catalog.grasps)
+    if (c.robot == 0) g = &c;
+  ASSERT_NE(g, nullptr);
+  const JointVector& home = b.scene.robots[0].home;
+  const int a = roadmap.anchor(s, home);
+  const int z = roadmap.anchor(s, g->q_pre);
+  EXPECT_EQ(roadmap.anchor(s, home), a);  // the same configuration is the same vertex
+  const auto tree = roadmap.shortestPaths(s, a);
+  const auto path = roadmap.pathTo(s, tree, z);
+  ASSERT_GE(path.size(), 2u);
+  EXPECT_EQ(path.front(), home);
+  EXPECT_EQ(path.back(), g->q_pre);
+  const ObjectLayout none = ObjectLayout::empty(b.scene);
+  for (std::size_t i = 1; i < path.size(); ++i)
+    EXPECT_FALSE(segmentInCollision(b.world, b.context, {0, path[i - 1], {}}, path[i], none));
+  // With every object resting at its start, plan() returns a path free of them too (or none).
+  MotionContext ctx{{}, ObjectLayout::atStart(b.scene), {}};
+  if (auto p = roadmap.plan(home, g->q_pre, ctx, Deadline())) {
+    for (std::size_t i = 1; i < p->size(); ++i)
+      EXPECT_FALSE(segmentInCollision(b.world, b.context, {0, (*p)[i - 1], {}}, (*p)[i], ctx.layout));
+  }
+}
+
+TEST(MotionHypergraph, ExhaustiveMovesWithinOnePlanningSpaceAndEveryElementAnEvent) {
+  Built& b = sorting22();
+  log::MemorySink sink;
+  log::EventEmitter emitter(&sink);
+  b.buildMotion(emitter);
+  const MotionGraph& g = b.motion->graph();
+  EXPECT_EQ(sink.count(log::Layer::Motion, log::ElementKind::Vertex), static_cast<std::int64_t>(g.vertexCount()));
+  EXPECT_EQ(sink.count(log::Layer::Motion, log::ElementKind::Hyperarc), static_cast<std::int64_t>(g.hyperarcCount()));
+  int moves = 0, picks = 0;
+  for (HyperarcId a : g.hyperarcs()) {
+    const MotionArc& arc = g.property(a);
+    if (arc.type == MotionArc::Type::kPick) ++picks;
+    if (arc.type != MotionArc::Type::kMove) continue;
+    ++moves;
+    const MovePath& m = b.motion->move(arc.index);
+    const MotionVertex& from = g.property(g.tail(a).front());
+    const MotionVertex& to = g.property(g.head(a).front());
+    EXPECT_EQ(from.robot, m.robot);
+    EXPECT_EQ(to.robot, m.robot);
+    EXPECT_EQ(from.kind, to.kind);     // one hand state per planning space
+    EXPECT_EQ(from.object, to.object);
+    EXPECT_EQ(from.grasp, to.grasp);
+    EXPECT_EQ(m.path.front(), b.motion->config(from.config));
+    EXPECT_EQ(m.path.back(), b.motion->config(to.config));
+    EXPECT_NEAR(b.motion->cost(a), m.length, 1e-9);
+  }
+  EXPECT_EQ(picks, static_cast<int>(b.catalog.grasps.size()));
+  // Every transition joined to every other in each space: far more moves than transitions.
+  EXPECT_GT(moves, 2 * picks);
+}
+
+TEST(CombinedQuery, FindsAHyperpathAndHonoursMotionConstraints) {
+  Built& b = sorting22();
+  if (!b.motion) {
+    log::EventEmitter emitter(nullptr);
+    b.buildMotion(emitter);
+  }
+  const CombinedQuery query(*b.motion);
+  const HyperpathResult first = query.run({}, {}, Deadline());
+  ASSERT_TRUE(first.found()) << toString(first.status);
+  const ExtractedPlan plan = extractPlan(*b.motion, first);
+  int picks = 0, places = 0;
+  for (const TaskStep& s : plan.plan.steps) {
+    picks += s.action.type == TaskArcType::kPick;
+    places += s.action.type == TaskArcType::kPlace;
+    for (int d : s.after) EXPECT_LT(d, static_cast<int>(&s - plan.plan.steps.data()));
+  }
+  EXPECT_EQ(picks, 2);
+  EXPECT_EQ(places, 2);
+  // Each robot's visits chain: a transit starts where the previous retreat ended.
+  for (const RobotMotionPlan& r : plan.motion.robots)
+    for (std::size_t i = 1; i < r.visits.size(); ++i) EXPECT_EQ(r.visits[i].transit.front(), r.visits[i - 1].q_post);
+  // Forbid the first move hyperarc used: the next hyperpath avoids it.
+  HyperarcId used;
+  for (const HyperpathStep& s : first.steps)
+    if (b.motion->graph().property(s.hyperarc).type == MotionArc::Type::kMove) {
+      used = s.hyperarc;
+      break;
+    }
+  ASSERT_TRUE(used.valid());
+  const HyperpathResult second = query.run({used}, {}, Deadline());
+  ASSERT_TRUE(second.found());
+  for (const HyperpathStep& s : second.steps) EXPECT_NE(s.hyperarc, used);
+}
+
+}  // namespace
+}  // namespace dash

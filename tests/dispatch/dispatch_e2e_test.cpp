@@ -1,0 +1,342 @@
+// Acceptance tests on loopback: the dispatch server, a UR agent driving the simulated UR robot (with
+// its gripper) and two simulated arms, all in this process. Every wait is bounded.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+
+#include <nlohmann/json.hpp>
+
+#include "dispatch_test_util.h"
+
+namespace dash::dispatch {
+namespace {
+
+using test::httpGet;
+using test::httpPost;
+using test::waitFor;
+
+constexpr double kReadyTimeout = 15.0;
+constexpr double kFinalTimeout = 15.0;
+
+/// Records the listener calls, for the server's database and dashboard hooks.
+class RecordingListener : public DispatchListener {
+ public:
+  void onControllerConnected(const ControllerInfo& c) override { add("connected " + c.robot); }
+  void onControllerDisconnected(const ControllerInfo& c, const std::string&) override { add("disconnected " + c.robot); }
+  void onPreflight(const PreflightReport& r, const std::string& id) override {
+    add(std::string("preflight ") + (r.passed ? "passed" : "failed") + (id.empty() ? "" : " with id"));
+  }
+  void onDispatchStarted(const DispatchStatus& s) override { add("started " + std::to_string(s.arms.size())); }
+  void onDispatchAborted(const DispatchStatus&, const std::string& reason) override { add("aborted " + reason); }
+  void onDispatchFinished(const DispatchStatus& s) override {
+    add(std::string("finished ") + dispatchStateName(s.state) + (s.final ? " final" : ""));
+  }
+  /// Dispatch events only (no controller events), in order.
+  std::vector<std::string> dispatchEvents() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<std::string> out;
+    for (const auto& e : events_) {
+      if (e.rfind("connected", 0) != 0 && e.rfind("disconnected", 0) != 0) out.push_back(e);
+    }
+    return out;
+  }
+  int count(const std::string& prefix) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    int n = 0;
+    for (const auto& e : events_) n += e.rfind(prefix, 0) == 0 ? 1 : 0;
+    return n;
+  }
+
+ private:
+  void add(const std::string& e) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    events_.push_back(e);
+  }
+  mutable std::mutex mutex_;
+  std::vector<std::string> events_;
+};
+
+class Dispatch : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    scene_ = test::multiArmScene(2);
+    plan_ = test::multiArmPlan(scene_);
+    DispatchConfig config;
+    config.start_delay = 0.3;
+    config.path_tolerance = 0.1;
+    config.resolve_run = [this](const std::string& run_id) -> std::optional<PlanSource> {
+      if (run_id != "run-7") return std::nullopt;
+      return PlanSource{test::planJson(plan_), test::sceneJson(scene_)};
+    };
+    server_ = std::make_unique<test::TestServer>(config);
+    listener_ = std::make_shared<RecordingListener>();
+    service().addListener(listener_);
+  }
+  void TearDown() override {
+    sim2_.reset();
+    sim1_.reset();
+    ur_.reset();
+    server_.reset();
+  }
+  std::string url() const { return server_->url(); }
+  DispatchService& service() { return server_->service(); }
+  JointVector home(const std::string& robot) const { return test::homeOf(scene_, robot); }
+
+  /// ur5e_0: UR agent + simulated UR robot; ur5e_1, ur5e_2: simulated arms.
+  void startArms(SimDriverOptions sim1 = {}, SimDriverOptions sim2 = {}, AgentOptions agent1 = {},
+                 std::optional<JointVector> start2 = std::nullopt) {
+    ur_ = test::startUrArm(url(), "ur5e_0", home("ur5e_0"));
+    sim1_ = test::startSimArm(url(), "ur5e_1", home("ur5e_1"), sim1, agent1);
+    sim2_ = test::startSimArm(url(), "ur5e_2", start2.value_or(home("ur5e_2")), sim2);
+    ASSERT_TRUE(waitFor([&] { return test::controllersReady(service(), {"ur5e_0", "ur5e_1", "ur5e_2"}); },
+                        kReadyTimeout))
+        << httpGet(url(), "/api/controllers").body;
+  }
+  test::HttpReply dispatch(const std::string& options = "") {
+    return httpPost(url(), "/api/dispatch", test::dispatchBody(plan_, scene_, options));
+  }
+  void expectCancelled(const DispatchStatus& st, const std::string& robot) {
+    const ArmDispatchStatus* arm = test::armStatus(st, robot);
+    ASSERT_NE(arm, nullptr);
+    EXPECT_EQ(arm->result, ResultCode::kCancelled) << robot << ": " << arm->message;
+  }
+
+  Scene scene_;
+  Plan plan_;
+  std::unique_ptr<test::TestServer> server_;
+  std::shared_ptr<RecordingListener> listener_;
+  test::UrArm ur_;
+  test::SimArm sim1_, sim2_;
+};
+
+TEST_F(Dispatch, ThreeArmPlanSucceedsAndTheUrRobotGetsThePlanPoints) {
+  startArms();
+  const auto controllers = nlohmann::json::parse(httpGet(url(), "/api/controllers").body);
+  ASSERT_EQ(controllers["controllers"].size(), 3u);
+  EXPECT_EQ(controllers["controllers"][0]["driver"], "ur");
+  EXPECT_TRUE(controllers["controllers"][0]["ready"].get<bool>());
+
+  const test::HttpReply reply = dispatch();
+  ASSERT_EQ(reply.status, 202) << reply.body;
+  const auto accepted = nlohmann::json::parse(reply.body);
+  EXPECT_TRUE(accepted["preflight"]["passed"].get<bool>());
+
+  // While running: per-arm planned vs actual.
+  ASSERT_TRUE(waitFor([&] { return service().status()->elapsed > 0.5; }, 5.0));
+  const auto running = nlohmann::json::parse(httpGet(url(), "/api/dispatch?trace=1").body);
+  EXPECT_EQ(running["state"], "running");
+  ASSERT_EQ(running["arms"].size(), 3u);
+  EXPECT_EQ(running["arms"][1]["planned"].size(), 6u);
+  EXPECT_EQ(running["arms"][1]["actual"].size(), 6u);
+  EXPECT_GT(running["arms"][1]["trace"].size(), 3u);
+
+  const auto st = test::waitFinal(service(), kFinalTimeout);
+  ASSERT_TRUE(st && st->final);
+  EXPECT_EQ(st->state, DispatchState::kSucceeded) << st->reason;
+  for (const ArmDispatchStatus& arm : st->arms) {
+    EXPECT_EQ(arm.result, ResultCode::kSuccessful) << arm.robot << ": " << arm.message;
+    EXPECT_LT(arm.max_deviation, 0.1) << arm.robot;
+    EXPECT_GT(arm.samples, 50) << arm.robot;  // >= 50 Hz over 3.4 s
+    std::printf("[ measure  ] %s: %d samples, max deviation %.4f rad\n", arm.robot.c_str(), arm.samples,
+                arm.max_deviation);
+  }
+
+  // The simulated UR robot received the plan's points (the first, where it stood, skipped), byte for byte.
+  const RobotTrajectory& planned = *plan_.findRobot("ur5e_0");
+  const auto received = ur_.robot->points();
+  ASSERT_EQ(received.size(), planned.points.size() - 1);
+  for (std::size_t i = 0; i < received.size(); ++i) {
+    const TrajectoryPoint& p = planned.points[i + 1];
+    for (int j = 0; j < 6; ++j) EXPECT_EQ(received[i].raw[static_cast<std::size_t>(j)], std::llround(p.q[j] * 1e6));
+    EXPECT_EQ(received[i].raw[18], std::llround((p.t - planned.points[i].t) * 1e6)) << "point " << i;
+    EXPECT_EQ(received[i].raw[19], 1);
+    EXPECT_EQ(received[i].raw[20], 51);
+  }
+  const auto commands = ur_.robot->commands();
+  ASSERT_EQ(commands.size(), 1u);
+  EXPECT_EQ(commands[0].message, (ur::ReverseMessage{100, 1, static_cast<std::int32_t>(received.size()), 0, 0, 0, 0, 3}));
+  EXPECT_NEAR((commands[0].received_us - st->start_time_us) * 1e-3, 0.0, 50.0) << "START at the common start time (ms)";
+  EXPECT_EQ(ur_.robot->resultsSent(), std::vector<std::int32_t>{0});
+  EXPECT_FALSE(ur_.robot->halted()) << ur_.robot->haltReason();
+  EXPECT_GT(ur_.robot->keepalives(), 100);
+  EXPECT_LT(ur_.robot->maxReverseGap(), 0.1);
+  EXPECT_EQ(ur_.robot->programProblem(), "");
+  EXPECT_EQ(ur_.robot->rtdeVersionAsked(), 2);
+  EXPECT_EQ(ur_.robot->rtdeOutputsAsked(), "actual_q,actual_qd");
+  EXPECT_LT(maxAbsDifference(ur_.robot->q(), planned.points.back().q), 1e-6);
+
+  // Grasp and release reached the gripper at their times (1.39 s and 2.48 s after the start).
+  std::vector<std::pair<std::string, double>> gripper;
+  for (const auto& c : ur_.gripper->commands()) gripper.emplace_back(c.line, (c.received_us - st->start_time_us) * 1e-6);
+  ASSERT_GE(gripper.size(), 4u);
+  EXPECT_EQ(gripper[0].first, "SET ACT 1");
+  EXPECT_EQ(gripper[1].first, "SET GTO 1");
+  EXPECT_EQ(gripper[2].first, "SET POS 255");
+  EXPECT_NEAR(gripper[2].second, 1.39, 0.08);
+  EXPECT_EQ(gripper[3].first, "SET POS 0");
+  EXPECT_NEAR(gripper[3].second, 2.48, 0.08);
+
+  for (const char* robot : {"ur5e_1", "ur5e_2"}) {
+    const test::SimArm& arm = std::string(robot) == "ur5e_1" ? sim1_ : sim2_;
+    EXPECT_LT(maxAbsDifference(arm.driver->state().q, home(robot)), 1e-3) << robot;
+  }
+  const auto done = nlohmann::json::parse(httpGet(url(), "/api/dispatch").body);
+  EXPECT_EQ(done["state"], "succeeded");
+  EXPECT_TRUE(done["final"].get<bool>());
+  EXPECT_EQ(listener_->count("connected"), 3);
+  EXPECT_TRUE(waitFor([&] { return listener_->count("finished") == 1; }, 2.0));  // called just after the lock
+  EXPECT_EQ(listener_->dispatchEvents(),
+            (std::vector<std::string>{"preflight passed with id", "started 3", "finished succeeded final"}));
+}
+
+TEST_F(Dispatch, PreflightMismatchIsRefusedAndNothingMoves) {
+  JointVector off = home("ur5e_2");
+  off[2] += 0.2;
+  startArms({}, {}, {}, off);
+  const test::HttpReply reply = dispatch();
+  EXPECT_EQ(reply.status, 409) << reply.body;
+  const auto body = nlohmann::json::parse(reply.body);
+  EXPECT_EQ(body["error"], "preflight");
+  EXPECT_NE(body["reason"].get<std::string>().find("ur5e_2: the arm is not at the plan's start"), std::string::npos)
+      << body["reason"];
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_FALSE(service().status().has_value());
+  EXPECT_TRUE(ur_.robot->commands().empty());
+  EXPECT_TRUE(ur_.robot->points().empty());
+  EXPECT_EQ(sim1_.driver->progress().status, ArmStatus::kIdle);
+  EXPECT_LT(maxAbsDifference(sim1_.driver->state().q, home("ur5e_1")), 1e-12);
+
+  // A plan the validator rejects: 422.
+  plan_.makespan = 12.0;
+  const test::HttpReply bad = dispatch();
+  EXPECT_EQ(bad.status, 422) << bad.body;
+  EXPECT_NE(bad.body.find("plan_valid"), std::string::npos);
+  // A malformed body: 400.
+  EXPECT_EQ(httpPost(url(), "/api/dispatch", "{\"plan\": 3}").status, 400);
+}
+
+TEST_F(Dispatch, RefusedGoalRefusesTheDispatch) {
+  startArms({}, {.refuse = true});
+  const test::HttpReply reply = dispatch();
+  EXPECT_EQ(reply.status, 409) << reply.body;
+  EXPECT_NE(reply.body.find("ur5e_2 refused its goal: INVALID_GOAL"), std::string::npos) << reply.body;
+  const auto st = test::waitFinal(service(), 5.0);
+  ASSERT_TRUE(st);
+  EXPECT_EQ(st->state, DispatchState::kRefused);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_TRUE(ur_.robot->commands().empty()) << "no START reached the UR robot";
+  EXPECT_LT(maxAbsDifference(sim1_.driver->state().q, home("ur5e_1")), 1e-12);
+}
+
+TEST_F(Dispatch, LagAbortsEveryArm) {
+  startArms({.speed = 0.5});
+  ASSERT_EQ(dispatch().status, 202);
+  const auto st = test::waitFinal(service(), kFinalTimeout);
+  ASSERT_TRUE(st && st->final);
+  EXPECT_EQ(st->state, DispatchState::kAborted);
+  EXPECT_NE(st->reason.find("ur5e_1 deviated"), std::string::npos) << st->reason;
+  EXPECT_EQ(test::armStatus(*st, "ur5e_1")->result, ResultCode::kPathToleranceViolated);
+  expectCancelled(*st, "ur5e_0");
+  expectCancelled(*st, "ur5e_2");
+  EXPECT_LT(st->elapsed, 1.5);
+  EXPECT_FALSE(ur_.robot->cancelTimes().empty()) << "the UR robot got a CANCEL";
+  EXPECT_EQ(ur_.robot->resultsSent(), std::vector<std::int32_t>{1});
+}
+
+TEST_F(Dispatch, StopMidTrajectoryAbortsEveryArm) {
+  startArms({.stop_at = 0.5});
+  ASSERT_EQ(dispatch().status, 202);
+  const auto st = test::waitFinal(service(), kFinalTimeout);
+  ASSERT_TRUE(st && st->final);
+  EXPECT_EQ(st->state, DispatchState::kAborted);
+  EXPECT_NE(st->reason.find("ur5e_1 deviated"), std::string::npos) << st->reason;
+  expectCancelled(*st, "ur5e_0");
+  expectCancelled(*st, "ur5e_2");
+  EXPECT_FALSE(ur_.robot->cancelTimes().empty());
+}
+
+TEST_F(Dispatch, DroppedAgentAbortsEveryArmAndReconnects) {
+  startArms({}, {}, {.drop_at = 0.5, .drop_for = 0.5});
+  ASSERT_EQ(dispatch().status, 202);
+  const auto st = test::waitFinal(service(), kFinalTimeout);
+  ASSERT_TRUE(st && st->final);
+  EXPECT_EQ(st->state, DispatchState::kAborted);
+  EXPECT_NE(st->reason.find("ur5e_1"), std::string::npos) << st->reason;
+  EXPECT_EQ(test::armStatus(*st, "ur5e_1")->result, ResultCode::kFault);
+  expectCancelled(*st, "ur5e_0");
+  expectCancelled(*st, "ur5e_2");
+  EXPECT_LT(st->elapsed, 1.5);
+  std::printf("[ measure  ] drop detected: %s (%.3f s after the start)\n", st->reason.c_str(), st->elapsed);
+  // The agent comes back on its own.
+  EXPECT_TRUE(waitFor([&] { return sim1_.agent->connections() >= 2 && test::controllersReady(service(), {"ur5e_1"}); },
+                      5.0));
+  for (const ControllerInfo& c : service().controllers()) {
+    if (c.robot == "ur5e_1") {
+      EXPECT_EQ(c.reconnects, 1);
+    }
+  }
+}
+
+TEST_F(Dispatch, AbortReachesEveryArmWithin100Milliseconds) {
+  startArms();
+  ASSERT_EQ(dispatch().status, 202);
+  ASSERT_TRUE(waitFor([&] { return service().status()->elapsed > 0.8; }, 5.0));
+  const std::int64_t t0 = steadyMicros();
+  const test::HttpReply reply = httpPost(url(), "/api/dispatch/abort", "{\"reason\": \"operator pressed stop\"}");
+  ASSERT_EQ(reply.status, 200) << reply.body;
+  EXPECT_TRUE(nlohmann::json::parse(reply.body)["aborted"].get<bool>());
+  ASSERT_TRUE(waitFor([&] { return !ur_.robot->cancelTimes().empty(); }, 2.0));
+  const double ur_ms = (ur_.robot->cancelTimes().front() - t0) * 1e-3;
+  ASSERT_TRUE(waitFor([&] { return sim1_.driver->lastAbortTime() && sim2_.driver->lastAbortTime(); }, 2.0));
+  auto since = [&](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(t - steadyFromMicros(t0)).count();
+  };
+  const double sim1_ms = since(*sim1_.driver->lastAbortTime());
+  const double sim2_ms = since(*sim2_.driver->lastAbortTime());
+  std::printf("[ measure  ] abort latency: UR robot CANCEL %.1f ms, ur5e_1 %.1f ms, ur5e_2 %.1f ms\n", ur_ms, sim1_ms,
+              sim2_ms);
+  RecordProperty("abort_ms_ur", std::to_string(ur_ms));
+  EXPECT_LT(ur_ms, 100.0);
+  EXPECT_LT(sim1_ms, 100.0);
+  EXPECT_LT(sim2_ms, 100.0);
+
+  const auto st = test::waitFinal(service(), 5.0);
+  ASSERT_TRUE(st && st->final);
+  EXPECT_EQ(st->state, DispatchState::kAborted);
+  EXPECT_EQ(st->reason, "operator pressed stop");
+  for (const char* robot : {"ur5e_0", "ur5e_1", "ur5e_2"}) expectCancelled(*st, robot);
+  EXPECT_EQ(ur_.robot->resultsSent(), std::vector<std::int32_t>{1});
+  EXPECT_TRUE(waitFor([&] { return listener_->count("finished") == 1; }, 2.0));
+  EXPECT_EQ(listener_->dispatchEvents(),
+            (std::vector<std::string>{"preflight passed with id", "started 3", "aborted operator pressed stop",
+                                      "finished aborted final"}));
+}
+
+TEST_F(Dispatch, MissingOrWrongTokenIsRefused) {
+  const std::string body = test::dispatchBody(plan_, scene_);
+  EXPECT_EQ(httpPost(url(), "/api/dispatch", body, "").status, 401);
+  EXPECT_EQ(httpPost(url(), "/api/dispatch", body, "wrong").status, 401);
+  EXPECT_EQ(httpPost(url(), "/api/dispatch/abort", "", "").status, 401);
+  EXPECT_EQ(httpGet(url(), "/api/controllers", "nope").status, 401);
+  EXPECT_EQ(httpGet(url(), "/api/dispatch", "").status, 401);
+  EXPECT_EQ(httpGet(url(), "/api/controllers").status, 200);
+  EXPECT_EQ(httpGet(url(), "/api/dispatch").status, 404);
+  // A stored run, through the server's callback: unknown -> 404; known -> checked (no arms here: 409).
+  EXPECT_EQ(httpPost(url(), "/api/dispatch", "{\"run_id\": \"nope\"}").status, 404);
+  const test::HttpReply by_id = httpPost(url(), "/api/dispatch", "{\"run_id\": \"run-7\"}");
+  EXPECT_EQ(by_id.status, 409) << by_id.body;
+  EXPECT_NE(by_id.body.find("no controller agent is connected"), std::string::npos) << by_id.body;
+  EXPECT_EQ(httpPost(url(), "/api/dispatch", "{\"run_id\": \"run-7\"}", "").status, 401);
+
+  // An agent with the wrong token never gets a stream.
+  test::SimArm intruder = test::startSimArm(url(), "ur5e_1", home("ur5e_1"), {}, {}, "wrong");
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  EXPECT_TRUE(service().controllers().empty());
+  EXPECT_EQ(intruder.agent->connections(), 0);
+  EXPECT_EQ(httpPost(url(), "/api/controllers/ur5e_1/state", "{\"session\": \"s1\"}", "wrong").status, 401);
+}
+
+}  // namespace
+}  // namespace dash::dispatch

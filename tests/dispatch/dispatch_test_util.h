@@ -1,0 +1,155 @@
+#pragma once
+// Shared fixtures of the dispatch tests: a small valid multi-arm scene and plan (the contract's
+// pick-and-place arm plus UR5e arms far away moving between two configurations), a dispatch server on
+// loopback, in-process agents (simulated arms, a UR agent with the simulated UR robot and gripper), and
+// `dashbench controller` child processes.
+#include <sys/types.h>
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "engine/plan/plan.h"
+#include "engine/robots/robot_model.h"
+#include "engine/scene/scene.h"
+#include "server/dispatch/controller_agent.h"
+#include "server/dispatch/dispatch_service.h"
+#include "server/dispatch/sim_driver.h"
+#include "server/dispatch/ur_driver.h"
+#include "sim_ur_robot.h"
+
+namespace httplib {
+class Server;
+}
+
+namespace dash::dispatch::test {
+
+inline constexpr const char* kToken = "test-token-3141";
+
+std::shared_ptr<const RobotLibrary> library();
+/// The contract's pick-and-place scene (ur5e_0 picks obj_0) plus `extra_arms` UR5e arms at x = 2.5,
+/// -2.5, ... m, clear of everything.
+Scene multiArmScene(int extra_arms);
+/// ur5e_0 follows the contract's example plan (grasp at 1.39 s, release at 2.48 s, makespan 3.38 s);
+/// every other arm goes home -> offset configuration -> home.
+Plan multiArmPlan(const Scene& scene);
+std::string sceneJson(const Scene& scene);
+std::string planJson(const Plan& plan);
+/// {"plan": ..., "scene": ..., "options": {...}} (options_json: an object's text, or empty).
+std::string dispatchBody(const Plan& plan, const Scene& scene, const std::string& options_json = "");
+JointVector homeOf(const Scene& scene, const std::string& robot);
+
+/// The dispatch service mounted on an httplib server on 127.0.0.1 (any free port).
+class TestServer {
+ public:
+  explicit TestServer(DispatchConfig config = {});
+  ~TestServer();
+  DispatchService& service() { return *service_; }
+  std::string url() const { return "http://127.0.0.1:" + std::to_string(port_); }
+  int port() const { return port_; }
+
+ private:
+  std::unique_ptr<DispatchService> service_;
+  std::unique_ptr<httplib::Server> server_;
+  std::thread thread_;
+  int port_ = 0;
+};
+
+struct HttpReply {
+  int status = 0;  ///< 0: no answer
+  std::string body;
+};
+HttpReply httpPost(const std::string& url, const std::string& path, const std::string& body,
+                   const std::string& token = kToken);
+HttpReply httpGet(const std::string& url, const std::string& path, const std::string& token = kToken);
+
+/// A simulated arm and its agent, in this process.
+struct SimArm {
+  std::unique_ptr<SimDriver> driver;
+  std::unique_ptr<ControllerAgent> agent;
+
+  SimArm() = default;
+  SimArm(SimArm&&) = default;
+  SimArm& operator=(SimArm&& other) {
+    if (this != &other) {
+      reset();
+      driver = std::move(other.driver);
+      agent = std::move(other.agent);
+    }
+    return *this;
+  }
+  ~SimArm() { reset(); }
+  void reset() {  // the agent first: it uses the driver
+    agent.reset();
+    driver.reset();
+  }
+};
+SimArm startSimArm(const std::string& url, const std::string& robot, const JointVector& initial,
+                   SimDriverOptions sim = {}, AgentOptions agent = {}, const std::string& token = kToken);
+
+/// A UR agent (UrDriver on free ports) with the simulated UR robot and gripper, in this process.
+struct UrArm {
+  std::unique_ptr<SimGripper> gripper;
+  std::unique_ptr<UrDriver> driver;
+  std::unique_ptr<SimUrRobot> robot;
+  std::unique_ptr<ControllerAgent> agent;
+
+  UrArm() = default;
+  UrArm(UrArm&&) = default;
+  UrArm& operator=(UrArm&& other) {
+    if (this != &other) {
+      reset();
+      gripper = std::move(other.gripper);
+      driver = std::move(other.driver);
+      robot = std::move(other.robot);
+      agent = std::move(other.agent);
+    }
+    return *this;
+  }
+  ~UrArm() { reset(); }
+  void reset() {
+    agent.reset();
+    robot.reset();
+    driver.reset();
+    gripper.reset();
+  }
+};
+UrArm startUrArm(const std::string& url, const std::string& robot, const JointVector& initial,
+                 AgentOptions agent = {});
+
+/// Polls `condition` every 5 ms until true or `timeout` passes; returns the last value.
+bool waitFor(const std::function<bool()>& condition, double timeout_s);
+/// Every robot listed is connected and ready in the registry.
+bool controllersReady(DispatchService& service, const std::vector<std::string>& robots);
+/// The dispatch became final (succeeded, failed, aborted or refused).
+std::optional<DispatchStatus> waitFinal(DispatchService& service, double timeout_s);
+const ArmDispatchStatus* armStatus(const DispatchStatus& status, const std::string& robot);
+
+/// Free TCP ports on 127.0.0.1 (bound then released).
+std::vector<int> freePorts(int count);
+
+/// `dashbench ARGS...` as a child process, its stderr in a file; killed (SIGTERM, then SIGKILL) on
+/// destruction.
+class ChildProcess {
+ public:
+  ChildProcess(const std::vector<std::string>& args, const std::string& log_path);
+  ~ChildProcess();
+  pid_t pid() const { return pid_; }
+  /// Sends SIGTERM and waits; returns the exit status (-1 if killed).
+  int stop();
+  /// Waits up to timeout_s for it to exit by itself; its exit status, or nullopt if still running.
+  std::optional<int> wait(double timeout_s);
+  std::string log() const;
+
+ private:
+  pid_t pid_ = -1;
+  std::string log_path_;
+};
+
+std::string writeTokenFile(const std::string& name, const std::string& token = kToken);
+
+}  // namespace dash::dispatch::test

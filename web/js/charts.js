@@ -1,0 +1,67 @@
+// Chart.js with the box-plot plugin, and the settings every plot shares: labelled axes with units,
+// a legend, values on hover. Each chart's container gets data-points (how many data points were
+// drawn) so people and tests can tell an empty plot from a drawn one.
+import { Chart, registerables } from 'chart.js';
+import { BoxPlotController, BoxAndWiskers } from '@sgratzl/chartjs-chart-boxplot';
+import { el, clear, fmtNumber } from './dom.js';
+
+Chart.register(...registerables, BoxPlotController, BoxAndWiskers);
+Chart.defaults.font.family = 'system-ui, -apple-system, "Segoe UI", Roboto, sans-serif';
+Chart.defaults.color = '#1d232a';
+Chart.defaults.animation = false; // plots redraw on live updates; animation only distracts
+
+export { Chart };
+
+export function axisTitle(text) {
+  return { display: true, text, font: { weight: '600' } };
+}
+
+/// A value axis: linear or logarithmic, with a title that names the unit.
+export function valueAxis(title, { log = false, stacked = false, min, max, percent = false } = {}) {
+  return {
+    type: log ? 'logarithmic' : 'linear',
+    stacked,
+    min,
+    max,
+    title: axisTitle(title),
+    ticks: {
+      callback: (v) => {
+        if (percent) return `${v}%`;
+        if (log) {
+          const e = Math.log10(v);
+          return Math.abs(e - Math.round(e)) < 1e-9 ? fmtNumber(v) : '';
+        }
+        return fmtNumber(v);
+      },
+    },
+  };
+}
+
+/// Replaces the contents of `box` with a canvas holding a new chart (the old one is destroyed).
+export function drawChart(box, config, pointCount) {
+  if (box._chart) box._chart.destroy();
+  clear(box);
+  box.dataset.points = String(pointCount);
+  if (pointCount === 0) {
+    box.append(el('div', { class: 'chart-empty', text: 'no data for this selection' }));
+    box._chart = null;
+    return null;
+  }
+  const canvas = el('canvas', { role: 'img', 'aria-label': config.options?.plugins?.title?.text || 'plot' });
+  box.append(canvas);
+  config.options = {
+    responsive: true,
+    maintainAspectRatio: false,
+    interaction: { mode: 'nearest', intersect: false },
+    ...config.options,
+  };
+  box._chart = new Chart(canvas, config);
+  return box._chart;
+}
+
+export function destroyCharts(root) {
+  for (const box of root.querySelectorAll('.chart-box')) {
+    if (box._chart) box._chart.destroy();
+    box._chart = null;
+  }
+}

@@ -1,0 +1,86 @@
+// Small DOM helpers. Text always goes in through textContent: tags, notes and SQL results are data.
+export function el(tag, attrs = {}, ...children) {
+  const node = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs || {})) {
+    if (v === undefined || v === null || v === false) continue;
+    if (k === 'class') node.className = v;
+    else if (k === 'text') node.textContent = v;
+    else if (k === 'dataset') Object.assign(node.dataset, v);
+    else if (k.startsWith('on') && typeof v === 'function') node.addEventListener(k.slice(2), v);
+    else if (k === 'value') node.value = v;
+    else if (k === 'checked' || k === 'disabled' || k === 'selected' || k === 'hidden') node[k] = Boolean(v);
+    else node.setAttribute(k, v === true ? '' : String(v));
+  }
+  for (const c of children.flat()) {
+    if (c === null || c === undefined || c === false) continue;
+    node.append(c instanceof Node ? c : document.createTextNode(String(c)));
+  }
+  return node;
+}
+
+export function clear(node) {
+  while (node.firstChild) node.removeChild(node.firstChild);
+  return node;
+}
+
+export function fmtNumber(v, digits = 3) {
+  if (v === null || v === undefined || v === '') return '';
+  if (typeof v !== 'number') return String(v);
+  if (Number.isInteger(v)) return v.toLocaleString('en-US');
+  if (Math.abs(v) >= 1000) return v.toFixed(0);
+  if (Math.abs(v) >= 1) return v.toFixed(Math.max(0, digits - 1));
+  return v.toPrecision(digits);
+}
+
+export function fmtSeconds(s) {
+  if (s === null || s === undefined) return '';
+  if (s < 1e-3) return `${(s * 1e6).toFixed(0)} µs`;
+  if (s < 1) return `${(s * 1e3).toFixed(1)} ms`;
+  if (s < 120) return `${s.toFixed(2)} s`;
+  const m = Math.floor(s / 60);
+  return `${m} min ${Math.round(s - 60 * m)} s`;
+}
+
+export function badge(status) {
+  return el('span', { class: `badge ${status}`, text: status });
+}
+
+export function paramsText(params) {
+  if (!params || typeof params !== 'object') return '';
+  return Object.entries(params)
+    .map(([k, v]) => `${k}=${v}`)
+    .join(' ');
+}
+
+/// A table from column names and row objects; `cell(column, value, row)` may return a Node.
+export function table(columns, rows, { cell, header } = {}) {
+  const thead = el('thead', {}, el('tr', {}, columns.map((c) => (header ? header(c) : el('th', { text: c })))));
+  const tbody = el(
+    'tbody',
+    {},
+    rows.map((r) =>
+      el(
+        'tr',
+        {},
+        columns.map((c) => {
+          const v = Array.isArray(r) ? r[columns.indexOf(c)] : r[c];
+          const content = cell ? cell(c, v, r) : v;
+          const numeric = typeof v === 'number';
+          return el('td', { class: numeric ? 'num' : '' }, content instanceof Node ? content : fmtCell(content));
+        }),
+      ),
+    ),
+  );
+  return el('table', { class: 'data' }, thead, tbody);
+}
+
+function fmtCell(v) {
+  if (v === null || v === undefined) return '';
+  if (typeof v === 'number') return fmtNumber(v, 4);
+  if (typeof v === 'object') return JSON.stringify(v);
+  return String(v);
+}
+
+export function errorBox(message) {
+  return el('div', { class: 'error', role: 'alert', text: message });
+}

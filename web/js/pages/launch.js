@@ -1,0 +1,332 @@
+// Launch: build a batch spec (family, parameter grid, planners, seeds, limits), see how many runs it
+// makes and any validation error next to its field before submitting, and watch every batch's
+// progress live (cancel, resume).
+import { api, ApiError, getToken } from '../api.js';
+import { on, debounce } from '../events.js';
+import { el, clear, badge, fmtSeconds, errorBox } from '../dom.js';
+
+/// "4, 8, 16" or "2..8" or "2..16:2" -> [numbers]; throws Error with a message for people.
+export function parseValues(text) {
+  const out = [];
+  for (const part of text.split(',').map((s) => s.trim()).filter(Boolean)) {
+    const m = part.match(/^(-?\d+)\s*\.\.\s*(-?\d+)(?:\s*:\s*(\d+))?$/);
+    if (m) {
+      const [a, b, step] = [Number(m[1]), Number(m[2]), Number(m[3] || 1)];
+      if (step < 1 || b < a) throw new Error(`"${part}": a range is FROM..TO[:STEP] with FROM <= TO`);
+      if ((b - a) / step > 1000) throw new Error(`"${part}": too many values`);
+      for (let v = a; v <= b; v += step) out.push(v);
+    } else if (/^-?\d+$/.test(part)) {
+      out.push(Number(part));
+    } else {
+      throw new Error(`"${part}" is not an integer or a range like 2..8`);
+    }
+  }
+  if (out.length === 0) throw new Error('give at least one value');
+  return out;
+}
+
+function progressBar(p) {
+  const total = Math.max(1, p.total || 0);
+  const pct = (n) => `${(100 * (n || 0)) / total}%`;
+  const solvedW = pct(p.solved);
+  const failedW = pct(p.failed);
+  const bar = el(
+    'div',
+    { class: 'progress', role: 'progressbar', 'aria-valuemin': 0, 'aria-valuemax': p.total, 'aria-valuenow': p.done },
+    el('div', { class: 'solved', style: `width:${solvedW}` }),
+    el('div', { class: 'failed', style: `left:${solvedW};width:${failedW}` }),
+    el('div', { class: 'running', style: `left:calc(${solvedW} + ${failedW});width:${pct(p.running)}` }),
+  );
+  const parts = [`${p.done}/${p.total} done`, `${p.solved} solved`];
+  if (p.failed) parts.push(`${p.failed} failed`);
+  if (p.cancelled) parts.push(`${p.cancelled} cancelled`);
+  if (p.running) parts.push(`${p.running} running`);
+  if (p.eta !== null && p.eta !== undefined && p.eta >= 0 && p.remaining > 0) parts.push(`about ${fmtSeconds(p.eta)} left`);
+  return [bar, el('div', { class: 'progress-label', text: parts.join(' · ') })];
+}
+
+export function mount(root) {
+  const state = { families: [], planners: [], family: null, lastSpec: null };
+  const form = el('div', { class: 'panel grow', 'data-testid': 'launch-form' });
+  const batchesBox = el('div', { class: 'panel grow', 'data-testid': 'batches' });
+  root.append(el('h1', { text: 'Launch a batch' }), el('div', { class: 'row' }, form, batchesBox));
+
+  const nameInput = el('input', { type: 'text', value: 'web', size: 16, 'data-testid': 'batch-name' });
+  const familySelect = el('select', { 'data-testid': 'family' });
+  const paramsBox = el('div', { class: 'row' });
+  const plannersBox = el('div', {});
+  const seedFrom = el('input', { type: 'number', value: 1, min: 0, style: 'width:6em', 'data-testid': 'seed-from' });
+  const seedCount = el('input', { type: 'number', value: 2, min: 1, style: 'width:6em', 'data-testid': 'seed-count' });
+  const timeLimit = el('input', { type: 'number', value: 30, min: 1, step: 'any', style: 'width:7em', 'data-testid': 'time-limit' });
+  const memoryLimit = el('input', { type: 'number', value: 4096, min: 0, style: 'width:7em' });
+  const workers = el('input', { type: 'number', value: 1, min: 1, style: 'width:5em', 'data-testid': 'workers' });
+  const runCount = el('div', { 'data-testid': 'run-count', class: 'muted', text: 'runs: …' });
+  const formError = el('div', { class: 'error', 'data-testid': 'launch-error' });
+  const submit = el('button', { type: 'button', 'data-testid': 'submit' }, 'Launch');
+  const submitted = el('div', { class: 'ok', 'data-testid': 'launch-result' });
+  const specPreview = el('pre', { class: 'mono', style: 'white-space:pre-wrap;max-height:240px;overflow:auto' });
+
+  const field = (label, input, key) =>
+    el('label', { class: 'field', dataset: { key } }, el('span', { text: label }), input, el('span', { class: 'error-text' }));
+  form.append(
+    el('h2', { text: 'New batch' }),
+    el('div', { class: 'row' }, field('name', nameInput, 'name'), field('scenario family', familySelect, 'family')),
+    el('h3', { text: 'Parameter grid' }),
+    el('div', { class: 'muted', text: 'Each parameter: one value, a list (4, 8, 16) or a range (2..8 or 2..16:2).' }),
+    paramsBox,
+    el('h3', { text: 'Planners' }),
+    plannersBox,
+    el('h3', { text: 'Seeds and limits' }),
+    el(
+      'div',
+      { class: 'row' },
+      field('first seed', seedFrom, 'seeds'),
+      field('seeds', seedCount, 'seeds'),
+      field('time limit per run (s)', timeLimit, 'time_limit'),
+      field('memory limit per run (MB, 0: none)', memoryLimit, 'memory_limit'),
+      field('runs at once', workers, 'workers'),
+    ),
+    runCount,
+    formError,
+    el('div', { class: 'toolbar' }, submit, submitted),
+    el('details', {}, el('summary', { text: 'spec JSON (what is sent; the same format as experiments/*.json)' }), specPreview),
+  );
+
+  function plannerRow(entry) {
+    const name = el('select', {}, state.planners.map((p) => el('option', { value: p.name, text: p.name })));
+    name.value = entry.name;
+    const label = el('input', { type: 'text', value: entry.label, size: 14, placeholder: 'label' });
+    const taskOnly = el('input', { type: 'checkbox', checked: entry.task_only });
+    const remove = el('button', { type: 'button', class: 'small danger', text: 'remove' });
+    const row = el(
+      'div',
+      { class: 'toolbar planner-row', 'data-testid': 'planner-row' },
+      name,
+      el('label', {}, 'label', label),
+      el('label', { title: 'stop after the task layer (no motions)' }, taskOnly, 'task only'),
+      remove,
+    );
+    row._get = () => {
+      const p = { name: name.value, label: label.value.trim() || name.value };
+      if (taskOnly.checked) p.settings = { task_only: true };
+      return p;
+    };
+    remove.addEventListener('click', () => {
+      row.remove();
+      changed();
+    });
+    for (const i of [name, label, taskOnly]) i.addEventListener('input', changed);
+    return row;
+  }
+  const addPlanner = el('button', { type: 'button', class: 'small secondary', text: '+ planner configuration' });
+  addPlanner.addEventListener('click', () => {
+    plannersBox.insertBefore(plannerRow({ name: state.planners[0]?.name || 'lazy-dash', label: '', task_only: false }), addPlanner);
+    changed();
+  });
+
+  function renderParams() {
+    clear(paramsBox);
+    const fam = state.families.find((f) => f.name === familySelect.value);
+    state.family = fam;
+    for (const p of fam ? fam.params : []) {
+      const input = el('input', { type: 'text', value: String(p.default), size: 10, 'data-param': p.name, title: p.meaning });
+      input.addEventListener('input', changed);
+      paramsBox.append(field(`${p.name} (${p.range}; default ${p.default})`, input, `param:${p.name}`));
+    }
+  }
+
+  function clearErrors() {
+    formError.textContent = '';
+    for (const f of form.querySelectorAll('.field')) {
+      f.classList.remove('invalid');
+      f.querySelector('.error-text').textContent = '';
+    }
+  }
+
+  function showError(message) {
+    // The server names the field ("spec: scenarios[0].params.robots[1]: 40 is out of range 2..32").
+    let key = null;
+    const pm = message.match(/params\.([A-Za-z0-9_.-]+?)(\[|:)/);
+    if (pm) key = `param:${pm[1]}`;
+    else if (/seeds/.test(message)) key = 'seeds';
+    else if (/time_limit/.test(message)) key = 'time_limit';
+    else if (/memory_limit/.test(message)) key = 'memory_limit';
+    else if (/^workers/.test(message)) key = 'workers';
+    else if (/name/.test(message) && !/planners/.test(message)) key = 'name';
+    const target = key ? form.querySelector(`.field[data-key="${CSS.escape(key)}"]`) : null;
+    if (target) {
+      target.classList.add('invalid');
+      target.querySelector('.error-text').textContent = message;
+    } else {
+      formError.textContent = message;
+    }
+  }
+
+  function buildSpec() {
+    const params = {};
+    for (const input of paramsBox.querySelectorAll('input[data-param]')) {
+      try {
+        const values = parseValues(input.value);
+        params[input.dataset.param] = values.length === 1 ? values[0] : values;
+      } catch (e) {
+        throw Object.assign(new Error(`params.${input.dataset.param}: ${e.message}`), { local: true });
+      }
+    }
+    const planners = [...plannersBox.querySelectorAll('.planner-row')].map((r) => r._get());
+    return {
+      name: nameInput.value.trim() || 'web',
+      description: 'launched from the dashboard',
+      time_limit: Number(timeLimit.value),
+      memory_limit: Number(memoryLimit.value),
+      scenarios: [{ family: familySelect.value, params }],
+      planners,
+      seeds: { from: Number(seedFrom.value), count: Number(seedCount.value) },
+    };
+  }
+
+  let validateSeq = 0;
+  const validate = debounce(async () => {
+    const seq = ++validateSeq;
+    clearErrors();
+    let spec;
+    try {
+      spec = buildSpec();
+    } catch (e) {
+      showError(e.message);
+      runCount.textContent = 'runs: —';
+      submit.disabled = true;
+      return;
+    }
+    specPreview.textContent = JSON.stringify(spec, null, 2);
+    try {
+      const r = await api.post('/api/batches/validate', spec, { auth: false });
+      if (seq !== validateSeq) return;
+      state.lastSpec = spec;
+      runCount.textContent = `runs: ${r.runs} (${r.runs} processes, up to ${fmtSeconds(r.runs * r.time_limit)} of planning in total)`;
+      runCount.dataset.runs = r.runs;
+      submit.disabled = false;
+    } catch (e) {
+      if (seq !== validateSeq) return;
+      runCount.textContent = 'runs: —';
+      delete runCount.dataset.runs;
+      submit.disabled = true;
+      showError(e.message);
+    }
+  }, 250);
+  function changed() {
+    submit.disabled = true;
+    validate();
+  }
+  for (const i of [nameInput, seedFrom, seedCount, timeLimit, memoryLimit]) i.addEventListener('input', changed);
+  familySelect.addEventListener('change', () => {
+    renderParams();
+    changed();
+  });
+
+  submit.addEventListener('click', async () => {
+    submitted.textContent = '';
+    clearErrors();
+    if (!getToken()) {
+      formError.textContent = 'Launching needs the server token: use the Token button (top right).';
+      return;
+    }
+    submit.disabled = true;
+    try {
+      const r = await api.post('/api/batches', { spec: buildSpec(), workers: Number(workers.value) });
+      submitted.textContent = `batch ${r.batch_id} queued: ${r.runs} runs`;
+      submitted.dataset.batch = r.batch_id;
+      loadBatches();
+    } catch (e) {
+      showError(e instanceof ApiError ? e.message : String(e));
+    } finally {
+      submit.disabled = false;
+    }
+  });
+
+  // ---- batches ----
+  const rows = new Map(); // batch id -> {progressCell, statusCell}
+  async function loadBatches() {
+    let list;
+    try {
+      list = (await api.get('/api/batches')).batches;
+    } catch (e) {
+      clear(batchesBox).append(el('h2', { text: 'Batches' }), errorBox(e.message));
+      return;
+    }
+    clear(batchesBox);
+    rows.clear();
+    batchesBox.append(el('h2', { text: 'Batches' }));
+    if (list.length === 0) batchesBox.append(el('div', { class: 'muted', text: 'No batches yet.' }));
+    const body = el('tbody');
+    for (const b of list) {
+      const statusCell = el('td', {}, badge(b.status));
+      const progressCell = el('td', {}, progressBar(b.progress));
+      const actions = el('td', {});
+      if (b.cancellable) {
+        actions.append(
+          el('button', { type: 'button', class: 'small danger', 'data-testid': 'cancel', onclick: () => act(b.id, 'cancel') }, 'Cancel'),
+        );
+      }
+      if (b.resumable) {
+        actions.append(
+          el('button', { type: 'button', class: 'small', 'data-testid': 'resume', onclick: () => act(b.id, 'resume') }, 'Resume'),
+        );
+      }
+      actions.append(' ', el('a', { href: `#/runs/${encodeURIComponent(`batch = "${b.id}"`)}`, text: 'runs' }));
+      body.append(
+        el(
+          'tr',
+          { 'data-batch': b.id, 'data-status': b.status },
+          el('td', {}, el('div', { text: b.name }), el('div', { class: 'muted mono', text: b.id })),
+          statusCell,
+          progressCell,
+          actions,
+        ),
+      );
+      rows.set(b.id, { statusCell, progressCell, row: body.lastChild });
+    }
+    batchesBox.append(
+      el('div', { class: 'table-wrap' }, el('table', { class: 'data' }, el('thead', {}, el('tr', {}, ['batch', 'status', 'progress', ''].map((h) => el('th', { text: h })))), body)),
+    );
+  }
+  async function act(id, what) {
+    try {
+      await api.post(`/api/batches/${encodeURIComponent(id)}/${what}`, {});
+    } catch (e) {
+      batchesBox.prepend(errorBox(`${what} ${id}: ${e.message}`));
+    }
+    loadBatches();
+  }
+  const reload = debounce(loadBatches, 300);
+  const offs = [
+    on('batch', (m) => {
+      const r = rows.get(m.id);
+      if (!r) return reload();
+      if (m.progress) clear(r.progressCell).append(...progressBar(m.progress));
+      if (m.status) {
+        clear(r.statusCell).append(badge(m.status));
+        r.row.dataset.status = m.status;
+        if (!['running', 'cancelling'].includes(m.status)) reload();
+      }
+    }),
+    on('batches', reload),
+    on('resync', reload),
+  ];
+
+  (async () => {
+    try {
+      const cat = await api.get('/api/scenarios');
+      state.families = cat.families;
+      state.planners = cat.planners;
+      for (const f of cat.families) familySelect.append(el('option', { value: f.name, text: `${f.name} — ${f.summary}` }));
+      familySelect.value = cat.families.some((f) => f.name === 'sorting') ? 'sorting' : cat.families[0]?.name;
+      renderParams();
+      plannersBox.append(plannerRow({ name: 'lazy-dash', label: 'lazy-dash', task_only: false }), addPlanner);
+      changed();
+    } catch (e) {
+      form.append(errorBox(e.message));
+    }
+  })();
+  loadBatches();
+  return () => offs.forEach((off) => off());
+}

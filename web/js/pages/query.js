@@ -1,0 +1,84 @@
+// Query: a read-only SQL console on the results database (the same guards as `dashbench db query`:
+// writes, ATTACH, transactions and setting PRAGMAs are refused), with saved example queries.
+import { api } from '../api.js';
+import { el, clear, fmtNumber } from '../dom.js';
+
+const LAST_KEY = 'dashbench.query.last';
+
+export function mount(root) {
+  const sql = el('textarea', { rows: 7, 'data-testid': 'sql', spellcheck: 'false' });
+  sql.value = localStorage.getItem(LAST_KEY) || 'SELECT status, count(*) AS runs FROM dash_runs GROUP BY status';
+  const run = el('button', { type: 'button', 'data-testid': 'run-query' }, 'Run (Ctrl+Enter)');
+  const maxRows = el('select', {}, [100, 1000, 10000].map((n) => el('option', { value: n, text: `at most ${n} rows`, selected: n === 1000 })));
+  const status = el('div', { 'data-testid': 'query-status' });
+  const result = el('div', { class: 'table-wrap', 'data-testid': 'query-result' });
+  const examples = el('ul', { class: 'examples' });
+  root.append(
+    el('h1', { text: 'Query' }),
+    el(
+      'div',
+      { class: 'row' },
+      el(
+        'div',
+        { class: 'panel grow', style: 'flex:3' },
+        el('div', { class: 'muted', text: 'One read-only SQL statement over the results database. Tables: dash_runs, dash_events, dash_constraints, dash_expansions, dash_phases, dash_counters, dash_progress, dash_batches, dash_run_tags; views: dash_timeline and Planner Arena\u2019s experiments, plannerConfigs, runs, progress.' }),
+        sql,
+        el('div', { class: 'toolbar', style: 'margin-top:6px' }, run, maxRows, status),
+        result,
+      ),
+      el('div', { class: 'panel grow', style: 'flex:1' }, el('h2', { text: 'Examples' }), examples),
+    ),
+  );
+
+  async function execute() {
+    localStorage.setItem(LAST_KEY, sql.value);
+    status.className = 'muted';
+    status.textContent = 'running…';
+    clear(result);
+    const started = performance.now();
+    try {
+      const r = await api.post('/api/query', { sql: sql.value, max_rows: Number(maxRows.value) }, { auth: false });
+      const ms = (performance.now() - started).toFixed(0);
+      status.className = 'ok';
+      status.textContent = `${r.rows.length} rows${r.truncated ? ' (stopped at the row limit)' : ''} in ${ms} ms`;
+      const head = el('tr', {}, r.columns.map((c) => el('th', { text: c })));
+      const body = el(
+        'tbody',
+        {},
+        r.rows.map((row) => el('tr', {}, row.map((v) => el('td', { class: typeof v === 'number' ? 'num' : '', text: v === null ? 'NULL' : typeof v === 'number' ? fmtNumber(v, 6) : String(v) })))),
+      );
+      result.append(el('table', { class: 'data' }, el('thead', {}, head), body));
+    } catch (e) {
+      status.className = 'error';
+      status.textContent = e.message;
+    }
+  }
+  run.addEventListener('click', execute);
+  sql.addEventListener('keydown', (e) => {
+    if (e.key === 'Enter' && (e.ctrlKey || e.metaKey)) {
+      e.preventDefault();
+      execute();
+    }
+  });
+  api
+    .get('/api/query/examples')
+    .then((r) => {
+      for (const ex of r.examples) {
+        examples.append(
+          el(
+            'li',
+            {},
+            el('a', {
+              text: ex.title,
+              onclick: () => {
+                sql.value = ex.sql;
+                execute();
+              },
+            }),
+          ),
+        );
+      }
+    })
+    .catch((e) => examples.append(el('li', { class: 'error', text: e.message })));
+  return null;
+}

@@ -1,0 +1,180 @@
+// The 3D view of a run: its scene (obstacles, support surfaces, objects and their goals) and its
+// robots drawn from their collision bodies (capsules and boxes posed by forward kinematics, exactly
+// the geometry the planner checks), played back over the plan's time. World frame: z up, metres.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/OrbitControls.js';
+import { collisionBodies, poseMatrix, tcpPose } from './kinematics.js';
+import { PlanPlayer } from './plan_player.js';
+import { OKABE_ITO } from './palette.js';
+
+function toThree(m) {
+  const out = new THREE.Matrix4();
+  out.set(...m);
+  return out;
+}
+
+const UP = new THREE.Vector3(0, 1, 0);
+
+function segmentLength(a, b) {
+  return Math.hypot(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+}
+
+/// three's capsule lies along y and is centred: turn it onto the segment a-b (its length is fixed:
+/// a capsule is rigid in its link's frame).
+function placeCapsule(mesh, a, b) {
+  const va = new THREE.Vector3(...a);
+  const vb = new THREE.Vector3(...b);
+  const dir = vb.clone().sub(va);
+  mesh.position.copy(va).add(vb).multiplyScalar(0.5);
+  mesh.quaternion.setFromUnitVectors(UP, dir.length() > 1e-9 ? dir.normalize() : UP);
+}
+
+export class PlanViewer {
+  /// container: an element; scene, plan (or null), models: as PlanPlayer takes them.
+  constructor(container, scene, plan, models) {
+    this.container = container;
+    this.player = new PlanPlayer(scene, plan, models);
+    this.time = 0;
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
+    container.append(this.renderer.domElement);
+    this.scene3 = new THREE.Scene();
+    this.scene3.background = new THREE.Color(0xeef2f6);
+    this.camera = new THREE.PerspectiveCamera(45, 1, 0.01, 100);
+    this.camera.up.set(0, 0, 1);
+    this.scene3.add(new THREE.HemisphereLight(0xffffff, 0x667788, 1.6));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.4);
+    sun.position.set(3, -4, 6);
+    this.scene3.add(sun);
+    this.buildStatic(scene);
+    this.buildRobots();
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.addEventListener('change', () => this.render());
+    this.frameCamera(scene);
+    this.resizeObserver = new ResizeObserver(() => this.resize());
+    this.resizeObserver.observe(container);
+    this.resize();
+    this.setTime(0);
+  }
+
+  buildStatic(scene) {
+    const bounds = new THREE.Box3();
+    const obstacleMaterial = new THREE.MeshStandardMaterial({ color: 0x9aa4ae, roughness: 0.9 });
+    for (const o of scene.obstacles) {
+      const mesh = new THREE.Mesh(new THREE.BoxGeometry(...o.shape.size), obstacleMaterial);
+      mesh.matrixAutoUpdate = false;
+      mesh.matrix.copy(toThree(this.poseOf(o.pose)));
+      this.scene3.add(mesh);
+      bounds.expandByObject(mesh);
+    }
+    const surfaceMaterial = new THREE.MeshBasicMaterial({ color: 0x56b4e9, transparent: true, opacity: 0.18, side: THREE.DoubleSide });
+    for (const s of scene.surfaces) {
+      const shape = new THREE.Shape(s.polygon.map(([x, y]) => new THREE.Vector2(x, y)));
+      const mesh = new THREE.Mesh(new THREE.ShapeGeometry(shape), surfaceMaterial);
+      mesh.position.z = s.z + 0.001;
+      this.scene3.add(mesh);
+      const edge = new THREE.LineLoop(
+        new THREE.BufferGeometry().setFromPoints(s.polygon.map(([x, y]) => new THREE.Vector3(x, y, s.z + 0.002))),
+        new THREE.LineBasicMaterial({ color: 0x0072b2 }),
+      );
+      this.scene3.add(edge);
+    }
+    this.objectMeshes = {};
+    scene.objects.forEach((o, i) => {
+      const colour = o.fixed ? 0x7a8591 : new THREE.Color(OKABE_ITO[(i % 6) + 1]);
+      const mesh = new THREE.Mesh(new THREE.BoxGeometry(...o.shape.size), new THREE.MeshStandardMaterial({ color: colour, roughness: 0.6 }));
+      mesh.matrixAutoUpdate = false;
+      this.scene3.add(mesh);
+      this.objectMeshes[o.id] = mesh;
+      if (o.goal) {
+        const ghost = new THREE.LineSegments(
+          new THREE.EdgesGeometry(new THREE.BoxGeometry(...o.shape.size)),
+          new THREE.LineBasicMaterial({ color: colour }),
+        );
+        ghost.matrixAutoUpdate = false;
+        ghost.matrix.copy(toThree(this.poseOf(o.goal)));
+        this.scene3.add(ghost);
+      }
+    });
+    this.bounds = bounds;
+  }
+
+  poseOf(pose) {
+    return poseMatrix(pose);
+  }
+
+  buildRobots() {
+    this.robotMeshes = this.player.robots.map((r, i) => {
+      const material = new THREE.MeshStandardMaterial({ color: new THREE.Color(OKABE_ITO[i % 2 === 0 ? 0 : 4]), roughness: 0.5, metalness: 0.1 });
+      const gripper = new THREE.MeshStandardMaterial({ color: 0x333333, roughness: 0.6 });
+      const bodies = collisionBodies(r.model, r.base, r.home);
+      return bodies.map((b) => {
+        const isGripper = /gripper|finger|tool/.test(b.name);
+        const geometry = b.type === 'capsule' ? new THREE.CapsuleGeometry(b.radius, Math.max(segmentLength(b.a, b.b), 1e-6), 4, 12) : new THREE.BoxGeometry(2 * b.half[0], 2 * b.half[1], 2 * b.half[2]);
+        const mesh = new THREE.Mesh(geometry, isGripper ? gripper : material);
+        if (b.type === 'box') mesh.matrixAutoUpdate = false;
+        this.scene3.add(mesh);
+        return mesh;
+      });
+    });
+  }
+
+  frameCamera(scene) {
+    const box = this.bounds.isEmpty() ? new THREE.Box3(new THREE.Vector3(-1, -1, 0), new THREE.Vector3(1, 1, 1)) : this.bounds.clone();
+    for (const r of scene.robots) box.expandByPoint(new THREE.Vector3(...r.base.p).add(new THREE.Vector3(0, 0, 1)));
+    const centre = box.getCenter(new THREE.Vector3());
+    const size = box.getSize(new THREE.Vector3()).length();
+    this.camera.position.set(centre.x + 0.55 * size, centre.y - 0.75 * size, centre.z + 0.6 * size);
+    this.controls.target.copy(centre);
+    this.controls.update();
+  }
+
+  resize() {
+    const w = this.container.clientWidth || 600;
+    const h = this.container.clientHeight || 400;
+    this.renderer.setSize(w, h, false);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.render();
+  }
+
+  /// Poses every robot body and object at time t (seconds into the plan) and redraws.
+  setTime(t) {
+    this.time = Math.max(0, Math.min(t, this.player.duration));
+    this.player.robots.forEach((r, i) => {
+      const q = this.player.jointsAt(r, this.time);
+      collisionBodies(r.model, r.base, q).forEach((b, k) => {
+        const mesh = this.robotMeshes[i][k];
+        if (b.type === 'capsule') placeCapsule(mesh, b.a, b.b);
+        else mesh.matrix.copy(toThree(b.pose));
+      });
+    });
+    const objects = this.player.objectsAt(this.time);
+    let held = 0;
+    for (const [id, state] of Object.entries(objects)) {
+      this.objectMeshes[id].matrix.copy(toThree(state.pose));
+      if (state.heldBy) held += 1;
+    }
+    const first = this.player.robots[0];
+    const tcp = first ? tcpPose(first.model, first.base, this.player.jointsAt(first, this.time)) : null;
+    Object.assign(this.container.dataset, {
+      time: this.time.toFixed(3),
+      held: String(held),
+      tcp0: tcp ? [tcp[3], tcp[7], tcp[11]].map((v) => v.toFixed(3)).join(',') : '',
+      bodies: String(this.robotMeshes.reduce((n, m) => n + m.length, 0)),
+      objects: String(Object.keys(this.objectMeshes).length),
+    });
+    this.render();
+  }
+
+  render() {
+    this.renderer.render(this.scene3, this.camera);
+  }
+
+  dispose() {
+    this.resizeObserver.disconnect();
+    this.controls.dispose();
+    this.renderer.dispose();
+    this.renderer.domElement.remove();
+  }
+}
