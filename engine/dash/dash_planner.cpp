@@ -254,6 +254,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
       log::PhaseTimer timer(emitter, log::Phase::ConflictResolution);
       const std::int64_t before = checks();
       RestingConflictStats resting;
+      shortcutPaths(extracted, world, context);
       conflict = resolveRestingConflicts(extracted, *motion, world, context, roadmaps, deadline, resting);
       if (!conflict) {
         Scheduler scheduler(world, context, params_.scheduler);

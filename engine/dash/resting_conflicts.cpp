@@ -44,7 +44,39 @@ class Checker {
   CollisionContext& context_;
 };
 
+// Greedy shortcut: from each kept vertex, the farthest later vertex a free straight segment reaches.
+bool shortcut(std::vector<JointVector>& path, int robot, const HeldObject& held, const CollisionWorld& world,
+              CollisionContext& context, const ObjectLayout& none) {
+  if (path.size() < 3) return false;
+  auto free = [&](const JointVector& a, const JointVector& b) {
+    return !segmentInCollision(world, context, RobotState{robot, a, held}, b, none, nullptr,
+                               SegmentOptions{.scope = CheckScope::kStaticOnly});
+  };
+  std::vector<JointVector> out{path.front()};
+  std::size_t i = 0;
+  while (i + 1 < path.size()) {
+    std::size_t j = path.size() - 1;
+    while (j > i + 1 && !free(path[i], path[j])) --j;
+    out.push_back(path[j]);
+    i = j;
+  }
+  const bool shorter = out.size() < path.size();
+  path = std::move(out);
+  return shorter;
+}
+
 }  // namespace
+
+int shortcutPaths(ExtractedPlan& plan, const CollisionWorld& world, CollisionContext& context) {
+  const ObjectLayout none = ObjectLayout::empty(world.scene());
+  int shortened = 0;
+  for (int r = 0; r < static_cast<int>(plan.motion.robots.size()); ++r) {
+    RobotMotionPlan& robot = plan.motion.robots[r];
+    for (StepVisit& v : robot.visits) shortened += shortcut(v.transit, r, v.held_before, world, context, none) ? 1 : 0;
+    shortened += shortcut(robot.home_path, r, HeldObject{}, world, context, none) ? 1 : 0;
+  }
+  return shortened;
+}
 
 std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const MotionHypergraph& graph,
                                                       const CollisionWorld& world, CollisionContext& context,
@@ -68,15 +100,7 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
         return MotionConflict{MotionConflict::Kind::kTransition, k, {r}, {transition},
                               "step " + std::to_string(k) + " (" + describeStep(plan.plan.steps[k], space) +
                                   "): a transition configuration of " + scene.robots[r].id + " hits a resting object"};
-      // The transit, move by move: the first move that hits a resting object names the conflict.
-      const std::vector<HyperarcId>& moves = plan.step_moves[k][role];
-      HyperarcId hit;
-      for (HyperarcId m : moves)
-        if (check.pathHits(r, graph.move(graph.graph().property(m).index).path, v.held_before, layouts[k])) {
-          hit = m;
-          break;
-        }
-      if (!hit.valid()) continue;
+      if (!check.pathHits(r, v.transit, v.held_before, layouts[k])) continue;
       const MotionContext ctx{v.held_before, layouts[k], {}};
       auto& roadmap = *roadmaps[static_cast<std::size_t>(r) * 2 + (v.held_before.holding() ? 1 : 0)];
       if (auto path = roadmap.plan(v.transit.front(), v.transit.back(), ctx, deadline)) {
@@ -84,17 +108,19 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
         ++stats.replans;
         continue;
       }
+      // No way round: the conflict names the move whose own path hits a resting object (else the last).
+      const std::vector<HyperarcId>& moves = plan.step_moves[k][role];
+      HyperarcId hit = moves.empty() ? transition : moves.back();
+      for (HyperarcId m : moves)
+        if (check.pathHits(r, graph.move(graph.graph().property(m).index).path, v.held_before, layouts[k])) {
+          hit = m;
+          break;
+        }
       return MotionConflict{MotionConflict::Kind::kMove, k, {r}, {hit},
                             scene.robots[r].id + " has no way round the resting objects to step " + std::to_string(k) +
                                 " (" + describeStep(plan.plan.steps[k], space) + ")"};
     }
-    HyperarcId hit;
-    for (HyperarcId m : plan.home_moves[r])
-      if (check.pathHits(r, graph.move(graph.graph().property(m).index).path, HeldObject{}, layouts.back())) {
-        hit = m;
-        break;
-      }
-    if (!hit.valid()) continue;
+    if (robot.home_path.size() < 2 || !check.pathHits(r, robot.home_path, HeldObject{}, layouts.back())) continue;
     const MotionContext ctx{{}, layouts.back(), {}};
     if (auto path = roadmaps[static_cast<std::size_t>(r) * 2]->plan(robot.home_path.front(), robot.home_path.back(),
                                                                      ctx, deadline)) {
@@ -102,6 +128,12 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
       ++stats.replans;
       continue;
     }
+    HyperarcId hit = plan.home_moves[r].back();
+    for (HyperarcId m : plan.home_moves[r])
+      if (check.pathHits(r, graph.move(graph.graph().property(m).index).path, HeldObject{}, layouts.back())) {
+        hit = m;
+        break;
+      }
     return MotionConflict{MotionConflict::Kind::kMove, -1, {r}, {hit},
                           scene.robots[r].id + " has no way home round the resting objects"};
   }

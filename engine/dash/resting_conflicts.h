@@ -29,6 +29,13 @@ struct RestingConflictStats {
   int replans = 0;  ///< moves replanned round resting objects
 };
 
+/// Shortens every transit and way home of `plan` in place (what never moves only: the robot, its held
+/// object, obstacles): the straight segment when it is free, else greedy shortcuts along the path.
+/// The roadmap's shortest paths zigzag through milestones; Lazy-DaSH's motion layer tries the
+/// straight segment first too, so both planners hand the scheduler comparable motions. Returns the
+/// number of paths shortened.
+int shortcutPaths(ExtractedPlan& plan, const CollisionWorld& world, CollisionContext& context);
+
 /// Checks and repairs `plan` in place; the first conflict it could not resolve, if any.
 std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const MotionHypergraph& graph,
                                                       const CollisionWorld& world, CollisionContext& context,

@@ -11,6 +11,8 @@ namespace dash {
 
 namespace {
 
+constexpr int kReceiverCandidates = 8;  // receiver grasp configurations looked at per object pose
+
 double jointDistance(const JointVector& a, const JointVector& b) { return (a - b).cwiseAbs().sum(); }
 
 /// q with the TCP backed off by `distance` along its approach axis, statically free and reachable by
@@ -88,49 +90,62 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
     }
   }
 
-  // Handovers, to a fixed point: a grasp a robot receives may be handed on.
-  std::vector<int> kept(handover_arcs.size(), 0);
-  std::vector<std::size_t> tried(handover_arcs.size(), 0);  // giver's obtainable grasps already tried
+  // Handovers, to a fixed point: one sample per handover hyperarc and grasp the giver can have, and a
+  // grasp a robot receives may be handed on. The receiver takes, where it can, a grasp it already
+  // has (from a pick, a place or an earlier handover), so that chains of handovers close onto the
+  // grasps its places need instead of each opening a planning space of its own.
+  std::vector<std::vector<char>> tried(handover_arcs.size());
   bool changed = true;
   while (changed) {
     changed = false;
     for (std::size_t i = 0; i < handover_arcs.size(); ++i) {
       const TaskArc& arc = graph.property(handover_arcs[i]);
       const int o = arc.object;
-      const auto& giver_grasps = obtainable[arc.robot][o];
       const std::vector<Pose> poses = sampler.handoverPoses(arc.robot, arc.robot2);
       const int pose_count = std::min<int>(params.handover_poses, static_cast<int>(poses.size()));
-      for (; tried[i] < giver_grasps.size() && kept[i] < params.handovers_per_class_pair; ++tried[i]) {
-        const Obtainable g1 = giver_grasps[tried[i]];  // a copy: obtain() below may grow the list
+      for (std::size_t t = 0; t < obtainable[arc.robot][o].size(); ++t) {
+        if (t < tried[i].size() && tried[i][t]) continue;
+        tried[i].resize(std::max(tried[i].size(), t + 1), 0);
+        tried[i][t] = 1;
+        const Obtainable g1 = obtainable[arc.robot][o][t];  // a copy: obtain() below may grow the list
         if (g1.grasp != arc.grasp) continue;
-        for (int p = 0; p < pose_count && kept[i] < params.handovers_per_class_pair; ++p) {
-          if (deadline.expired()) return out;
-          const Pose& X_WO = poses[p];
-          const std::vector<JointVector> givers = sampler.holdConfigs(arc.robot, o, X_WO, g1.held.X_TO, 1);
-          if (givers.empty()) continue;
-          for (const GraspConfig& gc2 : sampler.graspConfigs(arc.robot2, o, X_WO, arc.grasp2, 2)) {
-            const RobotState states[2] = {{arc.robot, givers.front(), g1.held}, {arc.robot2, gc2.q, HeldObject{}}};
-            if (robotsInCollision(sampler.world(), sampler.context(), states, ObjectLayout::empty(scene), nullptr,
-                                  CheckScope::kStaticOnly))
-              continue;
-            HandoverSample h;
-            h.giver = arc.robot;
-            h.receiver = arc.robot2;
-            h.object = o;
-            h.grasp = arc.grasp;
-            h.grasp2 = arc.grasp2;
-            h.X_WO = X_WO;
-            h.held = g1.held;
-            h.held2 = HeldObject{o, gc2.X_TO};
-            h.q1 = givers.front();
-            h.q1_post = backedOff(sampler, arc.robot, h.q1, HeldObject{}, params.approach_distance);
-            h.q2 = gc2.q;
-            h.q2_pre = backedOff(sampler, arc.robot2, h.q2, HeldObject{}, params.approach_distance);
-            h.q2_post = backedOff(sampler, arc.robot2, h.q2, h.held2, params.approach_distance);
-            changed = obtain(arc.robot2, h.held2, arc.grasp2) || changed;
-            out.handovers.push_back(std::move(h));
-            ++kept[i];
-            break;  // one per object pose
+        auto known = [&](const Pose& X_TO) {
+          for (const Obtainable& h : obtainable[arc.robot2][o])
+            if (h.held.X_TO.matrix() == X_TO.matrix()) return true;
+          return false;
+        };
+        int kept = 0;
+        for (int pass = 0; pass < 2 && kept < params.handovers_per_grasp; ++pass) {
+          for (int p = 0; p < pose_count && kept < params.handovers_per_grasp; ++p) {
+            if (deadline.expired()) return out;
+            const Pose& X_WO = poses[p];
+            const std::vector<JointVector> givers = sampler.holdConfigs(arc.robot, o, X_WO, g1.held.X_TO, 1);
+            if (givers.empty()) continue;
+            for (const GraspConfig& gc2 : sampler.graspConfigs(arc.robot2, o, X_WO, arc.grasp2, kReceiverCandidates)) {
+              if (known(gc2.X_TO) != (pass == 0)) continue;  // pass 0: grasps it has; pass 1: new ones
+              const RobotState states[2] = {{arc.robot, givers.front(), g1.held}, {arc.robot2, gc2.q, HeldObject{}}};
+              if (robotsInCollision(sampler.world(), sampler.context(), states, ObjectLayout::empty(scene), nullptr,
+                                    CheckScope::kStaticOnly))
+                continue;
+              HandoverSample h;
+              h.giver = arc.robot;
+              h.receiver = arc.robot2;
+              h.object = o;
+              h.grasp = arc.grasp;
+              h.grasp2 = arc.grasp2;
+              h.X_WO = X_WO;
+              h.held = g1.held;
+              h.held2 = HeldObject{o, gc2.X_TO};
+              h.q1 = givers.front();
+              h.q1_post = backedOff(sampler, arc.robot, h.q1, HeldObject{}, params.approach_distance);
+              h.q2 = gc2.q;
+              h.q2_pre = backedOff(sampler, arc.robot2, h.q2, HeldObject{}, params.approach_distance);
+              h.q2_post = backedOff(sampler, arc.robot2, h.q2, h.held2, params.approach_distance);
+              changed = obtain(arc.robot2, h.held2, arc.grasp2) || changed;
+              out.handovers.push_back(std::move(h));
+              ++kept;
+              break;  // one per object pose
+            }
           }
         }
       }

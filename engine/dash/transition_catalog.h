@@ -2,9 +2,9 @@
 // DaSH's transition sampling: configurations for EVERY transition of H_T before any query (DaSH
 // "pre-samples feasible configurations for each transition", paper, "Overview"). For each pick/place
 // hyperarc (robot, object, class): grasp configurations at every placement of the object (start,
-// goal, pre-sampled); for each handover hyperarc (giver, receiver, object, class pair): object poses
-// between the two arms with a giver configuration holding a grasp the giver can actually have and a
-// receiver grasp configuration, the two free of each other; for each inspect hyperarc: inspection
+// goal, pre-sampled); for each handover hyperarc (giver, receiver, object, class pair) and each grasp
+// of that class the giver can actually hold the object with: an object pose between the two arms, a
+// giver configuration holding it so and a receiver grasp configuration, the two free of each other; for each inspect hyperarc: inspection
 // configurations. Every configuration (and its approach/retreat, backed off along the TCP axis) is
 // checked against what never moves: these are the eager checks of DaSH. Resting objects and other
 // robots are left to conflict resolution.
@@ -54,7 +54,7 @@ struct InspectSample {
 struct TransitionCatalogParams {
   int grasps_per_class = 2;          ///< grasp configurations per (robot, object, placement, class)
   int handover_poses = 8;            ///< object poses tried per handover hyperarc
-  int handovers_per_class_pair = 1;  ///< handover samples kept per handover hyperarc
+  int handovers_per_grasp = 1;       ///< handover samples per handover hyperarc and giver grasp
   int inspect_configs = 2;           ///< per inspect hyperarc
   double approach_distance = 0.06;   ///< metres the TCP backs off along its approach axis
 };

@@ -100,7 +100,7 @@ class SegmentValidator final : public ob::MotionValidator {
 void seedOmplOnce(std::uint64_t seed) {
   static std::atomic<bool> seeded{false};  // OMPL's generator is process-global; so is this guard
   if (!seeded.exchange(true)) {
-    ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
+    ompl::msg::setLogLevel(ompl::msg::LOG_NONE);  // outcomes are reported through our own events
     ompl::RNG::setSeed(static_cast<std::uint_fast32_t>(seed & 0x7fffffff) + 1);
   }
 }

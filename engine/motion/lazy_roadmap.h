@@ -56,7 +56,7 @@ class LazyRoadmap {
 };
 
 /// OMPL's random generator is process-global: seed it once per process, before any planner exists
-/// (later calls are ignored), and keep OMPL's console output to warnings.
+/// (later calls are ignored), and silence OMPL's console output.
 void seedOmplOnce(std::uint64_t seed);
 
 }  // namespace dash

@@ -29,8 +29,9 @@ class ChainSearch {
  public:
   ChainSearch(TransitionSampler& sampler, const TaskSpace& space, const TaskPlan& plan,
               const std::vector<ObjectLayout>& before, const ObjectLayout& empty, std::vector<int> steps, int object,
-              bool use_objects, const TaskConflictParams& params)
-      : sampler_(sampler), space_(space), plan_(plan), before_(before), empty_(empty), steps_(std::move(steps)),
+              bool use_objects, const TaskConflictParams& params, const Deadline& deadline)
+      : deadline_(deadline),
+        sampler_(sampler), space_(space), plan_(plan), before_(before), empty_(empty), steps_(std::move(steps)),
         object_(object), use_objects_(use_objects), params_(params), assignment_(steps_.size()) {}
 
   bool run() { return solve(0, Pose::Identity()); }
@@ -51,7 +52,10 @@ class ChainSearch {
   bool solve(std::size_t i, const Pose& X_TO) {
     if (i == steps_.size()) return true;
     deepest_ = std::max(deepest_, i);
-    if (--budget_ < 0) return false;
+    if (--budget_ < 0 || deadline_.expired()) {
+      budget_ = -1;
+      return false;
+    }
     const int k = steps_[i];
     const TaskArc& a = plan_.steps[k].action;
     const int o = object_;
@@ -101,6 +105,7 @@ class ChainSearch {
     }
   }
 
+  const Deadline& deadline_;
   TransitionSampler& sampler_;
   const TaskSpace& space_;
   const TaskPlan& plan_;
@@ -239,18 +244,27 @@ void TaskConflictDetector::addBlockerConstraints(const TaskPlan& plan, const Tra
   }
 }
 
-void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& trace, TaskConflictResult& result) {
+void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& trace, const Deadline& deadline,
+                                             TaskConflictResult& result) {
   std::vector<std::vector<int>> chains(static_cast<std::size_t>(space_->objectCount()));
   for (int k = 0; k < static_cast<int>(plan.steps.size()); ++k)
     if (isObjectMove(plan.steps[k].action.type)) chains[plan.steps[k].action.object].push_back(k);
   for (int o = 0; o < space_->objectCount(); ++o) {
     if (chains[o].empty()) continue;
-    ChainSearch full(*sampler_, *space_, plan, trace.before, trace.empty, chains[o], o, true, params_);
+    if (deadline.expired()) {
+      result.interrupted = true;
+      return;
+    }
+    ChainSearch full(*sampler_, *space_, plan, trace.before, trace.empty, chains[o], o, true, params_, deadline);
     if (full.run()) {
       for (std::size_t i = 0; i < chains[o].size(); ++i) result.transitions[chains[o][i]] = full.assignment()[i];
       continue;
     }
-    ChainSearch alone(*sampler_, *space_, plan, trace.before, trace.empty, chains[o], o, false, params_);
+    ChainSearch alone(*sampler_, *space_, plan, trace.before, trace.empty, chains[o], o, false, params_, deadline);
+    if (deadline.expired()) {
+      result.interrupted = true;
+      return;
+    }
     if (alone.run()) {
       // Feasible without the resting objects: they are what blocks it. Name every blocker.
       bool any = false;
@@ -332,14 +346,14 @@ void TaskConflictDetector::solveInspections(const TaskPlan& plan, const Trace& t
   }
 }
 
-TaskConflictResult TaskConflictDetector::detect(const TaskPlan& plan) {
+TaskConflictResult TaskConflictDetector::detect(const TaskPlan& plan, const Deadline& deadline) {
   TaskConflictResult result;
   result.transitions.resize(plan.steps.size());
   const std::uint64_t checks_before = sampler_->context().counters().configuration_checks;
   Trace trace;
   traceLayouts(plan, trace);
   if (!resolvePoseConflicts(plan, trace, result)) {
-    solveObjectChains(plan, trace, result);
+    solveObjectChains(plan, trace, deadline, result);
     solveInspections(plan, trace, result);
   }
   result.configuration_checks = sampler_->context().counters().configuration_checks - checks_before;

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/core/deadline.h"
 #include "engine/core/rng.h"
 #include "engine/task/task_constraints.h"
 #include "engine/task/task_plan.h"
@@ -32,9 +33,9 @@ struct TransitionConfig {
 };
 
 struct TaskConflictParams {
-  int chain_budget = 4000;        ///< sampler calls per object chain
+  int chain_budget = 8000;        ///< sampler calls per object chain
   int grasp_candidates = 6;       ///< per grasp class and pose
-  int handover_poses = 16;        ///< object poses tried per handover
+  int handover_poses = 400;       ///< object poses tried per handover (the whole search grid)
 };
 
 struct TaskConflictResult {
@@ -43,9 +44,10 @@ struct TaskConflictResult {
   std::vector<int> expand_objects;            ///< objects that need an extra stable pose
   std::vector<std::string> conflicts;         ///< what was found, for people and logs
   int resampled = 0;                          ///< object locations moved in this pass
+  bool interrupted = false;                   ///< the deadline expired before the trace was done
   std::size_t configuration_checks = 0;
 
-  bool feasible() const { return constraints.empty() && expand_objects.empty() && resampled == 0; }
+  bool feasible() const { return !interrupted && constraints.empty() && expand_objects.empty() && resampled == 0; }
 };
 
 class TaskConflictDetector {
@@ -53,14 +55,15 @@ class TaskConflictDetector {
   TaskConflictDetector(TransitionSampler& sampler, TaskSpace& space, const TaskHypergraph& graph, Rng& rng,
                        TaskConflictParams params = {});
 
-  TaskConflictResult detect(const TaskPlan& plan);
+  /// Stops early (result.interrupted) when the deadline expires.
+  TaskConflictResult detect(const TaskPlan& plan, const Deadline& deadline = Deadline());
 
  private:
   struct Trace;
   void traceLayouts(const TaskPlan& plan, Trace& trace) const;
   bool resolvePoseConflicts(const TaskPlan& plan, const Trace& trace, TaskConflictResult& result);
   bool resampleLocation(int object, int location, const Trace& trace);
-  void solveObjectChains(const TaskPlan& plan, const Trace& trace, TaskConflictResult& result);
+  void solveObjectChains(const TaskPlan& plan, const Trace& trace, const Deadline& deadline, TaskConflictResult& result);
   void solveInspections(const TaskPlan& plan, const Trace& trace, TaskConflictResult& result);
   void addBlockerConstraints(const TaskPlan& plan, const Trace& trace, int step, const std::vector<int>& blockers,
                              TaskConflictResult& result);

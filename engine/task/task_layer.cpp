@@ -111,12 +111,16 @@ bool TaskLayer::expand(int object, const std::string& reason) {
   for (int attempt = 0; attempt < kMoveOutAttempts; ++attempt) {
     for (int r : robots) {
       const int s = static_cast<int>(rng_.integer(0, static_cast<std::int64_t>(regions.size()) - 1));
-      const auto pose = regions[s].sampleNear(obj.shape, scene.robots[r].X_WB.translation(), kMoveOutRadius, rng_, 4);
+      const bool arm = scene.robots[r].model->kinematics == KinematicsKind::kUrDh;
+      const auto pose = arm ? regions[s].sampleNear(obj.shape, scene.robots[r].X_WB.translation(), kMoveOutRadius, rng_, 4)
+                            : regions[s].sample(obj.shape, rng_, 4);
       if (!pose) continue;
+      // Clear of every anchored location (starts and goals). Other extra poses may overlap: they are
+      // resampleable, and task conflict detection resamples them if both are ever occupied at once.
       bool clear = true;
       for (int o = 0; o < space_.objectCount() && clear; ++o)
         for (const ObjectLocation& l : space_.locations(o))
-          if ((l.X_WO.translation() - pose->translation()).norm() < kMoveOutSpacing) clear = false;
+          if (!l.resampleable && (l.X_WO.translation() - pose->translation()).norm() < kMoveOutSpacing) clear = false;
       if (!clear || objectInCollision(sampler_.world(), sampler_.context(), object, *pose, none)) continue;
       if (!reachability_.canGrasp(r, object, *pose, GraspClass::kTop) &&
           !reachability_.canGrasp(r, object, *pose, GraspClass::kSide))
@@ -205,7 +209,11 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
     TaskConflictResult conflicts;
     {
       log::PhaseTimer timer(*emitter_, log::Phase::TaskConflictDetection);
-      conflicts = detector.detect(query.plan);
+      conflicts = detector.detect(query.plan, deadline);
+    }
+    if (conflicts.interrupted) {
+      result.status = TaskLayerStatus::kTimeout;
+      return result;
     }
     emitter_->counter("collision_checks_task", static_cast<std::int64_t>(sampler_.context().counters().configuration_checks));
     if (conflicts.feasible()) {

@@ -11,8 +11,11 @@ namespace dash {
 namespace {
 constexpr double kTopBottomCosine = 0.7;      // |cos| of the approach against vertical
 constexpr double kUrReachMetres = 1.05;       // TCP from the base axis, generous (0.85 flange + TCP offset)
-constexpr double kHandoverHeights[] = {0.35, 0.45, 0.25, 0.55};
-constexpr double kHandoverLateral[] = {0.0, 0.12, -0.12};
+// Handover search grid (as the scenario generators' handover graph): heights above the higher base,
+// offsets along the base-to-base line and across it (round the end of a panel or shelf).
+constexpr double kHandoverHeights[] = {0.35, 0.25, 0.45, 0.6};
+constexpr double kHandoverAcross[] = {0.0, -0.15, 0.15, -0.3, 0.3};
+constexpr double kHandoverAlong[] = {0.0, -0.1, 0.1, -0.2, 0.2};
 constexpr double kHandoverYaws[] = {0.0, 1.5707963267948966, 3.141592653589793, -1.5707963267948966};
 
 double jointDistance(const JointVector& a, const JointVector& b) { return (a - b).cwiseAbs().sum(); }
@@ -109,14 +112,16 @@ std::vector<Pose> TransitionSampler::handoverPoses(int giver, int receiver) cons
   const Vec3 mid = 0.5 * (a + b);
   const double base_z = std::max(a.z(), b.z());
   std::vector<Pose> poses;
-  // Every quarter-turn of the object at the first spot before moving the spot: a grasp fixed
-  // earlier may face either robot depending on the object's yaw.
+  // Every quarter-turn of the object at one spot before moving the spot: a grasp fixed earlier may
+  // face either robot depending on the object's yaw.
+  const Vec3 forward(std::cos(yaw), std::sin(yaw), 0.0);
   for (double h : kHandoverHeights)
-    for (double side : kHandoverLateral)
-      for (double dyaw : kHandoverYaws) {
-        const Vec3 p(mid.x() + side * lateral.x(), mid.y() + side * lateral.y(), base_z + h);
-        poses.push_back(makePose(p, Quat(Eigen::AngleAxisd(yaw + dyaw, Vec3::UnitZ()))));
-      }
+    for (double across : kHandoverAcross)
+      for (double along_offset : kHandoverAlong)
+        for (double dyaw : kHandoverYaws) {
+          const Vec3 p = mid + along_offset * forward + across * lateral;
+          poses.push_back(makePose(Vec3(p.x(), p.y(), base_z + h), Quat(Eigen::AngleAxisd(yaw + dyaw, Vec3::UnitZ()))));
+        }
   return poses;
 }
 

@@ -186,7 +186,7 @@ TEST_F(ApiTest, ReadOnlySqlConsole) {
     EXPECT_NE(refused.json()["error"].get<std::string>().find("refused"), std::string::npos) << sql;
   }
   EXPECT_EQ(http->get("/api/info").json()["runs"], 3) << "nothing was deleted";
-  EXPECT_EQ(http->post("/api/query", R"({"sql":"SELEC nonsense"})", "").status, 400);
+  EXPECT_EQ(http->post("/api/query", R"({"sql":"SELECT * FROM no_such_table"})", "").status, 400);
   EXPECT_EQ(http->post("/api/query", R"({"query":"SELECT 1"})", "").status, 400);
   EXPECT_EQ(http->post("/api/query", R"({"sql":"SELECT 1","max_rows":0})", "").status, 400);
   EXPECT_GE(http->get("/api/query/examples").json()["examples"].size(), 5u);

@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   Stopwatch sw;
   auto tg = buildDashTaskGraph(space, reach.oracle());
   std::printf("H_T %zu/%zu  %.2fs checks %lu\n", tg.vertexCount(), tg.hyperarcCount(), sw.seconds(), ctx.counters().configuration_checks);
-  auto cat = sampleTransitions(sampler, space, tg, {}, Deadline());
+  TransitionCatalogParams tp; if (argc > 3) tp.grasps_per_class = atoi(argv[3]); auto cat = sampleTransitions(sampler, space, tg, tp, Deadline());
   std::printf("catalog grasps %zu handovers %zu  %.2fs checks %lu\n", cat.grasps.size(), cat.handovers.size(), sw.seconds(), ctx.counters().configuration_checks);
   log::EventEmitter em(nullptr);
   MotionHypergraph hm(space, cat, em);
@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
     std::map<std::string,int> cnt;
     for (auto a : g.hyperarcs()) cnt[motionArcTypeName(g.property(a).type)]++;
     for (auto& [k,v] : cnt) std::printf("  arcs %s: %d\n", k.c_str(), v);
-    for (auto v : g.vertices()) { auto& mv = g.property(v); if (mv.kind==MotionVertex::Kind::kObject || mv.kind==MotionVertex::Kind::kHolding) std::printf("  ctg %-40s %g  out %zu in %zu\n", hm.label(v).c_str(), q.costToGo(v), g.outgoing(v).size(), g.incoming(v).size()); }
+    if (getenv("CTG")) for (auto v : g.vertices()) { auto& mv = g.property(v); if (mv.kind==MotionVertex::Kind::kObject || mv.kind==MotionVertex::Kind::kHolding) std::printf("  ctg %-40s %g  out %zu in %zu\n", hm.label(v).c_str(), q.costToGo(v), g.outgoing(v).size(), g.incoming(v).size()); }
   }
   auto res = q.run({}, {}, Deadline(60));
   std::printf("query %s exp %zu back %zu steps %zu %.2fs\n", std::string(toString(res.status)).c_str(), res.stats.expansions, res.stats.backtracks, res.steps.size(), sw.seconds());

@@ -1,0 +1,71 @@
+// End-to-end: generated scene -> Lazy-DaSH -> plan -> the project's validator, and the event stream
+// against the reported sizes. Small cases only (timing goals live in experiments/, not here).
+#include <gtest/gtest.h>
+
+#include "engine/log/memory_sink.h"
+#include "engine/plan/plan_validator.h"
+#include "engine/planners/planner.h"
+#include "engine/scenarios/scenario_registry.h"
+
+namespace dash {
+namespace {
+
+struct Case {
+  const char* family;
+  std::vector<std::pair<std::string, std::string>> params;
+};
+
+PlanResult solveCase(const Case& c, std::uint64_t seed, log::EventSink* sink, Scene& scene) {
+  scene = generateScenario(c.family, c.params, seed, RobotLibrary::loadDefault());
+  PlannerSettings settings;
+  settings.seed = seed;
+  settings.time_limit = 240;
+  return makePlanner("lazy-dash")->solve(scene, settings, Deadline(settings.time_limit), sink);
+}
+
+void expectSolvedAndValid(const Case& c) {
+  Scene scene;
+  log::MemorySink sink;
+  const PlanResult result = solveCase(c, 1, &sink, scene);
+  ASSERT_EQ(result.outcome, PlanOutcome::kSolved) << result.message;
+  ASSERT_TRUE(result.plan.has_value());
+  const ValidationReport report = validatePlan(scene, *result.plan);
+  EXPECT_TRUE(report.valid()) << report.summary();
+  EXPECT_GT(result.plan->makespan, 0.0);
+  // Every robot starts at home at t = 0 and the plan ends at home (the scene says so).
+  for (const RobotTrajectory& r : result.plan->robots) EXPECT_EQ(r.points.front().t, 0.0);
+  // The event stream holds exactly what the planner reports it built.
+  const RepresentationCounts& n = result.stats.sizes;
+  EXPECT_EQ(sink.count(log::Layer::Task, log::ElementKind::Vertex), n.task_vertices);
+  EXPECT_EQ(sink.count(log::Layer::Task, log::ElementKind::Hyperarc), n.task_hyperarcs);
+  EXPECT_EQ(sink.count(log::Layer::TaskExtended, log::ElementKind::Vertex), n.task_extended_vertices);
+  EXPECT_EQ(sink.count(log::Layer::Motion, log::ElementKind::Vertex), n.motion_vertices);
+  EXPECT_EQ(sink.count(log::Layer::Motion, log::ElementKind::Hyperarc), n.motion_hyperarcs);
+  EXPECT_GT(n.motion_vertices, 0u);
+}
+
+TEST(LazyDashEndToEnd, SortingTwoRobotsTwoObjects) { expectSolvedAndValid({"sorting", {{"robots", "2"}, {"objects", "2"}}}); }
+
+TEST(LazyDashEndToEnd, SortingFourRobotsEightObjects) {
+  expectSolvedAndValid({"sorting", {{"robots", "4"}, {"objects", "8"}}});
+}
+
+TEST(LazyDashEndToEnd, TaskOnlyGivesATaskLevelFeasibleSchedule) {
+  Scene scene = generateScenario("sorting", {{"robots", "4"}, {"objects", "8"}}, 2, RobotLibrary::loadDefault());
+  PlannerSettings settings;
+  settings.task_only = true;
+  const PlanResult result = makePlanner("lazy-dash")->solve(scene, settings, Deadline(60), nullptr);
+  ASSERT_EQ(result.outcome, PlanOutcome::kSolved) << result.message;
+  EXPECT_FALSE(result.plan.has_value());
+  EXPECT_NE(result.task_plan_json.find("\"handover\""), std::string::npos);
+}
+
+TEST(LazyDashEndToEnd, StopFlagEndsTheRunPromptly) {
+  Scene scene = generateScenario("sorting", {{"robots", "4"}, {"objects", "8"}}, 1, RobotLibrary::loadDefault());
+  std::atomic<bool> stop{true};
+  const PlanResult result = makePlanner("lazy-dash")->solve(scene, {}, Deadline(600, &stop), nullptr);
+  EXPECT_EQ(result.outcome, PlanOutcome::kCancelled);
+}
+
+}  // namespace
+}  // namespace dash
