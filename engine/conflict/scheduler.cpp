@@ -82,6 +82,38 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
     return parked;
   };
 
+  // The next visit's transit must start where the robot now stands (after a skipped retreat or an
+  // eviction): replan it from there.
+  auto fixNextTransit = [&](int r) {
+    auto& visits = motion.robots[r].visits;
+    if (next_visit[r] >= visits.size()) return true;
+    StepVisit& next = visits[next_visit[r]];
+    if ((next.transit.front() - timelines[r].last()).cwiseAbs().maxCoeff() <= 1e-12) return true;
+    const MotionContext ctx{timelines[r].heldAt(kForever / 2), objects.layoutAt(timelines[r].end()), {}};
+    auto path = replan(r, timelines[r].last(), next.transit.back(), ctx);
+    if (!path) return false;
+    next.transit = *path;
+    return true;
+  };
+  // Moves an idle robot from where it stands to its home configuration, as soon as that is clear.
+  auto sendHome = [&](int r) {
+    const JointVector& home = scene.robots[r].home;
+    if ((timelines[r].last() - home).cwiseAbs().maxCoeff() <= 1e-12) return false;
+    const double start = timelines[r].end();
+    const MotionContext ctx{timelines[r].heldAt(kForever / 2), objects.layoutAt(start), parkedAt(r, start)};
+    auto path = replan(r, timelines[r].last(), home, ctx);
+    if (!path) return false;
+    for (double t = start; t <= start + params_.max_delay; t += params_.delay_step) {
+      RobotTimeline c = timelines[r];
+      appendPath(c, t, *path);
+      if (checker_.check(c, start, kForever, timelines, objects)) continue;
+      timelines[r] = std::move(c);
+      ++result.stats.replans;
+      return fixNextTransit(r);
+    }
+    return false;
+  };
+
   for (int k = 0; k < static_cast<int>(plan.steps.size()); ++k) {
     const TaskArc& a = plan.steps[k].action;
     const TransitionConfig& tc = transitions[k];
@@ -104,6 +136,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
     bool scheduled = false;
     std::optional<ScheduleConflict> last_conflict;
     std::vector<int> blockers;  // robots found standing in the way of this step
+    std::vector<int> evicted;   // idle robots sent home to clear the way for this step
     // Replans the participants' transits for an arrival mode around the robots standing still and the
     // partner: arriving together, each avoids the partner where it stands now; staggered, whoever goes
     // first avoids the partner where it stands now and whoever goes second avoids the first one in its
@@ -219,6 +252,16 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
           --mode;
           continue;
         }
+        // Moving around it did not help (gantries share one rail; an arm may stand right over the
+        // spot): send the idle robot home first (ARC's subproblem with the blocker as a mover).
+        if (conflict && conflict->other >= 0 && !with_partner && timelines[conflict->other].end() <= conflict->t &&
+            std::find(evicted.begin(), evicted.end(), conflict->other) == evicted.end()) {
+          evicted.push_back(conflict->other);
+          if (sendHome(conflict->other)) {
+            --mode;
+            continue;
+          }
+        }
         if (!conflict) {
           timelines = std::move(trial);
           if (a.type == TaskArcType::kPick) objects.pick(o, T);
@@ -288,19 +331,8 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
       // If no retreat was clear the robot stays at q (already checked) and leaves from there.
     }
     // The next visit's transit must start where this robot now stands.
-    for (const Participant& p : parts) {
-      auto& visits = motion.robots[p.robot].visits;
-      if (next_visit[p.robot] < visits.size()) {
-        StepVisit& next = visits[next_visit[p.robot]];
-        if ((next.transit.front() - timelines[p.robot].last()).cwiseAbs().maxCoeff() > 1e-12) {
-          const MotionContext ctx{
-              timelines[p.robot].heldAt(kForever / 2), objects.layoutAt(timelines[p.robot].end()), {}};
-          auto path = replan(p.robot, timelines[p.robot].last(), next.transit.back(), ctx);
-          if (!path) return fail(k, "no path after a skipped retreat of " + scene.robots[p.robot].id);
-          next.transit = *path;
-        }
-      }
-    }
+    for (const Participant& p : parts)
+      if (!fixNextTransit(p.robot)) return fail(k, "no path after a skipped retreat of " + scene.robots[p.robot].id);
   }
 
   // Home, when the scene wants every robot to end there.

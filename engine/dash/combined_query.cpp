@@ -51,38 +51,64 @@ std::pair<VertexId, VertexId> CombinedQuery::objectMove(HyperarcId a) const {
 void CombinedQuery::refresh() {
   const MotionGraph& g = graph_->graph();
   const TaskSpace& space = graph_->space();
-  to_goal_.assign(g.vertexCount(), 0.0);
+  const Scene& scene = space.scene();
   std::vector<std::vector<std::pair<VertexId, double>>> reverse(g.vertexCount());
-  using Item = std::pair<double, VertexId>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-  for (VertexId v : g.vertices()) {
-    const MotionVertex& mv = g.property(v);
-    if (!isObjectState(mv)) continue;
-    const int goal = space.goalLocation(mv.object);
-    const bool finished = goal < 0 ? mv.kind == Kind::kObject : (mv.kind == Kind::kObject && mv.placement == goal);
-    to_goal_[v.value()] = finished ? 0.0 : kInf;
-    if (finished) open.push({0.0, v});
-  }
   for (HyperarcId a : g.hyperarcs()) {
     const auto [from, to] = objectMove(a);
     if (from.valid() && to.valid()) reverse[to.value()].push_back({from, graph_->cost(a)});
   }
-  while (!open.empty()) {
-    const auto [d, v] = open.top();
-    open.pop();
-    if (d > to_goal_[v.value()]) continue;
-    for (const auto& [u, c] : reverse[v.value()])
-      if (d + c < to_goal_[u.value()]) {
-        to_goal_[u.value()] = d + c;
-        open.push({d + c, u});
-      }
+  // Backward Dijkstra over the object states from those `finished` says are done.
+  auto costs = [&](auto finished) {
+    std::vector<double> out(g.vertexCount(), 0.0);
+    using Item = std::pair<double, VertexId>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+    for (VertexId v : g.vertices()) {
+      const MotionVertex& mv = g.property(v);
+      if (!isObjectState(mv)) continue;
+      out[v.value()] = finished(mv) ? 0.0 : kInf;
+      if (out[v.value()] == 0.0) open.push({0.0, v});
+    }
+    while (!open.empty()) {
+      const auto [d, v] = open.top();
+      open.pop();
+      if (d > out[v.value()]) continue;
+      for (const auto& [u, c] : reverse[v.value()])
+        if (d + c < out[u.value()]) {
+          out[u.value()] = d + c;
+          open.push({d + c, u});
+        }
+    }
+    return out;
+  };
+  to_goal_ = costs([&](const MotionVertex& mv) {
+    const int goal = space.goalLocation(mv.object);
+    return mv.kind == Kind::kObject && (goal < 0 || mv.placement == goal);
+  });
+  // Objects a pending inspection needs away from their start (lab lids): anywhere else will do.
+  to_away_ = costs([&](const MotionVertex& mv) {
+    return mv.kind == Kind::kObject && mv.placement != space.startLocation(mv.object);
+  });
+  pending_of_.assign(scene.objects.size(), {});
+  for (VertexId v : g.vertices()) {
+    const MotionVertex& mv = g.property(v);
+    if (mv.kind != Kind::kTaskPending) continue;
+    const int lid = scene.tasks[mv.task].requires_removed_object;
+    if (lid >= 0) pending_of_[lid].push_back(v);
   }
 }
 
-double CombinedQuery::regret(HyperarcId a) const {
+double CombinedQuery::costToGo(const HyperpathState& state, VertexId v) const {
+  const MotionVertex& mv = graph_->graph().property(v);
+  if (!isObjectState(mv)) return 0.0;
+  for (VertexId pending : pending_of_[mv.object])
+    if (state.inFrontier(pending)) return to_away_[v.value()];
+  return to_goal_[v.value()];
+}
+
+double CombinedQuery::regret(const HyperpathState& state, HyperarcId a) const {
   const auto [from, to] = objectMove(a);
   if (!from.valid() || !to.valid()) return graph_->cost(a);
-  return graph_->cost(a) + to_goal_[to.value()] - to_goal_[from.value()];
+  return graph_->cost(a) + costToGo(state, to) - costToGo(state, from);
 }
 
 double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summary& summary) const {
@@ -91,9 +117,9 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
   if (arc.type == Type::kInspect) return 0.0;
   if (arc.type != Type::kMove) {
     const auto [from, to] = objectMove(a);
-    const double r = regret(a);
+    const double r = regret(state, a);
     if (!std::isfinite(r)) return kInf;
-    if (to_goal_[from.value()] == 0.0 && to_goal_[to.value()] > 0.0) return kUndo + r;
+    if (costToGo(state, from) == 0.0 && costToGo(state, to) > 0.0) return kUndo + r;
     if (r > kOnRoute) return kDetour + r;
     return (arc.type == Type::kPick ? kPickPenalty : 0.0) + r;
   }
@@ -117,7 +143,7 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
   const MotionVertex& mv = g.property(from);
   const TransitionCatalog& catalog = graph_->catalog();
   if (mv.kind == Kind::kHolding) {
-    const double r = cost + to_goal_[to.value()] - to_goal_[from.value()];
+    const double r = cost + costToGo(state, to) - costToGo(state, from);
     if (!std::isfinite(r)) return kInf;
     double level = kInf;
     for (HyperarcId t : graph_->transitionsFrom(to)) {
@@ -142,8 +168,8 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
     if (ta.type == Type::kPick) {
       const auto [object_at, held] = objectMove(t);
       if (!state.inFrontier(object_at)) continue;
-      const double r = regret(t);
-      const bool undo = to_goal_[object_at.value()] == 0.0 && to_goal_[held.value()] > 0.0;
+      const double r = regret(state, t);
+      const bool undo = costToGo(state, object_at) == 0.0 && costToGo(state, held) > 0.0;
       value = (undo ? kUndoMove : kPickMove) + r;
     } else if (ta.type == Type::kHandover) {
       const HandoverSample& h = catalog.handovers[ta.index];
@@ -156,7 +182,7 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
       const MotionVertex& gv = g.property(giver_at);
       const MotionVertex& need = g.property(giver_vertex);
       if (gv.kind != Kind::kHolding || gv.object != need.object || gv.grasp != need.grasp) continue;
-      value = kReceiveMove - (giver_at == giver_vertex ? kPartnerWaiting : 0.0) + regret(t);
+      value = kReceiveMove - (giver_at == giver_vertex ? kPartnerWaiting : 0.0) + regret(state, t);
     } else if (ta.type == Type::kInspect) {
       bool ready = true;
       for (VertexId v : g.tail(t)) ready = ready && (v == to || state.inFrontier(v));
@@ -174,7 +200,8 @@ HyperpathResult CombinedQuery::run(const std::unordered_set<HyperarcId>& forbidd
   search.algorithm = HyperpathAlgorithm::kGreedy;
   if (!forbidden.empty())
     search.allowed = [&forbidden](const HyperpathState&, HyperarcId a) { return !forbidden.contains(a); };
-  search.costToGo = [this](VertexId v) { return to_goal_[v.value()]; };
+  // Only for pruning: a state the goal cannot be reached from (either way of counting).
+  search.costToGo = [this](VertexId v) { return std::min(to_goal_[v.value()], to_away_[v.value()]); };
   search.arcCost = [this](HyperarcId a) { return graph_->cost(a); };
   auto summary = std::make_shared<Summary>();
   search.priority = [this, summary](const HyperpathState& state, HyperarcId a) { return priority(state, a, *summary); };

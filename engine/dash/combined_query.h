@@ -6,7 +6,8 @@
 //
 // Cost-to-go: per object, a backward Dijkstra over its states in H_M (resting at a placement, held at
 // a configuration) from its goal, through picks, places, handovers and moves while held; robots alone
-// cost nothing. The greedy order (lowest first; the search is depth-first with backtracking):
+// cost nothing. An object a pending inspection needs out of the way (a lab lid) counts its cost to
+// any placement but its start instead, until the inspection is done. The greedy order (lowest first; the search is depth-first with backtracking):
 //  1. the sink; then transitions that are applicable now, in order of regret (cost plus the object's
 //     cost-to-go after minus before: 0 on a cheapest route), handovers and places before picks;
 //  2. moves of robots holding an object, towards a transition that is possible now (a place, or a
@@ -40,6 +41,7 @@ class CombinedQuery {
                       const Deadline& deadline, std::function<void(const ExtendedVertex&)> on_vertex = {},
                       std::function<void(const ExtendedHyperarc&)> on_hyperarc = {}) const;
 
+  /// Cost-to-go to the object's goal.
   double costToGo(VertexId v) const { return to_goal_[v.value()]; }
 
  private:
@@ -47,10 +49,14 @@ class CombinedQuery {
   double priority(const HyperpathState& state, HyperarcId a, Summary& summary) const;
   /// The object state an object-moving hyperarc leaves and the one it reaches (invalid otherwise).
   std::pair<VertexId, VertexId> objectMove(HyperarcId a) const;
-  double regret(HyperarcId a) const;
+  double regret(const HyperpathState& state, HyperarcId a) const;
+  /// to_goal_, or to_away_ for an object a pending inspection needs away from its start.
+  double costToGo(const HyperpathState& state, VertexId v) const;
 
   const MotionHypergraph* graph_;
   std::vector<double> to_goal_;
+  std::vector<double> to_away_;
+  std::vector<std::vector<VertexId>> pending_of_;  ///< per object: pending tasks that need it away
 };
 
 }  // namespace dash

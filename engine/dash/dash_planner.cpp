@@ -1,6 +1,8 @@
 #include "engine/dash/dash_planner.h"
 
 #include <algorithm>
+#include <cmath>
+#include <functional>
 #include <cstdlib>
 #include <set>
 #include <unordered_set>
@@ -9,18 +11,16 @@
 #include "engine/core/rng.h"
 #include "engine/dash/dash_task_graph.h"
 #include "engine/dash/motion_hypergraph.h"
+#include "engine/dash/placement_sampling.h"
 #include "engine/dash/plan_extraction.h"
 #include "engine/dash/resting_conflicts.h"
 #include "engine/motion/lazy_roadmap.h"
-#include "engine/placement/placement_region.h"
 #include "engine/plan/plan_validator.h"
 #include "engine/task/geometric_reachability.h"
 
 namespace dash {
 
 namespace {
-
-constexpr int kPlacementAttempts = 200;
 
 void applyTestFault(const PlannerSettings& settings) {
   if (settings.test_fault == "abort") std::abort();
@@ -35,47 +35,6 @@ double pathLength(const Plan& plan) {
   for (const RobotTrajectory& r : plan.robots)
     for (std::size_t i = 1; i < r.points.size(); ++i) total += (r.points[i].q - r.points[i - 1].q).norm();
   return total;
-}
-
-bool graspable(GeometricReachability& reach, int robot, int object, const Pose& X_WO) {
-  return reach.canGrasp(robot, object, X_WO, GraspClass::kTop) || reach.canGrasp(robot, object, X_WO, GraspClass::kSide);
-}
-
-// DaSH pre-samples object placements without asking whether a plan needs them (paper, "Analysis and
-// Discussion"): stable poses on a support surface near a robot that can take the object from its start
-// or put it at its goal, clear of obstacles and of every other known object location.
-void presamplePlacements(TaskSpace& space, const Scene& scene, GeometricReachability& reach,
-                         TransitionSampler& sampler, Rng& rng, const DashParams& params) {
-  if (params.placements_per_object <= 0 || scene.surfaces.empty()) return;
-  std::vector<PlacementRegion> regions;
-  for (const SceneSurface& s : scene.surfaces) regions.emplace_back(s);
-  const ObjectLayout none = ObjectLayout::empty(scene);
-  for (int o = 0; o < space.objectCount(); ++o) {
-    if (space.isFixed(o)) continue;
-    std::vector<int> robots;
-    for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r) {
-      if (!scene.robots[r].hasCapability("grasp")) continue;
-      bool takes = graspable(reach, r, o, space.location(o, space.startLocation(o)).X_WO);
-      if (space.goalLocation(o) >= 0) takes = takes || graspable(reach, r, o, space.location(o, space.goalLocation(o)).X_WO);
-      if (takes) robots.push_back(r);
-    }
-    if (robots.empty()) continue;
-    const BoxShape& box = scene.objects[o].shape;
-    for (int added = 0, attempt = 0; added < params.placements_per_object && attempt < kPlacementAttempts; ++attempt) {
-      const int r = robots[static_cast<std::size_t>(rng.integer(0, static_cast<std::int64_t>(robots.size()) - 1))];
-      const int s = static_cast<int>(rng.integer(0, static_cast<std::int64_t>(regions.size()) - 1));
-      const auto pose = regions[s].sampleNear(box, scene.robots[r].X_WB.translation(), params.placement_radius, rng, 4);
-      if (!pose) continue;
-      bool clear = true;
-      for (int j = 0; j < space.objectCount() && clear; ++j)
-        for (const ObjectLocation& l : space.locations(j))
-          clear = clear && (l.X_WO.translation() - pose->translation()).norm() >= params.placement_spacing;
-      if (!clear || objectInCollision(sampler.world(), sampler.context(), o, *pose, none)) continue;
-      if (!graspable(reach, r, o, *pose)) continue;
-      space.addExtraLocation(o, *pose, s);
-      ++added;
-    }
-  }
 }
 
 /// The conflict a failed schedule reports: the last move of each participant into the step that
@@ -172,14 +131,18 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   {
     log::PhaseTimer timer(emitter, log::Phase::TaskConstruction);
     const std::int64_t before = checks();
-    presamplePlacements(space, scene, reach, sampler, rng, params_);
+    presamplePlacements(space, reach, sampler, rng, params_.placements);
     DashTaskGraphObserver observer;
     if (emitter.enabled()) {
       observer.onVertex = [&](VertexId v, const TaskElement& e) {
         emitter.vertex(log::Layer::Task, v.value(), dashElementLabel(e, scene));
       };
-      observer.onHyperarc = [&](HyperarcId a, const TaskArc& arc) {
-        emitter.hyperarc(log::Layer::Task, taskArcTypeName(arc.type), a.value(), {}, {});
+      observer.onHyperarc = [&](HyperarcId a, const TaskArc& arc, std::span<const VertexId> tail,
+                                std::span<const VertexId> head) {
+        std::vector<std::uint32_t> h, t;
+        for (VertexId v : head) h.push_back(v.value());
+        for (VertexId v : tail) t.push_back(v.value());
+        emitter.hyperarc(log::Layer::Task, taskArcTypeName(arc.type), a.value(), std::move(h), std::move(t));
       };
     }
     task_graph = buildDashTaskGraph(space, reach.oracle(), observer);

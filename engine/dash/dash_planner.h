@@ -28,6 +28,7 @@
 
 #include "engine/conflict/scheduler.h"
 #include "engine/dash/combined_query.h"
+#include "engine/dash/placement_sampling.h"
 #include "engine/dash/transition_catalog.h"
 #include "engine/dash/validated_roadmap.h"
 #include "engine/planners/planner.h"
@@ -35,13 +36,11 @@
 namespace dash {
 
 struct DashParams {
-  int placements_per_object = 1;           ///< pre-sampled stable placements besides start and goal
-  double placement_radius = 0.75;          ///< metres from the base of a robot that can take the object
-  double placement_spacing = 0.09;         ///< centre distance to every other known object location
+  PlacementSamplingParams placements;
   TransitionCatalogParams transitions;
   ValidatedRoadmapParams roadmap;
-  std::size_t empty_roadmap_samples = 150;    ///< og::PRM milestones per robot, empty hand
-  std::size_t holding_roadmap_samples = 100;  ///< og::PRM milestones per robot, holding
+  std::size_t empty_roadmap_samples = 100;    ///< og::PRM milestones per robot, empty hand
+  std::size_t holding_roadmap_samples = 60;   ///< og::PRM milestones per robot, holding
   std::size_t growth_samples = 50;            ///< milestones added per roadmap growth
   int max_roadmap_growths = 8;                ///< per robot
   double grow_roadmap_probability = 0.3;      ///< CBS-MP break rule: grow roadmaps rather than the tree

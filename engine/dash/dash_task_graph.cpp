@@ -1,5 +1,7 @@
 #include "engine/dash/dash_task_graph.h"
 
+#include <array>
+
 namespace dash {
 
 namespace {
@@ -36,7 +38,7 @@ DashTaskGraph buildDashTaskGraph(const TaskSpace& space, const TaskReachability&
   };
   auto arc = [&](std::vector<VertexId> tail, std::vector<VertexId> head, const TaskArc& a) {
     const auto [id, inserted] = g.addHyperarc(std::move(tail), std::move(head), a);
-    if (inserted && observer.onHyperarc) observer.onHyperarc(id, a);
+    if (inserted && observer.onHyperarc) observer.onHyperarc(id, a, g.tail(id), g.head(id));
   };
 
   const VertexId src = vertex(TaskElement::source());

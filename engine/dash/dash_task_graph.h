@@ -9,6 +9,7 @@
 // {R_i+O_j(g1), R_k} -> {R_i, R_k+O_j(g2)} for arms in range with compatible classes, and inspect.
 // Where each object rests is decided in the motion hypergraph, which DaSH queries directly.
 #include <functional>
+#include <span>
 #include <string>
 
 #include "engine/hypergraph/hypergraph.h"
@@ -23,7 +24,9 @@ using DashTaskGraph = Hypergraph<TaskElement, TaskArc>;
 
 struct DashTaskGraphObserver {
   std::function<void(VertexId, const TaskElement&)> onVertex;
-  std::function<void(HyperarcId, const TaskArc&)> onHyperarc;
+  /// With the hyperarc's tail and head (valid during the call).
+  std::function<void(HyperarcId, const TaskArc&, std::span<const VertexId> tail, std::span<const VertexId> head)>
+      onHyperarc;
 };
 
 /// Builds H_T for `space` (its locations are the placements the reachability test looks at).

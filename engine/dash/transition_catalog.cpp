@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <span>
 
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/segment_queries.h"
@@ -16,9 +17,9 @@ constexpr int kReceiverCandidates = 8;  // receiver grasp configurations looked 
 double jointDistance(const JointVector& a, const JointVector& b) { return (a - b).cwiseAbs().sum(); }
 
 /// q with the TCP backed off by `distance` along its approach axis, statically free and reachable by
-/// a free straight segment; q itself when there is none (the transition then starts right there).
-JointVector backedOff(TransitionSampler& sampler, int robot, const JointVector& q, const HeldObject& held,
-                      double distance) {
+/// a free straight segment; nullopt when there is none.
+std::optional<JointVector> backOff(TransitionSampler& sampler, int robot, const JointVector& q, const HeldObject& held,
+                                   double distance) {
   const CollisionWorld& world = sampler.world();
   const SceneRobot& r = world.scene().robots[robot];
   const Pose X_WT = forwardKinematics(*r.model, r.X_WB, q).X_WT;
@@ -34,7 +35,28 @@ JointVector backedOff(TransitionSampler& sampler, int robot, const JointVector& 
       continue;
     best = cand;
   }
-  return best.value_or(q);
+  return best;
+}
+
+/// backOff, or q itself when there is no room (the transition then starts and ends right there).
+JointVector backedOff(TransitionSampler& sampler, int robot, const JointVector& q, const HeldObject& held,
+                      double distance) {
+  return backOff(sampler, robot, q, held, distance).value_or(q);
+}
+
+/// The handover's own motions, with both robots: the receiver's approach while the giver holds the
+/// object in place, the giver's retreat while the receiver holds it, the receiver's retreat.
+bool handoverMotionsFree(TransitionSampler& sampler, const HandoverSample& h) {
+  const CollisionWorld& world = sampler.world();
+  const ObjectLayout none = ObjectLayout::empty(world.scene());
+  const RobotMotion approach[2] = {{{h.receiver, h.q2_pre, {}}, h.q2}, {{h.giver, h.q1, h.held}, h.q1}};
+  const RobotMotion giver_retreat[2] = {{{h.giver, h.q1, {}}, h.q1_post}, {{h.receiver, h.q2, h.held2}, h.q2}};
+  const RobotMotion receiver_retreat[2] = {{{h.receiver, h.q2, h.held2}, h.q2_post}, {{h.giver, h.q1_post, {}}, h.q1_post}};
+  for (const auto* m : {approach, giver_retreat, receiver_retreat})
+    if (motionsInCollision(world, sampler.context(), std::span<const RobotMotion>(m, 2), none, nullptr,
+                           SegmentOptions{.scope = CheckScope::kStaticOnly}))
+      return false;
+  return true;
 }
 
 struct Obtainable {
@@ -90,63 +112,90 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
     }
   }
 
-  // Handovers, to a fixed point: one sample per handover hyperarc and grasp the giver can have, and a
-  // grasp a robot receives may be handed on. The receiver takes, where it can, a grasp it already
-  // has (from a pick, a place or an earlier handover), so that chains of handovers close onto the
-  // grasps its places need instead of each opening a planning space of its own.
-  std::vector<std::vector<char>> tried(handover_arcs.size());
+  // Handovers, to a fixed point: for each handover hyperarc and each grasp the giver can have, a
+  // sample delivering each grasp the receiver already has of the class (from its picks and places
+  // first, then earlier handovers), up to handovers_per_grasp; a new grasp only when none of those
+  // works. A grasp a robot receives may be handed on. Preferring known grasps is what lets chains of
+  // handovers (regrasps included) close onto the grasps the places need.
+  struct ArcState {
+    std::vector<std::vector<char>> tried;  ///< [giver grasp][receiver grasp]
+    std::vector<char> tried_new;           ///< [giver grasp]
+    std::vector<int> kept;                 ///< [giver grasp]
+  };
+  std::vector<ArcState> state(handover_arcs.size());
+  // One sample for this hyperarc and giver grasp, delivering `target` (nullptr: a grasp the receiver
+  // does not have yet). False when no object pose works.
+  auto sample = [&](const TaskArc& arc, const Obtainable& g1, const Pose* target, bool& changed) {
+    const int o = arc.object;
+    const std::vector<Pose> poses = sampler.handoverPoses(arc.robot, arc.robot2);
+    const int pose_count = std::min<int>(params.handover_poses, static_cast<int>(poses.size()));
+    auto known = [&](const Pose& X_TO) {
+      for (const Obtainable& h : obtainable[arc.robot2][o])
+        if (h.held.X_TO.matrix() == X_TO.matrix()) return true;
+      return false;
+    };
+    for (int p = 0; p < pose_count; ++p) {
+      if (deadline.expired()) return false;
+      const Pose& X_WO = poses[p];
+      const std::vector<JointVector> givers = sampler.holdConfigs(arc.robot, o, X_WO, g1.held.X_TO, 1);
+      if (givers.empty()) continue;
+      for (const GraspConfig& gc2 : sampler.graspConfigs(arc.robot2, o, X_WO, arc.grasp2, kReceiverCandidates)) {
+        if (target ? gc2.X_TO.matrix() != target->matrix() : known(gc2.X_TO)) continue;
+        const RobotState states[2] = {{arc.robot, givers.front(), g1.held}, {arc.robot2, gc2.q, HeldObject{}}};
+        if (robotsInCollision(sampler.world(), sampler.context(), states, ObjectLayout::empty(scene), nullptr,
+                              CheckScope::kStaticOnly))
+          continue;
+        // Both need room: the receiver to approach, the giver to let go and back off.
+        const auto q1_post = backOff(sampler, arc.robot, givers.front(), HeldObject{}, params.approach_distance);
+        const auto q2_pre = backOff(sampler, arc.robot2, gc2.q, HeldObject{}, params.approach_distance);
+        if (!q1_post || !q2_pre) continue;
+        HandoverSample h;
+        h.giver = arc.robot;
+        h.receiver = arc.robot2;
+        h.object = o;
+        h.grasp = arc.grasp;
+        h.grasp2 = arc.grasp2;
+        h.X_WO = X_WO;
+        h.held = g1.held;
+        h.held2 = HeldObject{o, gc2.X_TO};
+        h.q1 = givers.front();
+        h.q1_post = *q1_post;
+        h.q2 = gc2.q;
+        h.q2_pre = *q2_pre;
+        h.q2_post = backedOff(sampler, arc.robot2, h.q2, h.held2, params.approach_distance);
+        if (!handoverMotionsFree(sampler, h)) continue;
+        changed = obtain(arc.robot2, h.held2, arc.grasp2) || changed;
+        out.handovers.push_back(std::move(h));
+        return true;
+      }
+    }
+    return false;
+  };
   bool changed = true;
-  while (changed) {
+  while (changed && !deadline.expired()) {
     changed = false;
     for (std::size_t i = 0; i < handover_arcs.size(); ++i) {
       const TaskArc& arc = graph.property(handover_arcs[i]);
-      const int o = arc.object;
-      const std::vector<Pose> poses = sampler.handoverPoses(arc.robot, arc.robot2);
-      const int pose_count = std::min<int>(params.handover_poses, static_cast<int>(poses.size()));
-      for (std::size_t t = 0; t < obtainable[arc.robot][o].size(); ++t) {
-        if (t < tried[i].size() && tried[i][t]) continue;
-        tried[i].resize(std::max(tried[i].size(), t + 1), 0);
-        tried[i][t] = 1;
-        const Obtainable g1 = obtainable[arc.robot][o][t];  // a copy: obtain() below may grow the list
+      ArcState& st = state[i];
+      const auto& givers = obtainable[arc.robot][arc.object];
+      st.tried.resize(givers.size());
+      st.tried_new.resize(givers.size(), 0);
+      st.kept.resize(givers.size(), 0);
+      for (std::size_t t = 0; t < givers.size(); ++t) {
+        const Obtainable g1 = givers[t];  // copies: sample() may grow the lists
         if (g1.grasp != arc.grasp) continue;
-        auto known = [&](const Pose& X_TO) {
-          for (const Obtainable& h : obtainable[arc.robot2][o])
-            if (h.held.X_TO.matrix() == X_TO.matrix()) return true;
-          return false;
-        };
-        int kept = 0;
-        for (int pass = 0; pass < 2 && kept < params.handovers_per_grasp; ++pass) {
-          for (int p = 0; p < pose_count && kept < params.handovers_per_grasp; ++p) {
-            if (deadline.expired()) return out;
-            const Pose& X_WO = poses[p];
-            const std::vector<JointVector> givers = sampler.holdConfigs(arc.robot, o, X_WO, g1.held.X_TO, 1);
-            if (givers.empty()) continue;
-            for (const GraspConfig& gc2 : sampler.graspConfigs(arc.robot2, o, X_WO, arc.grasp2, kReceiverCandidates)) {
-              if (known(gc2.X_TO) != (pass == 0)) continue;  // pass 0: grasps it has; pass 1: new ones
-              const RobotState states[2] = {{arc.robot, givers.front(), g1.held}, {arc.robot2, gc2.q, HeldObject{}}};
-              if (robotsInCollision(sampler.world(), sampler.context(), states, ObjectLayout::empty(scene), nullptr,
-                                    CheckScope::kStaticOnly))
-                continue;
-              HandoverSample h;
-              h.giver = arc.robot;
-              h.receiver = arc.robot2;
-              h.object = o;
-              h.grasp = arc.grasp;
-              h.grasp2 = arc.grasp2;
-              h.X_WO = X_WO;
-              h.held = g1.held;
-              h.held2 = HeldObject{o, gc2.X_TO};
-              h.q1 = givers.front();
-              h.q1_post = backedOff(sampler, arc.robot, h.q1, HeldObject{}, params.approach_distance);
-              h.q2 = gc2.q;
-              h.q2_pre = backedOff(sampler, arc.robot2, h.q2, HeldObject{}, params.approach_distance);
-              h.q2_post = backedOff(sampler, arc.robot2, h.q2, h.held2, params.approach_distance);
-              changed = obtain(arc.robot2, h.held2, arc.grasp2) || changed;
-              out.handovers.push_back(std::move(h));
-              ++kept;
-              break;  // one per object pose
-            }
-          }
+        for (std::size_t u = 0; u < obtainable[arc.robot2][arc.object].size(); ++u) {
+          if (st.kept[t] >= params.handovers_per_grasp) break;
+          st.tried[t].resize(std::max(st.tried[t].size(), u + 1), 0);
+          if (st.tried[t][u]) continue;
+          st.tried[t][u] = 1;
+          const Obtainable target = obtainable[arc.robot2][arc.object][u];
+          if (target.grasp != arc.grasp2) continue;
+          if (sample(arc, g1, &target.held.X_TO, changed)) ++st.kept[t];
+        }
+        if (st.kept[t] == 0 && !st.tried_new[t]) {
+          st.tried_new[t] = 1;
+          if (sample(arc, g1, nullptr, changed)) ++st.kept[t];
         }
       }
     }

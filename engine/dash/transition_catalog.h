@@ -53,8 +53,8 @@ struct InspectSample {
 
 struct TransitionCatalogParams {
   int grasps_per_class = 2;          ///< grasp configurations per (robot, object, placement, class)
-  int handover_poses = 8;            ///< object poses tried per handover hyperarc
-  int handovers_per_grasp = 1;       ///< handover samples per handover hyperarc and giver grasp
+  int handover_poses = 16;           ///< object poses tried per handover hyperarc and giver grasp
+  int handovers_per_grasp = 2;       ///< handover samples per handover hyperarc and giver grasp
   int inspect_configs = 2;           ///< per inspect hyperarc
   double approach_distance = 0.06;   ///< metres the TCP backs off along its approach axis
 };

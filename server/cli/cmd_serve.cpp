@@ -10,6 +10,7 @@
 #include "server/cli/args.h"
 #include "server/cli/command.h"
 #include "server/http/http_server.h"
+#include "server/http/static_files.h"
 #include "server/http/token_file.h"
 
 namespace dash::cli {
@@ -87,16 +88,30 @@ int runServe(const std::vector<std::string>& words) {
   server.start();
   std::fprintf(stderr, "dashbench serve: results database %s\n", options.db_path.c_str());
   if (!isLoopback(options.host)) {
-    std::fprintf(stderr, "dashbench serve: warning: listening on %s: anyone who can reach it can read the results; "
-                         "changes need the token\n", options.host.c_str());
+    std::fprintf(stderr,
+                 "dashbench serve: warning: listening on %s: anyone who can reach it can read the results; "
+                 "changes need the token\n",
+                 options.host.c_str());
+  }
+  for (const http::VendorFile& v : http::StaticFiles::vendorFiles()) {
+    const std::filesystem::path web = options.web_root.empty() ? http::HttpServer::defaultWebRoot() : options.web_root;
+    if (!std::filesystem::exists(web / "node_modules" / v.file)) {
+      std::fprintf(stderr,
+                   "dashbench serve: warning: %s is missing: the plots and the 3D view need the dashboard's "
+                   "npm packages (run `npm ci` in %s)\n",
+                   v.file, web.c_str());
+      break;
+    }
   }
   if (!server.dispatchMounted()) std::fprintf(stderr, "dashbench serve: the dispatch API is not part of this build\n");
   if (token.created) {
-    std::printf("dashbench serve: new token (saved in %s, mode 0600; shown only this once):\n  %s\n", token_path.c_str(),
+    std::printf("dashbench serve: new token (saved in %s, mode 0600; shown only this once):\n  %s\n",
+                token_path.c_str(), token.token.c_str());
+    std::printf("dashbench serve: open %s/#token=%s (signs this browser in)\n", server.url().c_str(),
                 token.token.c_str());
-    std::printf("dashbench serve: open %s/#token=%s (signs this browser in)\n", server.url().c_str(), token.token.c_str());
   } else {
-    std::printf("dashbench serve: open %s (the token for changes is in %s)\n", server.url().c_str(), token_path.c_str());
+    std::printf("dashbench serve: open %s (the token for changes is in %s)\n", server.url().c_str(),
+                token_path.c_str());
   }
   std::fflush(stdout);
 

@@ -7,8 +7,11 @@
 #include "engine/log/sqlite_util.h"
 #include "server/http/api_json.h"
 
+// clang-format off
+#include <httplib.h>  // last: it must follow Eigen (see server/dispatch/dispatch_routes.h)
+// clang-format on
+
 // httplib after every project header: it pulls in <resolv.h>, whose `_res` macro breaks Eigen.
-#include <httplib.h>
 
 namespace dash::http {
 
@@ -41,8 +44,9 @@ bool hasToken(const httplib::Request& req, const std::string& token) {
 
 void requireToken(const httplib::Request& req, const std::string& token) {
   if (!req.has_header("Authorization")) {
-    throw HttpError(401, "this request changes something and needs the server's token: send the header "
-                         "'Authorization: Bearer TOKEN' (the token is in the server's token file)");
+    throw HttpError(401,
+                    "this request changes something and needs the server's token: send the header "
+                    "'Authorization: Bearer TOKEN' (the token is in the server's token file)");
   }
   if (!hasToken(req, token)) throw HttpError(401, "wrong token in the Authorization header");
 }
@@ -62,7 +66,8 @@ std::int64_t intParam(const httplib::Request& req, const std::string& name, std:
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used == 0 || used != text.size()) throw HttpError(400, "parameter '" + name + "': '" + text + "' is not an integer");
+  if (used == 0 || used != text.size())
+    throw HttpError(400, "parameter '" + name + "': '" + text + "' is not an integer");
   if (value < min || value > max) {
     throw HttpError(400, "parameter '" + name + "': " + text + " is out of range " + std::to_string(min) + ".." +
                              std::to_string(max));

@@ -17,10 +17,10 @@ namespace {
 constexpr auto kLoopPeriod = std::chrono::milliseconds(200);
 
 Json progressJson(const batch::BatchProgress& p) {
-  Json j = {{"total", p.total},         {"done", p.done},         {"solved", p.solved},   {"failed", p.failed},
-            {"timeouts", p.timeouts},   {"crashed", p.crashed},   {"cancelled", p.cancelled},
-            {"running", p.running},     {"remaining", p.remaining}, {"skipped", p.skipped},
-            {"elapsed", p.elapsed},     {"eta", p.eta < 0 ? Json(nullptr) : Json(p.eta)},
+  Json j = {{"total", p.total},          {"done", p.done},         {"solved", p.solved},
+            {"failed", p.failed},        {"timeouts", p.timeouts}, {"crashed", p.crashed},
+            {"cancelled", p.cancelled},  {"running", p.running},   {"remaining", p.remaining},
+            {"skipped", p.skipped},      {"elapsed", p.elapsed},   {"eta", p.eta < 0 ? Json(nullptr) : Json(p.eta)},
             {"cancelling", p.cancelling}};
   if (p.finished) {
     j["finished"] = {{"key", p.finished->key},
@@ -43,11 +43,19 @@ Json storedProgressJson(const batch::BatchInfo& b) {
   const std::int64_t crashed = count("crashed");
   const std::int64_t failed = timeouts + crashed + count("infeasible");
   const std::int64_t done = std::max<std::int64_t>(0, b.total - b.pending);
-  return {{"total", b.total},   {"done", done},         {"solved", solved},
-          {"failed", failed},   {"timeouts", timeouts}, {"crashed", crashed},
+  return {{"total", b.total},
+          {"done", done},
+          {"solved", solved},
+          {"failed", failed},
+          {"timeouts", timeouts},
+          {"crashed", crashed},
           {"cancelled", count("cancelled")},
           {"running", b.status == "running" ? count("running") : 0},
-          {"remaining", b.total - done}, {"skipped", 0}, {"elapsed", nullptr}, {"eta", nullptr}, {"cancelling", false}};
+          {"remaining", b.total - done},
+          {"skipped", 0},
+          {"elapsed", nullptr},
+          {"eta", nullptr},
+          {"cancelling", false}};
 }
 
 }  // namespace
@@ -209,10 +217,15 @@ void BatchManager::loop() {
   while (true) {
     cv_.wait_for(lock, kLoopPeriod);
     // Reap finished runners (wait() outside the lock: their last progress callback takes it).
-    std::vector<std::pair<std::string, std::unique_ptr<batch::BatchRunner>>> ended;
+    struct Ended {
+      std::string id;
+      std::unique_ptr<batch::BatchRunner> runner;
+      bool stopped_by_server = false;  ///< cancelled because the server stops, not by a person
+    };
+    std::vector<Ended> ended;
     for (auto it = active_.begin(); it != active_.end();) {
       if (it->second.runner && it->second.runner->done()) {
-        ended.emplace_back(it->first, std::move(it->second.runner));
+        ended.push_back(Ended{it->first, std::move(it->second.runner), stopping_ && !it->second.cancel_requested});
         it = active_.erase(it);
       } else {
         ++it;
@@ -226,8 +239,18 @@ void BatchManager::loop() {
       active_[to_start.back().batch_id].workers = to_start.back().workers;  // holds the slot while starting
     }
     lock.unlock();
-    for (auto& [id, runner] : ended) {
-      const batch::BatchResult r = runner->wait();
+    for (Ended& e : ended) {
+      const std::string& id = e.id;
+      batch::BatchResult r = e.runner->wait();
+      if (e.stopped_by_server && r.status == "cancelled") {
+        // Nobody cancelled it: the server went away. After the next start it reads as interrupted.
+        try {
+          log::ResultsDb(options_.db_path).setBatchStatus(id, "interrupted");
+          r.status = "interrupted";
+        } catch (const std::exception& err) {
+          std::fprintf(stderr, "dashbench serve: batch %s: %s\n", id.c_str(), err.what());
+        }
+      }
       Json j = {{"id", id}, {"status", r.status}, {"progress", progressJson(r.progress)}};
       if (!r.error.empty()) j["error"] = r.error;
       hub_.publish("batch", id, j.dump());
@@ -258,8 +281,8 @@ std::string BatchManager::batchesJson() const {
   std::lock_guard lock(mutex_);
   Json list = Json::array();
   for (const batch::BatchInfo& b : infos) {
-    Json j = {{"id", b.record.id}, {"name", b.record.name}, {"created", b.record.created}, {"total", b.total},
-              {"pending", b.pending}, {"by_status", b.by_status}};
+    Json j = {{"id", b.record.id}, {"name", b.record.name}, {"created", b.record.created},
+              {"total", b.total},  {"pending", b.pending},  {"by_status", b.by_status}};
     std::string status = b.status;
     const bool queued_here =
         std::any_of(queue_.begin(), queue_.end(), [&](const Queued& q) { return q.batch_id == b.record.id; });
@@ -267,22 +290,24 @@ std::string BatchManager::batchesJson() const {
     if (queued_here) {
       status = "queued";
     } else if (act != active_.end()) {
-      status = act->second.cancel_requested || (act->second.progress && act->second.progress->cancelling)
-                   ? "cancelling"
-                   : "running";
+      status = act->second.cancel_requested || (act->second.progress && act->second.progress->cancelling) ? "cancelling"
+                                                                                                          : "running";
       j["workers"] = act->second.workers;
     } else if (status == "queued") {
       status = "interrupted";  // recorded by a server that stopped before it could start it
     }
     j["status"] = status;
     j["here"] = queued_here || act != active_.end();
-    j["progress"] = act != active_.end() && act->second.progress ? progressJson(*act->second.progress)
-                                                                 : storedProgressJson(b);
+    j["progress"] =
+        act != active_.end() && act->second.progress ? progressJson(*act->second.progress) : storedProgressJson(b);
     j["cancellable"] = queued_here || act != active_.end();
     j["resumable"] = !j["here"].get<bool>() && status != "running" && b.pending > 0 && b.total > 0;
     if (b.runner) {
-      j["runner"] = {{"pid", b.runner->pid}, {"host", b.runner->host}, {"started", b.runner->started},
-                     {"heartbeat_age", b.runner->age()}, {"workers", b.runner->workers}};
+      j["runner"] = {{"pid", b.runner->pid},
+                     {"host", b.runner->host},
+                     {"started", b.runner->started},
+                     {"heartbeat_age", b.runner->age()},
+                     {"workers", b.runner->workers}};
     }
     list.push_back(std::move(j));
   }

@@ -24,10 +24,10 @@ namespace dash::http {
 
 struct BatchManagerOptions {
   std::string db_path;
-  std::string executable;        ///< the dashbench binary that runs each run; empty: /proc/self/exe
-  int max_running = 1;           ///< batches run at once; later ones wait 'queued'
-  int max_workers = 4;           ///< the most runs at once a request may ask for
-  std::size_t max_runs = 5000;   ///< a spec that expands to more runs is refused
+  std::string executable;       ///< the dashbench binary that runs each run; empty: /proc/self/exe
+  int max_running = 1;          ///< batches run at once; later ones wait 'queued'
+  int max_workers = 4;          ///< the most runs at once a request may ask for
+  std::size_t max_runs = 5000;  ///< a spec that expands to more runs is refused
 };
 
 struct SubmitOutcome {

@@ -16,10 +16,15 @@ constexpr const char* kRunFields =
 
 Json runMessage(const log::SqlRows& rows, std::size_t i) {
   const auto& r = rows.rows[i];
-  return {{"uuid", toJson(r[1])},   {"batch", toJson(r[2])},  {"status", toJson(r[3])},
-          {"planner", toJson(r[4])}, {"config", toJson(r[5])}, {"family", toJson(r[6])},
+  return {{"uuid", toJson(r[1])},
+          {"batch", toJson(r[2])},
+          {"status", toJson(r[3])},
+          {"planner", toJson(r[4])},
+          {"config", toJson(r[5])},
+          {"family", toJson(r[6])},
           {"params", std::holds_alternative<std::string>(r[7]) ? parseStored(std::get<std::string>(r[7])) : Json()},
-          {"seed", toJson(r[8])},    {"total_time", toJson(r[9])}};
+          {"seed", toJson(r[8])},
+          {"total_time", toJson(r[9])}};
 }
 
 }  // namespace
@@ -50,7 +55,8 @@ void DbWatcher::loop() {
       last_error.clear();
     } catch (const std::exception& e) {
       // A busy or briefly missing file: report once, keep polling.
-      if (last_error != e.what()) std::fprintf(stderr, "dashbench serve: watching %s: %s\n", db_path_.c_str(), e.what());
+      if (last_error != e.what())
+        std::fprintf(stderr, "dashbench serve: watching %s: %s\n", db_path_.c_str(), e.what());
       last_error = e.what();
     }
     std::unique_lock lock(mutex_);
@@ -91,7 +97,8 @@ void DbWatcher::poll(const log::ResultsDb& db) {
   std::map<std::string, std::string> sizes;
   for (const auto& [uuid, status] : watched_) {
     const log::SqlRows p = db.select(
-        "SELECT p.t, p.iteration, p.task_vertices, p.task_hyperarcs, p.task_extended_vertices, p.task_extended_hyperarcs,"
+        "SELECT p.t, p.iteration, p.task_vertices, p.task_hyperarcs, p.task_extended_vertices, "
+        "p.task_extended_hyperarcs,"
         " p.motion_vertices, p.motion_hyperarcs, p.motion_extended_vertices, p.motion_extended_hyperarcs,"
         " p.roadmap_vertices, p.roadmap_edges, p.constraints, p.collision_checks,"
         " (SELECT count(*) FROM dash_events e WHERE e.run_id = r.id) + (SELECT count(*) FROM dash_constraints k WHERE"
@@ -114,7 +121,8 @@ void DbWatcher::poll(const log::ResultsDb& db) {
       " WHERE batch_id = b.id GROUP BY status)) FROM dash_batches b ORDER BY b.id");
   std::string fingerprint;
   for (const auto& row : b.rows) {
-    for (const auto& v : row) fingerprint += (std::holds_alternative<std::string>(v) ? std::get<std::string>(v) : "") + "|";
+    for (const auto& v : row)
+      fingerprint += (std::holds_alternative<std::string>(v) ? std::get<std::string>(v) : "") + "|";
     fingerprint += "\n";
   }
   if (have_fingerprint_ && fingerprint != batches_fingerprint_) hub_.publish("batches", "", "{}");

@@ -39,7 +39,7 @@ class DbWatcher {
   std::string db_path_;
   EventHub& hub_;
   double period_;
-  std::int64_t last_id_ = -1;                    ///< highest run id seen (-1: not yet read)
+  std::int64_t last_id_ = -1;                   ///< highest run id seen (-1: not yet read)
   std::map<std::string, std::string> watched_;  ///< uuid -> status, for runs seen running
   std::map<std::string, std::string> sizes_;    ///< uuid -> last published sizes message
   std::string batches_fingerprint_;

@@ -21,7 +21,9 @@
 #include "server/dispatch/dispatch_routes.h"
 #endif
 
-#include <httplib.h>  // last: see api_util.cpp
+// clang-format off
+#include <httplib.h>  // last: it must follow Eigen (see server/dispatch/dispatch_routes.h)
+// clang-format on
 
 namespace dash::http {
 
@@ -42,14 +44,22 @@ std::string hostName(const std::string& header) {
 
 const char* statusText(int status) {
   switch (status) {
-    case 400: return "bad request";
-    case 401: return "unauthorized";
-    case 403: return "forbidden";
-    case 404: return "not found";
-    case 405: return "method not allowed";
-    case 413: return "request body too large";
-    case 414: return "request URI too long";
-    default: return status >= 500 ? "internal server error" : "request refused";
+    case 400:
+      return "bad request";
+    case 401:
+      return "unauthorized";
+    case 403:
+      return "forbidden";
+    case 404:
+      return "not found";
+    case 405:
+      return "method not allowed";
+    case 413:
+      return "request body too large";
+    case 414:
+      return "request URI too long";
+    default:
+      return status >= 500 ? "internal server error" : "request refused";
   }
 }
 
@@ -57,10 +67,7 @@ const char* statusText(int status) {
 
 struct HttpServer::Impl {
   explicit Impl(ServerOptions o)
-      : options(std::move(o)),
-        robots(RobotLibrary::loadDefault()),
-        files(options.web_root),
-        scenes(robots) {}
+      : options(std::move(o)), robots(RobotLibrary::loadDefault()), files(options.web_root), scenes(robots) {}
 
   ServerOptions options;
   std::shared_ptr<const RobotLibrary> robots;
@@ -97,7 +104,8 @@ HttpServer::HttpServer(ServerOptions options) {
   DASH_THROW_UNLESS(options.max_body_bytes >= 1024, "the body size limit must be at least 1024 bytes");
   DASH_THROW_UNLESS(std::filesystem::is_regular_file(std::filesystem::path(options.web_root) / "index.html"),
                     "web root " + options.web_root + " has no index.html");
-  if (options.max_batch_workers <= 0) options.max_batch_workers = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+  if (options.max_batch_workers <= 0)
+    options.max_batch_workers = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
   const std::filesystem::path parent = std::filesystem::path(options.db_path).parent_path();
   if (!parent.empty()) std::filesystem::create_directories(parent);
   {
@@ -131,9 +139,8 @@ void HttpServer::Impl::configure() {
   const int threads = options.threads;
   server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
   server.set_payload_max_length(options.max_body_bytes);
-  server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
-                              {"X-Frame-Options", "DENY"},
-                              {"Referrer-Policy", "no-referrer"}});
+  server.set_default_headers(
+      {{"X-Content-Type-Options", "nosniff"}, {"X-Frame-Options", "DENY"}, {"Referrer-Policy", "no-referrer"}});
   if (isLoopbackName(options.host)) {
     // A page on another site whose name resolves to 127.0.0.1 (DNS rebinding) sends its own Host.
     server.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
@@ -242,7 +249,8 @@ int HttpServer::port() const { return impl_->port; }
 
 std::string HttpServer::url() const {
   const std::string& h = impl_->options.host;
-  const std::string host = h == "0.0.0.0" || h.empty() ? "127.0.0.1" : (h.find(':') != std::string::npos ? "[" + h + "]" : h);
+  const std::string host =
+      h == "0.0.0.0" || h.empty() ? "127.0.0.1" : (h.find(':') != std::string::npos ? "[" + h + "]" : h);
   return "http://" + host + ":" + std::to_string(impl_->port);
 }
 

@@ -16,17 +16,17 @@ namespace dash::http {
 
 struct ServerOptions {
   std::string host = "127.0.0.1";
-  int port = 8080;                         ///< 0: any free port (tests)
-  std::string db_path = "data/results.db"; ///< created (with its folder) if missing
-  std::string web_root;                    ///< empty: defaultWebRoot()
-  std::string token;                       ///< required: what writes must send as a Bearer token
-  std::string executable;                  ///< the dashbench binary that runs each run; empty: /proc/self/exe
-  std::size_t max_body_bytes = 1 << 20;    ///< larger request bodies get 413
-  int threads = 64;                        ///< HTTP workers (each open event stream holds one)
-  double poll_seconds = 0.5;               ///< database watcher period
-  int max_batch_workers = 0;               ///< runs at once per batch, at most; 0: the number of cores
-  int max_running_batches = 1;             ///< more wait queued
-  bool dispatch = true;                    ///< mount the dispatch API if the build has it
+  int port = 8080;                          ///< 0: any free port (tests)
+  std::string db_path = "data/results.db";  ///< created (with its folder) if missing
+  std::string web_root;                     ///< empty: defaultWebRoot()
+  std::string token;                        ///< required: what writes must send as a Bearer token
+  std::string executable;                   ///< the dashbench binary that runs each run; empty: /proc/self/exe
+  std::size_t max_body_bytes = 1 << 20;     ///< larger request bodies get 413
+  int threads = 64;                         ///< HTTP workers (each open event stream holds one)
+  double poll_seconds = 0.5;                ///< database watcher period
+  int max_batch_workers = 0;                ///< runs at once per batch, at most; 0: the number of cores
+  int max_running_batches = 1;              ///< more wait queued
+  bool dispatch = true;                     ///< mount the dispatch API if the build has it
 };
 
 class HttpServer {

@@ -1,10 +1,13 @@
 // /api/batches: validate a spec, submit it, list batches, inspect one, cancel, resume.
+
 #include "server/batch/batch_spec.h"
 #include "server/http/api_json.h"
 #include "server/http/api_util.h"
 #include "server/http/routes.h"
 
-#include <httplib.h>  // last: see api_util.cpp
+// clang-format off
+#include <httplib.h>  // last: it must follow Eigen (see server/dispatch/dispatch_routes.h)
+// clang-format on
 
 namespace dash::http {
 
@@ -48,25 +51,31 @@ void replySpecError(httplib::Response& res, const batch::SpecError& e) {
 }  // namespace
 
 void registerBatchRoutes(httplib::Server& server, ApiContext& ctx) {
-  server.Post("/api/batches/validate", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
-                const Submission s = submissionOf(req);
-                try {
-                  replyJson(res, 200, ctx.batches->validateJson(s.spec_json, kPreviewKeys));
-                } catch (const batch::SpecError& e) {
-                  replySpecError(res, e);
-                }
-              }));
+  // Checking is what this request is for: a spec that breaks a rule is a 200 answer {"valid": false,
+  // "error", "kind"} (the Launch page asks on every keystroke); a body that is not JSON is still a 400.
+  server.Post(
+      "/api/batches/validate", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
+        const Submission s = submissionOf(req);
+        try {
+          Json out = Json::parse(ctx.batches->validateJson(s.spec_json, kPreviewKeys));
+          out["valid"] = true;
+          replyJson(res, 200, out.dump());
+        } catch (const batch::SpecError& e) {
+          replyJson(res, 200, Json{{"valid", false}, {"error", e.what()}, {"kind", batch::toString(e.kind())}}.dump());
+        }
+      }));
 
-  server.Post("/api/batches", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
-                requireToken(req, ctx.token);
-                const Submission s = submissionOf(req);
-                try {
-                  const SubmitOutcome out = ctx.batches->submit(s.spec_json, s.workers);
-                  replyJson(res, 202, Json{{"batch_id", out.batch_id}, {"runs", out.runs}, {"status", out.status}}.dump());
-                } catch (const batch::SpecError& e) {
-                  replySpecError(res, e);
-                }
-              }));
+  server.Post(
+      "/api/batches", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
+        requireToken(req, ctx.token);
+        const Submission s = submissionOf(req);
+        try {
+          const SubmitOutcome out = ctx.batches->submit(s.spec_json, s.workers);
+          replyJson(res, 202, Json{{"batch_id", out.batch_id}, {"runs", out.runs}, {"status", out.status}}.dump());
+        } catch (const batch::SpecError& e) {
+          replySpecError(res, e);
+        }
+      }));
 
   server.Get("/api/batches", guarded([&ctx](const httplib::Request&, httplib::Response& res) {
                replyJson(res, 200, ctx.batches->batchesJson());

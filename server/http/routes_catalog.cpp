@@ -1,4 +1,5 @@
 // GET /api/health, /api/info, /api/scenarios, /api/scenarios/FAMILY, /api/planners, /api/robots.
+
 #include <filesystem>
 #include <fstream>
 
@@ -11,7 +12,9 @@
 #include "server/http/api_util.h"
 #include "server/http/routes.h"
 
-#include <httplib.h>  // last: see api_util.cpp
+// clang-format off
+#include <httplib.h>  // last: it must follow Eigen (see server/dispatch/dispatch_routes.h)
+// clang-format on
 
 namespace dash::http {
 

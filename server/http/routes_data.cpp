@@ -1,11 +1,14 @@
 // /api/series and /api/compare/overview (the Compare page's plots), /api/query (the read-only SQL
 // console, with the guards of `dashbench db query`) and /api/query/examples.
+
 #include "engine/log/db_query.h"
 #include "server/http/api_json.h"
 #include "server/http/api_util.h"
 #include "server/http/routes.h"
 
-#include <httplib.h>  // last: see api_util.cpp
+// clang-format off
+#include <httplib.h>  // last: it must follow Eigen (see server/dispatch/dispatch_routes.h)
+// clang-format on
 
 namespace dash::http {
 
@@ -16,12 +19,18 @@ constexpr double kQueryTimeout = 10.0;
 
 const char* guardName(log::QueryGuard g) {
   switch (g) {
-    case log::QueryGuard::Write: return "write";
-    case log::QueryGuard::Attach: return "attach";
-    case log::QueryGuard::Pragma: return "pragma";
-    case log::QueryGuard::Transaction: return "transaction";
-    case log::QueryGuard::OneStatement: return "one_statement";
-    case log::QueryGuard::TimeLimit: return "time_limit";
+    case log::QueryGuard::Write:
+      return "write";
+    case log::QueryGuard::Attach:
+      return "attach";
+    case log::QueryGuard::Pragma:
+      return "pragma";
+    case log::QueryGuard::Transaction:
+      return "transaction";
+    case log::QueryGuard::OneStatement:
+      return "one_statement";
+    case log::QueryGuard::TimeLimit:
+      return "time_limit";
   }
   return "guard";
 }
@@ -44,7 +53,8 @@ Json examples() {
       q("Runs that did not solve, and why",
         "SELECT uuid, family, params, planner, status, error, exit_signal FROM dash_runs\n"
         "WHERE status NOT IN ('solved', 'running') ORDER BY id DESC LIMIT 50"),
-      q("Tagged runs", "SELECT r.uuid, t.tag, r.note FROM dash_run_tags t JOIN dash_runs r ON r.id = t.run_id ORDER BY t.tag"),
+      q("Tagged runs",
+        "SELECT r.uuid, t.tag, r.note FROM dash_run_tags t JOIN dash_runs r ON r.id = t.run_id ORDER BY t.tag"),
       q("Planner Arena's runs view", "SELECT * FROM runs LIMIT 20"),
       q("Tables and views", "SELECT type, name FROM sqlite_schema WHERE type IN ('table', 'view') ORDER BY type, name"),
   });
@@ -58,6 +68,7 @@ void registerDataRoutes(httplib::Server& server, ApiContext& ctx) {
                r.family = param(req, "family");
                r.x = param(req, "x", "objects");
                r.group_by = param(req, "group_by", "config");
+               r.split = param(req, "split");
                r.filter = param(req, "q");
                r.include_unsolved = param(req, "include_unsolved", "0") == "1";
                replyJson(res, 200, ctx.series.seriesJson(r));
@@ -84,14 +95,16 @@ void registerDataRoutes(httplib::Server& server, ApiContext& ctx) {
                   }
                 }
                 try {
-                  const log::SqlRows rows = log::runReadOnlyQuery(
-                      ctx.db_path, body["sql"].get<std::string>(),
-                      log::QueryLimits{.max_rows = max_rows, .timeout_seconds = kQueryTimeout});
+                  const log::SqlRows rows =
+                      log::runReadOnlyQuery(ctx.db_path, body["sql"].get<std::string>(),
+                                            log::QueryLimits{.max_rows = max_rows, .timeout_seconds = kQueryTimeout});
                   Json out = rowsToJson(rows);
                   out["max_rows"] = max_rows;
                   replyJson(res, 200, out.dump());
                 } catch (const log::QueryRefused& e) {
-                  replyJson(res, 403, Json{{"error", std::string("refused: ") + e.what()}, {"guard", guardName(e.guard())}}.dump());
+                  replyJson(
+                      res, 403,
+                      Json{{"error", std::string("refused: ") + e.what()}, {"guard", guardName(e.guard())}}.dump());
                 }
               }));
 }

@@ -4,6 +4,7 @@
 // A reconnecting EventSource sends Last-Event-ID and gets what it missed while the hub still has
 // it; otherwise a "resync" event tells the page to refetch. A comment line every few seconds keeps
 // proxies from closing an idle stream and lets the server notice a closed tab.
+
 #include <chrono>
 #include <memory>
 #include <set>
@@ -12,7 +13,9 @@
 #include "server/http/api_util.h"
 #include "server/http/routes.h"
 
-#include <httplib.h>  // last: see api_util.cpp
+// clang-format off
+#include <httplib.h>  // last: it must follow Eigen (see server/dispatch/dispatch_routes.h)
+// clang-format on
 
 namespace dash::http {
 
@@ -35,63 +38,71 @@ bool wanted(const Stream& s, const HubMessage& m) {
   return true;
 }
 
+/// Writes what the stream has not sent yet (or a keep-alive); false when the client is gone.
+bool nextFrames(Stream& stream, const EventHub& hub, httplib::DataSink& sink) {
+  auto write = [&](const std::string& text) {
+    stream.last_write = std::chrono::steady_clock::now();
+    return sink.write(text.data(), text.size());
+  };
+  if (!stream.hello_sent) {
+    stream.hello_sent = true;
+    return write("retry: 2000\nevent: hello\ndata: " + Json{{"seq", stream.after}}.dump() + "\n\n");
+  }
+  const HubWait w = hub.waitAfter(stream.after, kWaitSlice);
+  if (w.closed) {
+    sink.done();
+    return true;
+  }
+  std::string out;
+  if (w.gap) out += "event: resync\ndata: {}\n\n";
+  for (const HubMessage& m : w.messages) {
+    stream.after = m.seq;
+    if (wanted(stream, m)) out += EventHub::formatSse(m);
+  }
+  if (out.empty()) {
+    if (std::chrono::steady_clock::now() - stream.last_write < kKeepAlive) return true;
+    out = ": keep-alive\n\n";
+  }
+  return write(out);
+}
+
 }  // namespace
 
 void registerEventRoutes(httplib::Server& server, ApiContext& ctx) {
-  server.Get("/api/events", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
-               auto stream = std::make_shared<Stream>();
-               stream->after = ctx.hub->lastSeq();
-               if (req.has_header("Last-Event-ID")) {
-                 try {
-                   const std::uint64_t id = std::stoull(req.get_header_value("Last-Event-ID"));
-                   if (id <= stream->after) stream->after = id;
-                 } catch (const std::exception&) {
-                   // A malformed id: start from now.
-                 }
-               }
-               const std::string topics = param(req, "topics");
-               std::size_t start = 0;
-               while (start < topics.size()) {
-                 const std::size_t comma = topics.find(',', start);
-                 const std::string t = topics.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-                 if (!t.empty()) stream->topics.insert(t);
-                 if (comma == std::string::npos) break;
-                 start = comma + 1;
-               }
-               stream->run = param(req, "run");
-               res.set_header("Cache-Control", "no-cache");
-               res.set_header("X-Accel-Buffering", "no");
-               EventHub* hub = ctx.hub;
-               res.set_chunked_content_provider(
-                   "text/event-stream", [stream, hub](std::size_t, httplib::DataSink& sink) {
-                     auto write = [&](const std::string& text) {
-                       stream->last_write = std::chrono::steady_clock::now();
-                       return sink.write(text.data(), text.size());
-                     };
-                     if (!stream->hello_sent) {
-                       stream->hello_sent = true;
-                       const std::string hello = "retry: 2000\nevent: hello\ndata: " +
-                                                 Json{{"seq", stream->after}}.dump() + "\n\n";
-                       return write(hello);
-                     }
-                     const HubWait w = hub->waitAfter(stream->after, kWaitSlice);
-                     if (w.closed) {
-                       sink.done();
-                       return true;
-                     }
-                     std::string out;
-                     if (w.gap) out += "event: resync\ndata: {}\n\n";
-                     for (const HubMessage& m : w.messages) {
-                       stream->after = m.seq;
-                       if (wanted(*stream, m)) out += EventHub::formatSse(m);
-                     }
-                     if (out.empty()) {
-                       if (std::chrono::steady_clock::now() - stream->last_write < kKeepAlive) return true;
-                       out = ": keep-alive\n\n";
-                     }
-                     return write(out);
-                   });
-             }));
+  server.Get(
+      "/api/events", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
+        auto stream = std::make_shared<Stream>();
+        stream->after = ctx.hub->lastSeq();
+        if (req.has_header("Last-Event-ID")) {
+          try {
+            const std::uint64_t id = std::stoull(req.get_header_value("Last-Event-ID"));
+            if (id <= stream->after) stream->after = id;
+          } catch (const std::exception&) {
+            // A malformed id: start from now.
+          }
+        }
+        const std::string topics = param(req, "topics");
+        std::size_t start = 0;
+        while (start < topics.size()) {
+          const std::size_t comma = topics.find(',', start);
+          const std::string t = topics.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+          if (!t.empty()) stream->topics.insert(t);
+          if (comma == std::string::npos) break;
+          start = comma + 1;
+        }
+        stream->run = param(req, "run");
+        res.set_header("Cache-Control", "no-cache");
+        res.set_header("X-Accel-Buffering", "no");
+        EventHub* hub = ctx.hub;
+        // The provider runs after the handler returned, outside guarded(): it must not throw.
+        res.set_chunked_content_provider("text/event-stream", [stream, hub](std::size_t, httplib::DataSink& sink) {
+          try {
+            return nextFrames(*stream, *hub, sink);
+          } catch (const std::exception&) {
+            return false;  // ends this stream only
+          }
+        });
+      }));
 }
 
 }  // namespace dash::http

@@ -1,11 +1,14 @@
 // /api/runs: the runs table (filter, sort, page), CSV export, one run's detail, events, timeline,
 // plan and scene, and its tags and note.
+
 #include "engine/core/check.h"
 #include "server/http/api_json.h"
 #include "server/http/api_util.h"
 #include "server/http/routes.h"
 
-#include <httplib.h>  // last: see api_util.cpp
+// clang-format off
+#include <httplib.h>  // last: it must follow Eigen (see server/dispatch/dispatch_routes.h)
+// clang-format on
 
 namespace dash::http {
 
@@ -90,8 +93,10 @@ void registerRunRoutes(httplib::Server& server, ApiContext& ctx) {
 
   server.Get(std::string(kRun) + "/plan", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
                const auto plan = ctx.detail.planText(req.matches[1]);
-               if (!plan) throw HttpError(404, "run " + std::string(req.matches[1]) + " has no plan (it was not solved "
-                                                                                       "with motions)");
+               if (!plan)
+                 throw HttpError(404, "run " + std::string(req.matches[1]) +
+                                          " has no plan (it was not solved "
+                                          "with motions)");
                replyJson(res, 200, *plan);
              }));
 
@@ -104,13 +109,15 @@ void registerRunRoutes(httplib::Server& server, ApiContext& ctx) {
                 requireToken(req, ctx.token);
                 const Json body = parseBodyObject(req);
                 for (const auto& [key, value] : body.items()) {
-                  if (key != "add" && key != "remove") throw HttpError(400, "unknown key '" + key + "' (expected add, remove)");
+                  if (key != "add" && key != "remove")
+                    throw HttpError(400, "unknown key '" + key + "' (expected add, remove)");
                 }
                 ctx.detail.editTags(req.matches[1], stringList(body, "add"), stringList(body, "remove"));
                 replyJson(res, 200, ctx.detail.annotationsJson(req.matches[1]));
               }));
 
-  server.Delete(std::string(kRun) + "/tags/([^/]{1,64})", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
+  server.Delete(std::string(kRun) + "/tags/([^/]{1,64})",
+                guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
                   requireToken(req, ctx.token);
                   ctx.detail.editTags(req.matches[1], {}, {req.matches[2]});
                   replyJson(res, 200, ctx.detail.annotationsJson(req.matches[1]));

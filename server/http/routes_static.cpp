@@ -1,12 +1,15 @@
 // The dashboard's files: GET of anything that is not an API route. Unknown /api/ paths answer a JSON
 // 404; paths that try to leave the web root answer 403; the HTML gets a content security policy.
+
 #include <fstream>
 #include <sstream>
 
 #include "server/http/api_util.h"
 #include "server/http/routes.h"
 
-#include <httplib.h>  // last: see api_util.cpp
+// clang-format off
+#include <httplib.h>  // last: it must follow Eigen (see server/dispatch/dispatch_routes.h)
+// clang-format on
 
 namespace dash::http {
 
@@ -15,7 +18,8 @@ namespace {
 // Scripts only from this server; the one inline script is the import map (Chromium cannot load an
 // import map from a file). No frames, no plugins, no other origins.
 constexpr const char* kContentSecurityPolicy =
-    "default-src 'self'; script-src 'self' 'unsafe-inline'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
+    "default-src 'self'; script-src 'self' 'unsafe-inline'; style-src 'self' 'unsafe-inline'; img-src 'self' data: "
+    "blob:; "
     "connect-src 'self'; object-src 'none'; frame-ancestors 'none'; base-uri 'none'; form-action 'self'";
 
 std::string readFile(const std::string& path) {
@@ -35,12 +39,16 @@ void registerStaticRoutes(httplib::Server& server, ApiContext& ctx) {
                }
                StaticFile file;
                switch (ctx.files->lookup(req.path, file)) {
-                 case StaticLookup::kForbidden: throw HttpError(403, "forbidden path");
-                 case StaticLookup::kNotFound: throw HttpError(404, "not found: " + req.path);
-                 case StaticLookup::kFound: break;
+                 case StaticLookup::kForbidden:
+                   throw HttpError(403, "forbidden path");
+                 case StaticLookup::kNotFound:
+                   throw HttpError(404, "not found: " + req.path);
+                 case StaticLookup::kFound:
+                   break;
                }
                res.set_content(readFile(file.path), file.mime_type.c_str());
-               if (file.mime_type.rfind("text/html", 0) == 0) res.set_header("Content-Security-Policy", kContentSecurityPolicy);
+               if (file.mime_type.rfind("text/html", 0) == 0)
+                 res.set_header("Content-Security-Policy", kContentSecurityPolicy);
                // Files change while people work on the dashboard; revalidation is cheap on loopback.
                res.set_header("Cache-Control", "no-cache");
              }));

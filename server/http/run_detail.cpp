@@ -53,10 +53,10 @@ std::int64_t RunDetail::runId(const std::string& uuid) const {
 std::string RunDetail::runJson(const std::string& uuid) const {
   const log::ResultsDb db(db_path_, log::OpenMode::ReadOnly);
   const RunTable table(db);
-  const log::SqlRows row = db.select(
-      "SELECT " + table.selectList() + ", r.params AS _params, r.planner_settings AS _settings, r.note AS _note " +
-          "FROM " + RunTable::fromClause() + " WHERE r.uuid = ?",
-      {uuid});
+  const log::SqlRows row = db.select("SELECT " + table.selectList() +
+                                         ", r.params AS _params, r.planner_settings AS _settings, r.note AS _note " +
+                                         "FROM " + RunTable::fromClause() + " WHERE r.uuid = ?",
+                                     {uuid});
   if (row.rows.empty()) throw HttpError(404, "no run " + uuid);
   Json run = rowObject(row, 0);
   const Json params = parseStored(run["_params"].is_string() ? run["_params"].get<std::string>() : "");
@@ -74,7 +74,8 @@ std::string RunDetail::runJson(const std::string& uuid) const {
     phases[p] = run["time_" + std::string(p)];
   }
   const log::SqlRows counts = db.select(
-      "SELECT (SELECT count(*) FROM dash_events WHERE run_id = ?1), (SELECT count(*) FROM dash_constraints WHERE run_id = ?1),"
+      "SELECT (SELECT count(*) FROM dash_events WHERE run_id = ?1), (SELECT count(*) FROM dash_constraints WHERE "
+      "run_id = ?1),"
       " (SELECT count(*) FROM dash_expansions WHERE run_id = ?1), (SELECT count(*) FROM dash_phases WHERE run_id = ?1),"
       " (SELECT count(*) FROM dash_counters WHERE run_id = ?1), (SELECT count(*) FROM dash_progress WHERE run_id = ?1)",
       key);
@@ -94,7 +95,8 @@ std::string RunDetail::runJson(const std::string& uuid) const {
       "GROUP BY iteration, phase ORDER BY iteration, phase LIMIT 5000",
       key);
   const log::SqlRows constraint_kinds = db.select(
-      "SELECT kind, action, count(*) AS count FROM dash_constraints WHERE run_id = ? GROUP BY kind, action ORDER BY kind",
+      "SELECT kind, action, count(*) AS count FROM dash_constraints WHERE run_id = ? GROUP BY kind, action ORDER BY "
+      "kind",
       key);
   const log::SqlRows tags = db.select("SELECT tag FROM dash_run_tags WHERE run_id = ? ORDER BY tag", key);
   Json tag_list = Json::array();
@@ -116,8 +118,9 @@ std::string RunDetail::runJson(const std::string& uuid) const {
 std::string RunDetail::eventsJson(const std::string& uuid, const std::string& type, std::int64_t offset,
                                   std::int64_t limit) const {
   if (type != "all" && std::find(eventTypes().begin(), eventTypes().end(), type) == eventTypes().end()) {
-    throw HttpError(400, "type: '" + type + "' is not one of all, representation, constraint, task_space_expansion, "
-                                            "phase, counter");
+    throw HttpError(400, "type: '" + type +
+                             "' is not one of all, representation, constraint, task_space_expansion, "
+                             "phase, counter");
   }
   const std::int64_t id = runId(uuid);
   const log::ResultsDb db(db_path_, log::OpenMode::ReadOnly);
@@ -127,10 +130,13 @@ std::string RunDetail::eventsJson(const std::string& uuid, const std::string& ty
   const log::SqlRows total = db.select("SELECT count(*) FROM dash_timeline" + where, params);
   params.emplace_back(limit);
   params.emplace_back(offset);
-  const log::SqlRows rows = db.select(
-      "SELECT seq, t, iteration, type, what, id, detail FROM dash_timeline" + where + " ORDER BY t, type, seq LIMIT ? OFFSET ?",
-      params);
-  return Json{{"total", intOf(total.rows[0][0])}, {"offset", offset}, {"limit", limit}, {"type", type},
+  const log::SqlRows rows = db.select("SELECT seq, t, iteration, type, what, id, detail FROM dash_timeline" + where +
+                                          " ORDER BY t, type, seq LIMIT ? OFFSET ?",
+                                      params);
+  return Json{{"total", intOf(total.rows[0][0])},
+              {"offset", offset},
+              {"limit", limit},
+              {"type", type},
               {"events", rowsAsObjects(rows)}}
       .dump();
 }
@@ -176,16 +182,19 @@ std::string RunDetail::timelineJson(const std::string& uuid, std::int64_t max_it
       "LIMIT ?",
       p_trunc);
   const log::SqlRows added = db.select(
-      "SELECT iteration, layer, kind, sum(change = 'added') AS added, sum(change = 'removed') AS removed, min(t) AS t_first,"
-      " max(t) AS t_last FROM dash_events WHERE run_id = ? GROUP BY iteration, layer, kind ORDER BY iteration, layer, kind "
+      "SELECT iteration, layer, kind, sum(change = 'added') AS added, sum(change = 'removed') AS removed, min(t) AS "
+      "t_first,"
+      " max(t) AS t_last FROM dash_events WHERE run_id = ? GROUP BY iteration, layer, kind ORDER BY iteration, layer, "
+      "kind "
       "LIMIT 5000",
       key);
-  return Json{{"progress", rowsToJson(progress)},
-              {"constraints", std::move(constraints)},
-              {"expansions", std::move(expansions)},
-              {"phases", std::move(phases)},
-              {"additions", rowsAsObjects(added)},
-              {"truncated", {{"progress", thinned}, {"constraints", c_trunc}, {"expansions", e_trunc}, {"phases", p_trunc}}}}
+  return Json{
+      {"progress", rowsToJson(progress)},
+      {"constraints", std::move(constraints)},
+      {"expansions", std::move(expansions)},
+      {"phases", std::move(phases)},
+      {"additions", rowsAsObjects(added)},
+      {"truncated", {{"progress", thinned}, {"constraints", c_trunc}, {"expansions", e_trunc}, {"phases", p_trunc}}}}
       .dump();
 }
 

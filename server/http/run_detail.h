@@ -36,7 +36,8 @@ class RunDetail {
   RunScenario scenario(const std::string& uuid) const;
 
   /// Tags and notes (the run must exist): HttpError 404 otherwise, InputError for a bad tag.
-  void editTags(const std::string& uuid, const std::vector<std::string>& add, const std::vector<std::string>& remove) const;
+  void editTags(const std::string& uuid, const std::vector<std::string>& add,
+                const std::vector<std::string>& remove) const;
   void setNote(const std::string& uuid, const std::string& note) const;
   /// {"uuid", "tags": [...], "note"}
   std::string annotationsJson(const std::string& uuid) const;

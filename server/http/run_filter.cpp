@@ -29,7 +29,8 @@ class Lexer {
       t.kind = Token::kString;
       ++i_;
       while (i_ < s_.size() && s_[i_] != ch) t.text += s_[i_++];
-      DASH_THROW_UNLESS(i_ < s_.size(), "filter: the quote at position " + std::to_string(t.pos + 1) + " is not closed");
+      DASH_THROW_UNLESS(i_ < s_.size(),
+                        "filter: the quote at position " + std::to_string(t.pos + 1) + " is not closed");
       ++i_;
       return t;
     }
@@ -90,7 +91,8 @@ SqlCondition clause(const Token& field, const Token& op, const Token& value, con
   const std::string& o = op.text;
   if (lower(field.text) == "tag" || lower(field.text) == "tags") {
     if (o == "=" || o == "!=") {
-      c.sql = std::string(o == "=" ? "" : "NOT ") + "EXISTS (SELECT 1 FROM dash_run_tags t WHERE t.run_id = r.id AND t.tag = ?)";
+      c.sql = std::string(o == "=" ? "" : "NOT ") +
+              "EXISTS (SELECT 1 FROM dash_run_tags t WHERE t.run_id = r.id AND t.tag = ?)";
       c.params.emplace_back(value.text);
     } else if (o == "~" || o == "!~") {
       c.sql = std::string(o == "~" ? "" : "NOT ") +
@@ -103,7 +105,8 @@ SqlCondition clause(const Token& field, const Token& op, const Token& value, con
   }
   const RunColumn* col = table.find(field.text);
   if (col == nullptr) col = table.find(lower(field.text));
-  if (col == nullptr) throw InputError("filter: unknown field '" + field.text + "'" + at(field) + "; fields: " + knownFields(table));
+  if (col == nullptr)
+    throw InputError("filter: unknown field '" + field.text + "'" + at(field) + "; fields: " + knownFields(table));
   if (o == "~" || o == "!~") {
     c.sql = "COALESCE(CAST(" + col->sql + " AS TEXT), '') " + (o == "~" ? "" : "NOT ") + "LIKE ? ESCAPE '\\'";
     c.params.emplace_back(likePattern(value.text));

@@ -16,7 +16,7 @@
 namespace dash::http {
 
 struct SqlCondition {
-  std::string sql;                     ///< "" when there is nothing to filter
+  std::string sql;                    ///< "" when there is nothing to filter
   std::vector<log::SqlValue> params;  ///< bound in order
 
   /// Appends `other` with AND.

@@ -9,10 +9,10 @@
 namespace dash::http {
 
 struct RunListRequest {
-  std::string filter;                ///< text filter (run_filter.h)
-  std::string batch_id;              ///< only this batch's runs
-  std::vector<std::string> uuids;    ///< only these runs
-  std::string sort = "id";           ///< a column name
+  std::string filter;              ///< text filter (run_filter.h)
+  std::string batch_id;            ///< only this batch's runs
+  std::vector<std::string> uuids;  ///< only these runs
+  std::string sort = "id";         ///< a column name
   bool descending = true;
   std::int64_t limit = 100;
   std::int64_t offset = 0;

@@ -37,15 +37,18 @@ std::vector<RunColumn> fixedColumns() {
       {"time_limit", "r.time_limit", T::kReal, "time limit (s)", "run", false},
       {"memory_limit", "r.memory_limit", T::kReal, "memory limit (MB)", "run", false},
       {"total_time", "r.total_time", T::kReal, "total time (s)", "time", true},
-      {"time_task", "(COALESCE(r.time_task_construction,0) + COALESCE(r.time_task_query,0) + "
-                    "COALESCE(r.time_task_conflict_detection,0))",
+      {"time_task",
+       "(COALESCE(r.time_task_construction,0) + COALESCE(r.time_task_query,0) + "
+       "COALESCE(r.time_task_conflict_detection,0))",
        T::kReal, "task time (s)", "time", false},
-      {"time_motion", "(COALESCE(r.time_motion_construction,0) + COALESCE(r.time_motion_query,0) + "
-                      "COALESCE(r.time_conflict_resolution,0))",
+      {"time_motion",
+       "(COALESCE(r.time_motion_construction,0) + COALESCE(r.time_motion_query,0) + "
+       "COALESCE(r.time_conflict_resolution,0))",
        T::kReal, "motion time (s)", "time", false},
       {"time_task_construction", "r.time_task_construction", T::kReal, "task construction (s)", "time", false},
       {"time_task_query", "r.time_task_query", T::kReal, "task query (s)", "time", false},
-      {"time_task_conflict_detection", "r.time_task_conflict_detection", T::kReal, "task conflict detection (s)", "time", false},
+      {"time_task_conflict_detection", "r.time_task_conflict_detection", T::kReal, "task conflict detection (s)",
+       "time", false},
       {"time_motion_construction", "r.time_motion_construction", T::kReal, "motion construction (s)", "time", false},
       {"time_motion_query", "r.time_motion_query", T::kReal, "motion query (s)", "time", false},
       {"time_conflict_resolution", "r.time_conflict_resolution", T::kReal, "conflict resolution (s)", "time", false},
@@ -75,7 +78,8 @@ std::vector<RunColumn> fixedColumns() {
       {"code_version", "r.code_version", T::kText, "code version", "run", false},
       {"host", "r.host", T::kText, "host", "run", false},
       {"note", "r.note", T::kText, "note", "run", false},
-      {"tags", "(SELECT group_concat(t.tag, ',') FROM (SELECT tag FROM dash_run_tags WHERE run_id = r.id ORDER BY tag) t)",
+      {"tags",
+       "(SELECT group_concat(t.tag, ',') FROM (SELECT tag FROM dash_run_tags WHERE run_id = r.id ORDER BY tag) t)",
        T::kText, "tags", "run", true},
   };
   return c;
@@ -101,7 +105,8 @@ RunTable::RunTable(const log::ResultsDb& db) : columns_(fixedColumns()) {
     const std::string api_name = find(name) != nullptr ? "param_" + name : name;
     param_columns.push_back({api_name, parameterExpression(name), ColumnType::kInteger, name, "param", true});
   }
-  columns_.insert(columns_.begin() + static_cast<std::ptrdiff_t>(insert_at), param_columns.begin(), param_columns.end());
+  columns_.insert(columns_.begin() + static_cast<std::ptrdiff_t>(insert_at), param_columns.begin(),
+                  param_columns.end());
 }
 
 const RunColumn* RunTable::find(const std::string& name) const {
@@ -113,9 +118,7 @@ const RunColumn* RunTable::find(const std::string& name) const {
 
 std::string RunTable::selectList(const std::vector<std::string>& names) const {
   std::string out;
-  auto add = [&](const RunColumn& c) {
-    out += (out.empty() ? "" : ", ") + c.sql + " AS \"" + c.name + "\"";
-  };
+  auto add = [&](const RunColumn& c) { out += (out.empty() ? "" : ", ") + c.sql + " AS \"" + c.name + "\""; };
   if (names.empty()) {
     for (const RunColumn& c : columns_) add(c);
     return out;

@@ -13,12 +13,12 @@ namespace dash::http {
 enum class ColumnType { kText, kInteger, kReal };
 
 struct RunColumn {
-  std::string name;   ///< the API's name: "planner", "total_time", "robots"
-  std::string sql;    ///< expression over r and c
+  std::string name;  ///< the API's name: "planner", "total_time", "robots"
+  std::string sql;   ///< expression over r and c
   ColumnType type = ColumnType::kText;
-  std::string label;  ///< for people, with the unit: "total time (s)"
-  std::string group;  ///< "run", "param", "time", "size", "count", "outcome"
-  bool shown = false; ///< in the dashboard's default column set
+  std::string label;   ///< for people, with the unit: "total time (s)"
+  std::string group;   ///< "run", "param", "time", "size", "count", "outcome"
+  bool shown = false;  ///< in the dashboard's default column set
 };
 
 class RunTable {

@@ -41,10 +41,12 @@ const std::vector<Metric>& metrics() {
       {"time_conflict_resolution", "r.time_conflict_resolution", "conflict resolution", "s"},
       {"time_other", "r.time_other", "other", "s"},
       {"time_task",
-       "(COALESCE(r.time_task_construction,0) + COALESCE(r.time_task_query,0) + COALESCE(r.time_task_conflict_detection,0))",
+       "(COALESCE(r.time_task_construction,0) + COALESCE(r.time_task_query,0) + "
+       "COALESCE(r.time_task_conflict_detection,0))",
        "task total", "s"},
       {"time_motion",
-       "(COALESCE(r.time_motion_construction,0) + COALESCE(r.time_motion_query,0) + COALESCE(r.time_conflict_resolution,0))",
+       "(COALESCE(r.time_motion_construction,0) + COALESCE(r.time_motion_query,0) + "
+       "COALESCE(r.time_conflict_resolution,0))",
        "motion total", "s"},
       {"total_time", "r.total_time", "total", "s"},
       {"makespan", "r.makespan", "makespan", "s"},
@@ -103,11 +105,16 @@ std::string SeriesQueries::seriesJson(const SeriesRequest& request) const {
     for (const auto& p : params) known += (known.empty() ? "" : ", ") + p;
     throw HttpError(400, "x: '" + request.x + "' is not a scenario parameter of any run (known: " + known + ")");
   }
+  if (!request.split.empty() &&
+      (request.split == request.x || std::find(params.begin(), params.end(), request.split) == params.end())) {
+    throw HttpError(400, "split: '" + request.split + "' is not another scenario parameter");
+  }
   SqlCondition where = parseRunFilter(request.filter, table);
   where.andWith("r.family = ?", {request.family});
   where.andWith("r.status NOT IN ('running', 'cancelled')");
   std::string sql = std::string("SELECT ") + (request.group_by == "config" ? "c.name" : "r.planner") + ", " +
-                    RunTable::parameterExpression(request.x) + ", r.status";
+                    RunTable::parameterExpression(request.x) + ", r.status, " +
+                    (request.split.empty() ? std::string("NULL") : RunTable::parameterExpression(request.split));
   for (const Metric& m : metrics()) sql += std::string(", ") + m.sql;
   sql += std::string(" FROM ") + RunTable::fromClause() + " WHERE " + where.sql;
   const log::SqlRows rows = db.select(sql, where.params);
@@ -120,12 +127,16 @@ std::string SeriesQueries::seriesJson(const SeriesRequest& request) const {
   for (const auto& row : rows.rows) {
     const std::optional<double> x = number(row[1]);
     if (!x) continue;  // the run has no such parameter
-    Group& g = groups[{text(row[0]), *x}];
+    std::string name = text(row[0]);
+    if (const auto s = number(row[3]); s && !request.split.empty()) {
+      name += " · " + request.split + "=" + std::to_string(static_cast<long long>(*s));
+    }
+    Group& g = groups[{name, *x}];
     const std::string status = text(row[2]);
     ++g.by_status[status];
     if (status != "solved" && !request.include_unsolved) continue;
     for (std::size_t m = 0; m < metrics().size(); ++m) {
-      if (const auto v = number(row[3 + m])) g.values[m].push_back(*v);
+      if (const auto v = number(row[4 + m])) g.values[m].push_back(*v);
     }
   }
   Json out_groups = Json::array();
@@ -135,20 +146,22 @@ std::string SeriesQueries::seriesJson(const SeriesRequest& request) const {
     const std::int64_t solved = g.by_status.count("solved") != 0 ? g.by_status.at("solved") : 0;
     Json m = Json::object();
     for (std::size_t i = 0; i < metrics().size(); ++i) m[metrics()[i].name] = summary(g.values[i]);
-    out_groups.push_back({{"group", key.first},
-                          {"x", key.second},
-                          {"finished", finished},
-                          {"solved", solved},
-                          {"by_status", g.by_status},
-                          {"success_rate", finished > 0 ? Json(static_cast<double>(solved) / static_cast<double>(finished))
-                                                        : Json(nullptr)},
-                          {"metrics", std::move(m)}});
+    out_groups.push_back(
+        {{"group", key.first},
+         {"x", key.second},
+         {"finished", finished},
+         {"solved", solved},
+         {"by_status", g.by_status},
+         {"success_rate",
+          finished > 0 ? Json(static_cast<double>(solved) / static_cast<double>(finished)) : Json(nullptr)},
+         {"metrics", std::move(m)}});
   }
   Json metric_list = Json::array();
   for (const Metric& m : metrics()) metric_list.push_back({{"name", m.name}, {"label", m.label}, {"unit", m.unit}});
   return Json{{"family", request.family},
               {"x", request.x},
               {"group_by", request.group_by},
+              {"split", request.split},
               {"include_unsolved", request.include_unsolved},
               {"metrics", metric_list},
               {"groups", out_groups}}
@@ -163,15 +176,16 @@ std::string SeriesQueries::overviewJson() const {
   for (const auto& row : families.rows) {
     const std::string family = text(row[0]);
     const log::SqlRows params = db.select(
-        "SELECT DISTINCT j.key FROM dash_experiments e, json_each(e.params) j WHERE e.family = ? ORDER BY j.key", {family});
+        "SELECT DISTINCT j.key FROM dash_experiments e, json_each(e.params) j WHERE e.family = ? ORDER BY j.key",
+        {family});
     const log::SqlRows configs = db.select(
         "SELECT DISTINCT c.name FROM " + std::string(RunTable::fromClause()) + " WHERE r.family = ? ORDER BY c.name",
         {family});
     Json p = Json::array(), c = Json::array();
     for (const auto& r : params.rows) p.push_back(toJson(r[0]));
     for (const auto& r : configs.rows) c.push_back(toJson(r[0]));
-    list.push_back({{"family", family}, {"runs", toJson(row[1])}, {"solved", toJson(row[2])}, {"parameters", p},
-                    {"configs", c}});
+    list.push_back(
+        {{"family", family}, {"runs", toJson(row[1])}, {"solved", toJson(row[2])}, {"parameters", p}, {"configs", c}});
   }
   return Json{{"families", list}}.dump();
 }

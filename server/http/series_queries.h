@@ -3,17 +3,19 @@
 // configuration (or planner) and by the value of one scenario parameter (the x axis). For each
 // group: runs per status and the success rate over finished runs, and for each metric (the four
 // representations' vertices and hyperarcs, each phase's time, task / motion / total time, makespan)
-// the values across seeds with median, quartiles, minimum and maximum. Values come from solved runs
+// the values across seeds with median, quartiles, minimum and maximum. With `split`, each value of a
+// second parameter (robots, say) makes series of its own, as the paper plots them. Values come from solved runs
 // only unless include_unsolved (timeouts and infeasible runs have partial figures).
 #include <string>
 
 namespace dash::http {
 
 struct SeriesRequest {
-  std::string family;              ///< required
-  std::string x = "objects";       ///< a scenario parameter of the family
-  std::string group_by = "config"; ///< "config" (planner configuration) or "planner"
-  std::string filter;              ///< the runs table's text filter (run_filter.h)
+  std::string family;               ///< required
+  std::string x = "objects";        ///< a scenario parameter of the family
+  std::string group_by = "config";  ///< "config" (planner configuration) or "planner"
+  std::string split;                ///< another parameter: one series per value ("lazy-dash · robots=4")
+  std::string filter;               ///< the runs table's text filter (run_filter.h)
   bool include_unsolved = false;
 };
 

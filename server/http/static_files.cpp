@@ -18,7 +18,7 @@ bool safeSegments(const std::string& url_path, std::vector<std::string>& segment
     const std::size_t slash = url_path.find('/', start);
     const std::string seg = url_path.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
     if (slash == std::string::npos && seg.empty() && !segments.empty()) return false;  // trailing slash
-    if (seg.empty() && slash != std::string::npos) return false;                          // "//"
+    if (seg.empty() && slash != std::string::npos) return false;                       // "//"
     if (!seg.empty()) {
       if (seg == "." || seg == ".." || seg[0] == '.') return false;
       segments.push_back(seg);

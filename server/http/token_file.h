@@ -8,8 +8,8 @@ namespace dash::http {
 
 struct TokenFile {
   std::string token;
-  bool created = false;        ///< this call made the file (print the token once)
-  bool too_permissive = false; ///< an existing file others may read (mode wider than 0600)
+  bool created = false;         ///< this call made the file (print the token once)
+  bool too_permissive = false;  ///< an existing file others may read (mode wider than 0600)
 };
 
 /// Reads the token (the file's first line, surrounding spaces removed) from `path`, or creates the

@@ -19,6 +19,16 @@ TEST_F(ApiTest, HealthAndInfo) {
   EXPECT_EQ(i.json()["runs_by_status"]["solved"], 2);
 }
 
+TEST_F(ApiTest, DispatchApiIsMountedWithTheServersToken) {
+  if (!server->dispatchMounted()) GTEST_SKIP() << "this build has no server/dispatch";
+  const Reply list = http->get("/api/controllers", kToken);
+  ASSERT_EQ(list.status, 200) << list.body;
+  EXPECT_EQ(list.json()["controllers"], Json::array());
+  EXPECT_EQ(http->get("/api/controllers").status, 401);
+  EXPECT_EQ(http->get("/api/dispatch", kToken).status, 404) << "no dispatch yet";
+  EXPECT_TRUE(http->get("/api/health").json()["dispatch"].get<bool>());
+}
+
 TEST_F(ApiTest, ScenarioFamiliesPlannersAndRobots) {
   const Json s = http->get("/api/scenarios").json();
   bool sorting = false;
@@ -163,6 +173,11 @@ TEST_F(ApiTest, SeriesForTheComparePlots) {
   const Json all = http->get("/api/series?family=sorting&x=objects&include_unsolved=1").json();
   EXPECT_EQ(all["groups"][1]["metrics"]["total_time"]["n"], 1);
   EXPECT_EQ(http->get("/api/series?family=sorting&x=objects&group_by=planner").json()["groups"].size(), 2u);
+  const Json split = http->get("/api/series?family=sorting&x=robots&split=objects").json();
+  ASSERT_EQ(split["groups"].size(), 3u);
+  EXPECT_EQ(split["groups"][0]["group"], "lazy-dash · objects=2");
+  EXPECT_EQ(split["groups"][1]["group"], "lazy-dash · objects=4");
+  EXPECT_EQ(http->get("/api/series?family=sorting&x=objects&split=objects").status, 400);
   EXPECT_EQ(http->get("/api/series?family=sorting&x=walls").status, 400);
   EXPECT_EQ(http->get("/api/series?x=objects").status, 400);
   const Json o = http->get("/api/compare/overview").json();
@@ -171,7 +186,8 @@ TEST_F(ApiTest, SeriesForTheComparePlots) {
 }
 
 TEST_F(ApiTest, ReadOnlySqlConsole) {
-  const Reply ok = http->post("/api/query", R"({"sql":"SELECT status, count(*) AS n FROM dash_runs GROUP BY status ORDER BY status"})", "");
+  const Reply ok = http->post(
+      "/api/query", R"({"sql":"SELECT status, count(*) AS n FROM dash_runs GROUP BY status ORDER BY status"})", "");
   ASSERT_EQ(ok.status, 200) << ok.body;
   EXPECT_EQ(ok.json()["columns"], Json::array({"status", "n"}));
   EXPECT_EQ(ok.json()["rows"], Json::parse(R"([["solved",2],["timeout",1]])"));

@@ -1,13 +1,15 @@
 // Batches through the API, run for real (each run a `dashbench run-one` process): validate, submit
 // and watch it finish, progress over server-sent events, cancel and resume, a planner crash, and a
 // server restart that leaves an unfinished batch resumable.
-#include <atomic>
+
 #include <mutex>
 #include <thread>
 
 #include "tests/http/http_test_util.h"
 
+// clang-format off
 #include <httplib.h>  // last: it must follow Eigen (see server/dispatch/dispatch_routes.h)
+// clang-format on
 
 namespace dash::http::testing {
 namespace {
@@ -24,16 +26,25 @@ std::string submit(const Http& http, const std::string& spec, int workers = 1) {
 }
 
 TEST_F(BatchApiTest, ValidateCountsRunsAndNamesBadFields) {
-  const Reply ok = http->post("/api/batches/validate", tinySpec("v", "[2,4]", R"({"from":1,"count":3})", kTaskOnlyPlanner), "");
+  const Reply ok =
+      http->post("/api/batches/validate", tinySpec("v", "[2,4]", R"({"from":1,"count":3})", kTaskOnlyPlanner), "");
   ASSERT_EQ(ok.status, 200) << ok.body;
+  EXPECT_TRUE(ok.json()["valid"].get<bool>());
   EXPECT_EQ(ok.json()["runs"], 6);
   EXPECT_EQ(ok.json()["keys"][0], "sorting/robots=2,objects=2/seed=1/lazy-task");
   const Reply range = http->post("/api/batches/validate", tinySpec("v", "[2,400]", "[1]", kTaskOnlyPlanner), "");
-  EXPECT_EQ(range.status, 400);
+  EXPECT_EQ(range.status, 200);
+  EXPECT_FALSE(range.json()["valid"].get<bool>());
+  EXPECT_EQ(range.json()["kind"], "out-of-range");
   EXPECT_NE(range.json()["error"].get<std::string>().find("params.objects"), std::string::npos) << range.body;
-  const Reply unknown = http->post("/api/batches/validate", R"({"name":"x","scenarios":[],"planners":[],"seeds":[1],"colour":1})", "");
-  EXPECT_EQ(unknown.status, 400);
-  EXPECT_EQ(http->post("/api/batches", Json{{"spec", Json::parse(tinySpec("w", "2", "[1]", kTaskOnlyPlanner))}, {"workers", 99}}.dump()).status, 400);
+  const Reply unknown =
+      http->post("/api/batches/validate", R"({"name":"x","scenarios":[],"planners":[],"seeds":[1],"colour":1})", "");
+  EXPECT_FALSE(unknown.json()["valid"].get<bool>());
+  EXPECT_EQ(http->post("/api/batches/validate", "{not json", "").status, 400);
+  EXPECT_EQ(http->post("/api/batches",
+                       Json{{"spec", Json::parse(tinySpec("w", "2", "[1]", kTaskOnlyPlanner))}, {"workers", 99}}.dump())
+                .status,
+            400);
 }
 
 TEST_F(BatchApiTest, SubmittedBatchRunsToTheEndAndItsRunsAreListed) {
@@ -59,27 +70,29 @@ TEST_F(BatchApiTest, SubmittedBatchRunsToTheEndAndItsRunsAreListed) {
 TEST_F(BatchApiTest, EventStreamDeliversProgressWhileABatchRuns) {
   std::mutex mutex;
   std::string received;
-  std::atomic<bool> stop{false};
+  httplib::Client client("127.0.0.1", server->port());
+  client.set_read_timeout(60, 0);
   std::thread reader([&] {
-    httplib::Client c("127.0.0.1", server->port());
-    c.set_read_timeout(60, 0);
-    c.Get("/api/events", [&](const char* data, std::size_t n) {
+    client.Get("/api/events", [&](const char* data, std::size_t n) {
       std::lock_guard lock(mutex);
       received.append(data, n);
-      return !stop.load();
+      return true;
     });
   });
-  ASSERT_TRUE(waitFor([&] {
-    std::lock_guard lock(mutex);
-    return received.find("event: hello") != std::string::npos;
-  }, 10));
+  ASSERT_TRUE(waitFor(
+      [&] {
+        std::lock_guard lock(mutex);
+        return received.find("event: hello") != std::string::npos;
+      },
+      10));
   const std::string id = submit(*http, tinySpec("sse", "2", "[1,2,3]", kTaskOnlyPlanner));
-  const bool finished = waitFor([&] {
-    std::lock_guard lock(mutex);
-    return received.find("\"status\":\"finished\"") != std::string::npos;
-  }, 60);
-  stop = true;
-  // The stream wakes at least every half second (keep-alive check) and sees the receiver's false.
+  const bool finished = waitFor(
+      [&] {
+        std::lock_guard lock(mutex);
+        return received.find("\"status\":\"finished\"") != std::string::npos;
+      },
+      60);
+  client.stop();  // closes the connection: the server notices at its next write
   reader.join();
   ASSERT_TRUE(finished) << received;
   EXPECT_NE(received.find("event: batch\ndata: {\"id\":\"" + id), std::string::npos);
@@ -90,9 +103,47 @@ TEST_F(BatchApiTest, EventStreamDeliversProgressWhileABatchRuns) {
   EXPECT_NE(received.find("event: batches\n"), std::string::npos);
 }
 
+TEST_F(BatchApiTest, EventStreamShowsARunningPlansSizesGrowing) {
+  std::mutex mutex;
+  std::string received;
+  httplib::Client client("127.0.0.1", server->port());
+  client.set_read_timeout(60, 0);
+  std::thread reader([&] {
+    client.Get("/api/events?topics=sizes", [&](const char* data, std::size_t n) {
+      std::lock_guard lock(mutex);
+      received.append(data, n);
+      return true;
+    });
+  });
+  // Full Lazy-DaSH on four arms plans for seconds (it hits its time limit): long enough to watch.
+  const std::string spec = R"({"name":"grow","time_limit":20,"memory_limit":4096,"scenarios":[{"family":"sorting",)"
+                           R"("params":{"robots":4,"objects":2}}],"planners":[{"name":"lazy-dash"}],"seeds":[1]})";
+  const std::string id = submit(*http, spec);
+  auto sizesSeen = [&] {
+    std::lock_guard lock(mutex);
+    std::size_t count = 0;
+    for (std::size_t at = received.find("event: sizes"); at != std::string::npos;
+         at = received.find("event: sizes", at + 1)) {
+      ++count;
+    }
+    return count;
+  };
+  const bool grew = waitFor([&] { return sizesSeen() >= 2; }, 60);
+  EXPECT_EQ(http->post("/api/batches/" + id + "/cancel", "{}").status, 202);
+  client.stop();
+  reader.join();
+  ASSERT_TRUE(grew) << received;
+  const Json run = http->get("/api/runs?batch=" + id).json()["runs"][0];
+  EXPECT_NE(received.find("\"uuid\":\"" + run["uuid"].get<std::string>() + "\""), std::string::npos);
+  EXPECT_NE(received.find("\"task_vertices\":"), std::string::npos);
+  EXPECT_EQ(received.find("event: batch\n"), std::string::npos) << "only the topics asked for";
+  waitForBatch(*http, id, "cancelled", 30);
+}
+
 TEST_F(BatchApiTest, CancelThenResume) {
   const std::string id = submit(*http, tinySpec("spin", "2", "[1]", kSpinning, 60));
-  ASSERT_TRUE(waitFor([&] { return http->get("/api/runs?batch=" + id + "&q=status%20%3D%20running").json()["total"] == 1; }, 60));
+  ASSERT_TRUE(waitFor(
+      [&] { return http->get("/api/runs?batch=" + id + "&q=status%20%3D%20running").json()["total"] == 1; }, 60));
   const Reply c = http->post("/api/batches/" + id + "/cancel", "{}");
   EXPECT_EQ(c.status, 202) << c.body;
   Json b = waitForBatch(*http, id, "cancelled", 30);
@@ -109,7 +160,9 @@ TEST_F(BatchApiTest, CancelThenResume) {
 }
 
 TEST_F(BatchApiTest, APlannerCrashIsRecordedAndTheServerGoesOn) {
-  const std::string id = submit(*http, tinySpec("crash", "2", "[1]", R"({"name":"lazy-dash","settings":{"test_fault":"abort"},"label":"aborting"})"));
+  const std::string id = submit(
+      *http,
+      tinySpec("crash", "2", "[1]", R"({"name":"lazy-dash","settings":{"test_fault":"abort"},"label":"aborting"})"));
   const Json b = waitForBatch(*http, id, "finished", 60);
   ASSERT_EQ(b["status"], "finished") << b.dump();
   EXPECT_EQ(b["runs"][0]["status"], "crashed");
@@ -131,7 +184,7 @@ TEST_F(OneAtATime, AfterARestartUnfinishedBatchesAreResumable) {
   const std::string queued = submit(*http, tinySpec("second", "2", "[1,2]", kTaskOnlyPlanner));
   ASSERT_TRUE(waitFor([&] { return http->get("/api/batches/" + running).json()["status"] == "running"; }, 30));
   EXPECT_EQ(http->get("/api/batches/" + queued).json()["status"], "queued");
-  server->stop();  // what Ctrl-C does: the running batch is cancelled, the queued one never started
+  server->stop();  // what Ctrl-C does: the running batch is stopped, the queued one never started
 
   server = std::make_unique<HttpServer>(testOptions(db_path));
   http = std::make_unique<Http>(server->start());
@@ -139,7 +192,10 @@ TEST_F(OneAtATime, AfterARestartUnfinishedBatchesAreResumable) {
   EXPECT_EQ(second["status"], "interrupted") << second.dump();
   EXPECT_TRUE(second["resumable"].get<bool>());
   EXPECT_EQ(second["pending"], 2);
-  EXPECT_EQ(http->get("/api/batches/" + running).json()["status"], "cancelled");
+  const Json first = http->get("/api/batches/" + running).json();
+  EXPECT_EQ(first["status"], "interrupted") << "stopped with the server, not cancelled by anyone";
+  EXPECT_TRUE(first["resumable"].get<bool>());
+  EXPECT_EQ(first["runs"][0]["status"], "cancelled") << "its run is re-run by a resume";
   ASSERT_EQ(http->post("/api/batches/" + queued + "/resume", "{}").status, 202);
   second = waitForBatch(*http, queued, "finished", 60);
   EXPECT_EQ(second["by_status"]["solved"], 2) << second.dump();

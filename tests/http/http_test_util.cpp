@@ -15,7 +15,9 @@
 #include "engine/log/results_db.h"
 #include "engine/log/sqlite_recorder.h"
 
+// clang-format off
 #include <httplib.h>  // last: it must follow Eigen (see server/dispatch/dispatch_routes.h)
+// clang-format on
 
 namespace dash::http::testing {
 
@@ -38,8 +40,8 @@ std::string readText(const std::string& path) {
   return s.str();
 }
 
-log::RunMetadata meta(const std::string& batch, const std::string& params, std::uint64_t seed, const std::string& config,
-                      const std::string& settings) {
+log::RunMetadata meta(const std::string& batch, const std::string& params, std::uint64_t seed,
+                      const std::string& config, const std::string& settings) {
   return log::RunMetadata{.batch_id = batch,
                           .family = "sorting",
                           .params_json = params,

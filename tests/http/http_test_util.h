@@ -2,14 +2,14 @@
 // Shared by the HTTP tests: a temporary folder, a results database with a few recorded runs (a
 // solved one with the contract's example plan, a timeout, task-only runs), the server started in
 // this process on a free loopback port, and small HTTP helpers (with or without the token).
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
-#include <string>
-
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "server/http/http_server.h"
 
@@ -76,7 +76,8 @@ bool waitFor(const std::function<bool()>& done, double seconds);
 /// A batch spec: sorting, robots 2, the given objects list and seeds, one planner entry (JSON).
 std::string tinySpec(const std::string& name, const std::string& objects, const std::string& seeds,
                      const std::string& planner_json, double time_limit = 20);
-inline constexpr const char* kTaskOnlyPlanner = R"({"name":"lazy-dash","settings":{"task_only":true},"label":"lazy-task"})";
+inline constexpr const char* kTaskOnlyPlanner =
+    R"({"name":"lazy-dash","settings":{"task_only":true},"label":"lazy-task"})";
 
 /// GET /api/batches/ID until its status is `status` (or `seconds` pass); returns the last batch JSON.
 Json waitForBatch(const Http& http, const std::string& id, const std::string& status, double seconds);

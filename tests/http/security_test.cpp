@@ -32,7 +32,7 @@ TEST_F(SecurityTest, BadBodiesGetClearJsonErrors) {
   const Reply bad_spec = http->post("/api/batches", tinySpec("t", "[200]", "[1]", kTaskOnlyPlanner));
   EXPECT_EQ(bad_spec.status, 400);
   EXPECT_NE(bad_spec.json()["error"].get<std::string>().find("objects"), std::string::npos) << bad_spec.body;
-  EXPECT_EQ(bad_spec.json()["kind"], "out_of_range") << bad_spec.body;
+  EXPECT_EQ(bad_spec.json()["kind"], "out-of-range") << bad_spec.body;
 }
 
 TEST_F(SecurityTest, TooLargeBodiesAreRefused) {
@@ -47,7 +47,8 @@ TEST_F(SecurityTest, NoPathTraversal) {
   for (const char* path : {"/../../../../etc/passwd", "/%2e%2e/%2e%2e/%2e%2e/etc/passwd", "/js/../../../etc/passwd",
                            "/js/%2e%2e/%2e%2e/%2e%2e/etc/passwd", "/..%2f..%2f..%2fetc%2fpasswd", "/%2fetc%2fpasswd",
                            "/node_modules/three/package.json", "/vendor/../package.json", "/.%2e/.%2e/etc/passwd"}) {
-    const std::string answer = http->raw(std::string("GET ") + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
+    const std::string answer =
+        http->raw(std::string("GET ") + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
     ASSERT_GE(answer.size(), 12u) << path;
     const int status = std::stoi(answer.substr(9, 3));
     EXPECT_GE(status, 400) << path;
@@ -85,10 +86,12 @@ TEST_F(SecurityTest, NoCorsAndOnlyLoopbackHostNames) {
       "OPTIONS /api/batches HTTP/1.1\r\nHost: 127.0.0.1\r\nOrigin: http://evil.example\r\n"
       "Access-Control-Request-Method: POST\r\nConnection: close\r\n\r\n");
   EXPECT_EQ(answer.find("Access-Control-Allow"), std::string::npos) << answer;
-  const std::string get = http->raw("GET /api/health HTTP/1.1\r\nHost: 127.0.0.1\r\nOrigin: http://evil.example\r\nConnection: close\r\n\r\n");
+  const std::string get = http->raw(
+      "GET /api/health HTTP/1.1\r\nHost: 127.0.0.1\r\nOrigin: http://evil.example\r\nConnection: close\r\n\r\n");
   EXPECT_NE(get.find("200"), std::string::npos);
   EXPECT_EQ(get.find("Access-Control-Allow"), std::string::npos);
-  const std::string rebound = http->raw("GET /api/runs HTTP/1.1\r\nHost: evil.example:8080\r\nConnection: close\r\n\r\n");
+  const std::string rebound =
+      http->raw("GET /api/runs HTTP/1.1\r\nHost: evil.example:8080\r\nConnection: close\r\n\r\n");
   EXPECT_EQ(rebound.substr(9, 3), "403") << rebound;
   const std::string local = http->raw("GET /api/health HTTP/1.1\r\nHost: localhost:1234\r\nConnection: close\r\n\r\n");
   EXPECT_EQ(local.substr(9, 3), "200");

@@ -50,6 +50,8 @@ TEST(LazyDashEndToEnd, SortingFourRobotsEightObjects) {
   expectSolvedAndValid({"sorting", {{"robots", "4"}, {"objects", "8"}}});
 }
 
+TEST(LazyDashEndToEnd, LabTwoContainers) { expectSolvedAndValid({"lab", {{"containers", "2"}}}); }
+
 TEST(LazyDashEndToEnd, TaskOnlyGivesATaskLevelFeasibleSchedule) {
   Scene scene = generateScenario("sorting", {{"robots", "4"}, {"objects", "8"}}, 2, RobotLibrary::loadDefault());
   PlannerSettings settings;

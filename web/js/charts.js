@@ -25,11 +25,18 @@ export function valueAxis(title, { log = false, stacked = false, min, max, perce
     max,
     title: axisTitle(title),
     ticks: {
-      callback: (v) => {
+      // Log axes label only 1, 2 and 5 times a power of ten; skipping would drop exactly those.
+      autoSkip: !log,
+      callback: (v, index, ticks) => {
         if (percent) return `${v}%`;
         if (log) {
-          const e = Math.log10(v);
-          return Math.abs(e - Math.round(e)) < 1e-9 ? fmtNumber(v) : '';
+          // 1, 2 and 5 times a power of ten on short ranges (never an axis without labels), powers
+          // of ten alone on long ones (never a crowded axis).
+          const values = ticks.map((t) => t.value).filter((x) => x > 0);
+          const decades = Math.log10(Math.max(...values) / Math.min(...values));
+          const mantissa = v / 10 ** Math.floor(Math.log10(v) + 1e-9);
+          const shown = decades > 2.5 ? [1] : [1, 2, 5];
+          return shown.some((m) => Math.abs(mantissa - m) < 1e-6) ? fmtNumber(v) : '';
         }
         return fmtNumber(v);
       },
@@ -38,12 +45,12 @@ export function valueAxis(title, { log = false, stacked = false, min, max, perce
 }
 
 /// Replaces the contents of `box` with a canvas holding a new chart (the old one is destroyed).
-export function drawChart(box, config, pointCount) {
+export function drawChart(box, config, pointCount, emptyText = 'no data for this selection') {
   if (box._chart) box._chart.destroy();
   clear(box);
   box.dataset.points = String(pointCount);
   if (pointCount === 0) {
-    box.append(el('div', { class: 'chart-empty', text: 'no data for this selection' }));
+    box.append(el('div', { class: 'chart-empty', text: emptyText }));
     box._chart = null;
     return null;
   }

@@ -11,7 +11,7 @@ export function el(tag, attrs = {}, ...children) {
     else if (k === 'checked' || k === 'disabled' || k === 'selected' || k === 'hidden') node[k] = Boolean(v);
     else node.setAttribute(k, v === true ? '' : String(v));
   }
-  for (const c of children.flat()) {
+  for (const c of children.flat(Infinity)) {
     if (c === null || c === undefined || c === false) continue;
     node.append(c instanceof Node ? c : document.createTextNode(String(c)));
   }

@@ -120,11 +120,21 @@ export class PlanViewer {
   }
 
   frameCamera(scene) {
-    const box = this.bounds.isEmpty() ? new THREE.Box3(new THREE.Vector3(-1, -1, 0), new THREE.Vector3(1, 1, 1)) : this.bounds.clone();
-    for (const r of scene.robots) box.expandByPoint(new THREE.Vector3(...r.base.p).add(new THREE.Vector3(0, 0, 1)));
+    // The working volume (robots and objects), not the whole table: that is what people look at.
+    const box = new THREE.Box3();
+    for (const r of scene.robots) {
+      const b = new THREE.Vector3(...r.base.p);
+      box.expandByPoint(b.clone().add(new THREE.Vector3(-0.5, -0.5, 0)));
+      box.expandByPoint(b.clone().add(new THREE.Vector3(0.5, 0.5, 0.9)));
+    }
+    for (const o of scene.objects) {
+      box.expandByPoint(new THREE.Vector3(...o.start.p));
+      if (o.goal) box.expandByPoint(new THREE.Vector3(...o.goal.p));
+    }
+    if (box.isEmpty()) box.copy(this.bounds.isEmpty() ? new THREE.Box3(new THREE.Vector3(-1, -1, 0), new THREE.Vector3(1, 1, 1)) : this.bounds);
     const centre = box.getCenter(new THREE.Vector3());
-    const size = box.getSize(new THREE.Vector3()).length();
-    this.camera.position.set(centre.x + 0.55 * size, centre.y - 0.75 * size, centre.z + 0.6 * size);
+    const size = Math.max(1, box.getSize(new THREE.Vector3()).length());
+    this.camera.position.set(centre.x + 0.6 * size, centre.y - 0.85 * size, centre.z + 0.7 * size);
     this.controls.target.copy(centre);
     this.controls.update();
   }

@@ -4,8 +4,11 @@
 #include "engine/dash/combined_query.h"
 #include "engine/dash/dash_task_graph.h"
 #include "engine/dash/motion_hypergraph.h"
+#include "engine/dash/placement_sampling.h"
 #include "engine/motion/lazy_roadmap.h"
 #include "engine/core/stopwatch.h"
+#include "engine/collision/collision_queries.h"
+#include "engine/collision/segment_queries.h"
 #include "engine/scene/scene_json.h"
 #include "engine/task/geometric_reachability.h"
 using namespace dash;
@@ -15,10 +18,27 @@ int main(int argc, char** argv) {
   CollisionWorld world(scene); CollisionContext ctx(world); TaskSpace space(scene);
   TransitionSampler sampler(world, ctx); GeometricReachability reach(sampler);
   Stopwatch sw;
+  if (getenv("PRESAMPLE")) { Rng rng(Rng::derive(1, 23)); presamplePlacements(space, reach, sampler, rng, {}); for (int o = 0; o < space.objectCount(); ++o) for (int l = 0; l < (int)space.locations(o).size(); ++l) { auto p = space.location(o,l).X_WO.translation(); std::printf("  loc %s (%.3f %.3f %.3f)\n", space.locationLabel(o,l).c_str(), p.x(), p.y(), p.z()); } }
+  if (getenv("LAB")) { double x = 0.095; for (const auto& t : scene.tasks) if (t.requires_removed_object >= 0) { Pose X = scene.objects[t.requires_removed_object].X_WO_start; X.translation() = Vec3(x, 0.154, 0.125); x += 0.1; space.addExtraLocation(t.requires_removed_object, X, 1); } }
   auto tg = buildDashTaskGraph(space, reach.oracle());
   std::printf("H_T %zu/%zu  %.2fs checks %lu\n", tg.vertexCount(), tg.hyperarcCount(), sw.seconds(), ctx.counters().configuration_checks);
-  TransitionCatalogParams tp; if (argc > 3) tp.grasps_per_class = atoi(argv[3]); auto cat = sampleTransitions(sampler, space, tg, tp, Deadline());
+  TransitionCatalogParams tp; if (argc > 3) tp.grasps_per_class = atoi(argv[3]); if (getenv("HP")) tp.handover_poses = atoi(getenv("HP")); auto cat = sampleTransitions(sampler, space, tg, tp, Deadline());
   std::printf("catalog grasps %zu handovers %zu  %.2fs checks %lu\n", cat.grasps.size(), cat.handovers.size(), sw.seconds(), ctx.counters().configuration_checks);
+  { ObjectLayout none = ObjectLayout::empty(scene); int bad[5] = {0,0,0,0,0};
+    for (auto& h : cat.handovers) {
+      RobotState a{h.giver, h.q1, h.held}, b{h.receiver, h.q2_pre, {}};
+      RobotState s2[2] = {a, b};
+      bool b0 = robotsInCollision(world, ctx, s2, none, nullptr, CheckScope::kStaticOnly);
+      std::vector<RobotMotion> m1{{RobotState{h.receiver, h.q2_pre, {}}, h.q2}, {a, h.q1}};
+      bool b1 = motionsInCollision(world, ctx, m1, none);
+      std::vector<RobotMotion> m2{{RobotState{h.receiver, h.q2, h.held2}, h.q2}, {RobotState{h.giver, h.q1, {}}, h.q1_post}};
+      bool b2 = motionsInCollision(world, ctx, m2, none);
+      std::vector<RobotMotion> m3{{RobotState{h.receiver, h.q2, h.held2}, h.q2_post}, {RobotState{h.giver, h.q1_post, {}}, h.q1_post}};
+      bool b3 = motionsInCollision(world, ctx, m3, none);
+      bad[0]+=b0; bad[1]+=b1; bad[2]+=b2; bad[3]+=b3;
+      std::printf("  ho %d->%d o%d %s->%s  pre %d approach %d giverRetreat %d recvRetreat %d  pre2==q2 %d post1==q1 %d\n", h.giver, h.receiver, h.object, graspClassName(h.grasp), graspClassName(h.grasp2), b0, b1, b2, b3, (h.q2_pre-h.q2).norm()<1e-9, (h.q1_post-h.q1).norm()<1e-9);
+    }
+  }
   log::EventEmitter em(nullptr);
   MotionHypergraph hm(space, cat, em);
   RoadmapSet rms;

@@ -26,6 +26,7 @@ export function mount(root) {
   const familySelect = el('select', { 'data-testid': 'compare-family' });
   const xSelect = el('select', { 'data-testid': 'compare-x' });
   const groupSelect = el('select', {}, el('option', { value: 'config', text: 'planner configuration' }), el('option', { value: 'planner', text: 'planner' }));
+  const splitSelect = el('select', { 'data-testid': 'compare-split', title: 'one series per value of another parameter' });
   const filterInput = el('input', { type: 'text', size: 44, placeholder: 'optional filter, e.g. robots = 4' });
   const unsolved = el('input', { type: 'checkbox' });
   const status = el('div', { class: 'error' });
@@ -55,6 +56,7 @@ export function mount(root) {
       el('label', {}, 'family', familySelect),
       el('label', {}, 'x axis', xSelect),
       el('label', {}, 'group by', groupSelect),
+      el('label', {}, 'series per', splitSelect),
       filterInput,
       el('label', { title: 'medians over timeouts and infeasible runs too' }, unsolved, 'include unsolved runs'),
       status,
@@ -269,6 +271,7 @@ export function mount(root) {
           family: familySelect.value,
           x: xSelect.value,
           group_by: groupSelect.value,
+          split: splitSelect.value,
           q: filterInput.value.trim(),
           include_unsolved: unsolved.checked ? 1 : '',
         })}`,
@@ -289,6 +292,16 @@ export function mount(root) {
     clear(xSelect);
     for (const p of fam ? fam.parameters : []) xSelect.append(el('option', { value: p, text: p }));
     if (fam && fam.parameters.includes('objects')) xSelect.value = 'objects';
+    fillSplit();
+  }
+
+  /// The other parameters; by default the first of them, so that runs of different sizes never mix.
+  function fillSplit() {
+    const fam = overview.find((f) => f.family === familySelect.value);
+    const others = (fam ? fam.parameters : []).filter((p) => p !== xSelect.value);
+    clear(splitSelect).append(el('option', { value: '', text: '(none: all together)' }));
+    for (const p of others) splitSelect.append(el('option', { value: p, text: p }));
+    splitSelect.value = others.includes('robots') ? 'robots' : others[0] || '';
   }
 
   async function loadDiff() {
@@ -326,7 +339,11 @@ export function mount(root) {
     fillX();
     loadSeries();
   });
-  for (const c of [xSelect, groupSelect, unsolved]) c.addEventListener('change', loadSeries);
+  xSelect.addEventListener('change', () => {
+    fillSplit();
+    loadSeries();
+  });
+  for (const c of [splitSelect, groupSelect, unsolved]) c.addEventListener('change', loadSeries);
   filterInput.addEventListener('keydown', (e) => {
     if (e.key === 'Enter') loadSeries();
   });

@@ -10,6 +10,7 @@ export function mount(root) {
   root.append(body);
   let timer = 0;
   let stopped = false;
+  let dispatched = false; // this page started one: show its record even after the arms let go
 
   (async () => {
     const health = await api.get('/api/health');
@@ -46,6 +47,7 @@ export function mount(root) {
       clear(message);
       try {
         const r = await api.post('/api/dispatch', { run_id: runInput.value.trim(), options: { time_scale: Number(scale.value) } });
+        dispatched = true;
         message.append(el('div', { class: 'ok', text: `dispatch ${r.dispatch_id} started; arms move in ${fmtNumber(r.start_in)} s` }));
       } catch (e) {
         message.append(errorBox(e.message));
@@ -67,8 +69,10 @@ export function mount(root) {
       if (!getToken()) {
         clear(controllersBox).append(el('div', { class: 'muted', text: 'The controller list needs the token (Token button, top right).' }));
       } else {
+        let active = dispatched;
         try {
           const c = await api.get('/api/controllers');
+          active = active || c.controllers.some((x) => x.dispatch_id);
           clear(controllersBox);
           if (c.controllers.length === 0) controllersBox.append(el('div', { class: 'muted', text: 'No controller is connected.' }));
           else {
@@ -81,14 +85,19 @@ export function mount(root) {
         } catch (e) {
           clear(controllersBox).append(errorBox(e.message));
         }
-        try {
-          const s = await api.get('/api/dispatch');
-          clear(statusBox).append(
-            el('div', {}, badge(s.state), ` ${s.id} — ${s.reason || ''}`),
-            table(['robot', 'driver', 'status', 'done', 'deviation', 'max_deviation', 'samples'], s.arms || []),
-          );
-        } catch (e) {
-          clear(statusBox).append(el('div', { class: 'muted', text: e.status === 404 ? 'No dispatch yet.' : e.message }));
+        // Only when there is one: GET /api/dispatch answers 404 before the first dispatch.
+        if (active) {
+          try {
+            const s = await api.get('/api/dispatch');
+            clear(statusBox).append(
+              el('div', {}, badge(s.state), ` ${s.id} — ${s.reason || ''}`),
+              table(['robot', 'driver', 'status', 'done', 'deviation', 'max_deviation', 'samples'], s.arms || []),
+            );
+          } catch (e) {
+            clear(statusBox).append(el('div', { class: 'muted', text: e.status === 404 ? 'No dispatch yet.' : e.message }));
+          }
+        } else {
+          clear(statusBox).append(el('div', { class: 'muted', text: 'No dispatch yet.' }));
         }
       }
       timer = setTimeout(refresh, 1000);

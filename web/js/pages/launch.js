@@ -53,6 +53,7 @@ export function mount(root) {
 
   const nameInput = el('input', { type: 'text', value: 'web', size: 16, 'data-testid': 'batch-name' });
   const familySelect = el('select', { 'data-testid': 'family' });
+  const familySummary = el('div', { class: 'muted', 'data-testid': 'family-summary' });
   const paramsBox = el('div', { class: 'row' });
   const plannersBox = el('div', {});
   const seedFrom = el('input', { type: 'number', value: 1, min: 0, style: 'width:6em', 'data-testid': 'seed-from' });
@@ -71,6 +72,7 @@ export function mount(root) {
   form.append(
     el('h2', { text: 'New batch' }),
     el('div', { class: 'row' }, field('name', nameInput, 'name'), field('scenario family', familySelect, 'family')),
+    familySummary,
     el('h3', { text: 'Parameter grid' }),
     el('div', { class: 'muted', text: 'Each parameter: one value, a list (4, 8, 16) or a range (2..8 or 2..16:2).' }),
     paramsBox,
@@ -95,8 +97,11 @@ export function mount(root) {
   function plannerRow(entry) {
     const name = el('select', {}, state.planners.map((p) => el('option', { value: p.name, text: p.name })));
     name.value = entry.name;
+    // Left empty, the label follows the planner and its settings (lazy-dash, lazy-task), as in experiments/.
     const label = el('input', { type: 'text', value: entry.label, size: 14, placeholder: 'label' });
+    const autoLabel = () => (taskOnly.checked ? name.value.replace(/-dash$/, '') + '-task' : name.value);
     const taskOnly = el('input', { type: 'checkbox', checked: entry.task_only });
+    let labelTouched = Boolean(entry.label) && entry.label !== (entry.task_only ? 'lazy-task' : entry.name);
     const remove = el('button', { type: 'button', class: 'small danger', text: 'remove' });
     const row = el(
       'div',
@@ -106,8 +111,16 @@ export function mount(root) {
       el('label', { title: 'stop after the task layer (no motions)' }, taskOnly, 'task only'),
       remove,
     );
+    label.addEventListener('input', () => {
+      labelTouched = label.value.trim() !== '';
+    });
+    for (const i of [name, taskOnly]) {
+      i.addEventListener('input', () => {
+        if (!labelTouched) label.value = autoLabel();
+      });
+    }
     row._get = () => {
-      const p = { name: name.value, label: label.value.trim() || name.value };
+      const p = { name: name.value, label: label.value.trim() || autoLabel() };
       if (taskOnly.checked) p.settings = { task_only: true };
       return p;
     };
@@ -128,6 +141,7 @@ export function mount(root) {
     clear(paramsBox);
     const fam = state.families.find((f) => f.name === familySelect.value);
     state.family = fam;
+    familySummary.textContent = fam ? fam.summary : '';
     for (const p of fam ? fam.params : []) {
       const input = el('input', { type: 'text', value: String(p.default), size: 10, 'data-param': p.name, title: p.meaning });
       input.addEventListener('input', changed);
@@ -201,6 +215,13 @@ export function mount(root) {
     try {
       const r = await api.post('/api/batches/validate', spec, { auth: false });
       if (seq !== validateSeq) return;
+      if (!r.valid) {
+        runCount.textContent = 'runs: —';
+        delete runCount.dataset.runs;
+        submit.disabled = true;
+        showError(r.error);
+        return;
+      }
       state.lastSpec = spec;
       runCount.textContent = `runs: ${r.runs} (${r.runs} processes, up to ${fmtSeconds(r.runs * r.time_limit)} of planning in total)`;
       runCount.dataset.runs = r.runs;
@@ -306,7 +327,10 @@ export function mount(root) {
       if (m.status) {
         clear(r.statusCell).append(badge(m.status));
         r.row.dataset.status = m.status;
-        if (!['running', 'cancelling'].includes(m.status)) reload();
+        if (!['running', 'cancelling', 'queued'].includes(m.status)) {
+          for (const b of r.row.querySelectorAll('button')) b.remove();
+          reload();
+        }
       }
     }),
     on('batches', reload),
@@ -318,7 +342,7 @@ export function mount(root) {
       const cat = await api.get('/api/scenarios');
       state.families = cat.families;
       state.planners = cat.planners;
-      for (const f of cat.families) familySelect.append(el('option', { value: f.name, text: `${f.name} — ${f.summary}` }));
+      for (const f of cat.families) familySelect.append(el('option', { value: f.name, text: f.name }));
       familySelect.value = cat.families.some((f) => f.name === 'sorting') ? 'sorting' : cat.families[0]?.name;
       renderParams();
       plannersBox.append(plannerRow({ name: 'lazy-dash', label: 'lazy-dash', task_only: false }), addPlanner);

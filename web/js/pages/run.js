@@ -228,6 +228,7 @@ export function mount(root, args) {
         },
       },
       marks.length,
+      'no constraints and no task space expansions in this run',
     );
     clear(constraintsBox);
     if (tl.constraints.length) {

@@ -3,7 +3,7 @@
 // and live updates as runs start and finish. Selected runs go to Compare's "diff only" view.
 import { api, query } from '../api.js';
 import { on, debounce } from '../events.js';
-import { el, clear, badge, fmtNumber, errorBox } from '../dom.js';
+import { el, clear, badge, fmtNumber, fmtSeconds, errorBox } from '../dom.js';
 
 const COLUMNS_KEY = 'dashbench.runs.columns';
 export const SELECTED_KEY = 'dashbench.selected';
@@ -103,7 +103,7 @@ export function mount(root, args) {
     }
     if (col.name === 'tags') return el('span', {}, (value ? value.split(',') : []).map((t) => el('span', { class: 'chip', text: t })));
     if (value === null || value === undefined) return el('span', { class: 'muted', text: '' });
-    if (typeof value === 'number') return document.createTextNode(fmtNumber(value, 4));
+    if (typeof value === 'number') return document.createTextNode(col.group === 'time' ? fmtSeconds(value) : fmtNumber(value, 4));
     return document.createTextNode(String(value));
   }
 

@@ -1,0 +1,179 @@
+#!/usr/bin/env bash
+# Lazy-DaSH vs DaSH on the same scenes and seeds: runs a batch spec (default compare.json: Sorting
+# with 4 robots and 4-14 objects, Wall with 5 robots and 2-10 objects, 5 seeds) and prints markdown
+# tables for the README: per scene, medians over the solved runs of each planner, the total time
+# ratio DaSH / Lazy-DaSH, representation sizes and the time breakdown.
+#
+#   experiments/compare/run.sh [SPEC] [--db DB] [--workers N] [--time-limit SEC] [--seeds N]
+#   experiments/compare/run.sh --table BATCH_ID [--db DB]      # tables of a batch already run
+#
+# DASHBENCH names the dashbench to use (default: the repository's ./dashbench, which builds first).
+# The batch can be interrupted (Ctrl-C) and resumed: ./dashbench batch resume --db DB BATCH_ID.
+set -euo pipefail
+
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+ROOT="$(cd "$HERE/../.." && pwd)"
+DASHBENCH="${DASHBENCH:-$ROOT/dashbench}"
+SPEC="$HERE/compare.json"
+DB="results-compare.db"
+WORKERS=""
+TIME_LIMIT=""
+SEEDS=""
+TABLE_ONLY=""
+
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --db) DB="$2"; shift 2 ;;
+    --workers) WORKERS="$2"; shift 2 ;;
+    --time-limit) TIME_LIMIT="$2"; shift 2 ;;
+    --seeds) SEEDS="$2"; shift 2 ;;
+    --table) TABLE_ONLY="$2"; shift 2 ;;
+    -h|--help) sed -n '2,12p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -*) echo "run.sh: unknown option $1" >&2; exit 2 ;;
+    *) SPEC="$1"; shift ;;
+  esac
+done
+
+if [ -z "$WORKERS" ]; then
+  # One run per core but one, so that timings are not inflated by contention.
+  WORKERS=$(( $(nproc) > 1 ? $(nproc) - 1 : 1 ))
+fi
+
+# Prints one CSV result (from `dashbench db query`) as a markdown table.
+markdown() {
+  awk -F, '
+    { gsub(/"/, ""); printf "|"; for (i = 1; i <= NF; i++) printf " %s |", $i; print "" }
+    NR == 1 { printf "|"; for (i = 1; i <= NF; i++) printf "---|"; print "" }'
+}
+
+query() { "$DASHBENCH" db query "$DB" "$1" --format csv --max-rows 100000; }
+
+tables() {
+  local id="$1"
+  # Runs of the batch, medians over the solved runs per (scene, planner), in long then wide form.
+  local with
+  with="WITH r AS (
+    SELECT family, json_extract(params, '\$.objects') AS objects, planner, status,
+           CASE family WHEN 'wall' THEN printf('wall r=%d w=%d o=%d', json_extract(params, '\$.robots'),
+                json_extract(params, '\$.walls'), json_extract(params, '\$.objects'))
+             ELSE printf('%s r=%d o=%d', family, json_extract(params, '\$.robots'), json_extract(params, '\$.objects'))
+           END AS scene,
+           total_time, time_task_construction, time_task_query, time_task_conflict_detection,
+           time_motion_construction, time_motion_query, time_conflict_resolution,
+           task_vertices, task_hyperarcs, task_extended_vertices, task_extended_hyperarcs,
+           motion_vertices, motion_hyperarcs, motion_extended_vertices, motion_extended_hyperarcs,
+           collision_checks_eager, collision_checks_lazy
+    FROM dash_runs WHERE batch_id = '$id' AND status NOT IN ('running', 'cancelled', 'pending')),
+  long(scene, planner, m, v) AS (
+              SELECT scene, planner, 'total', total_time FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'tc', time_task_construction FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'tq', time_task_query FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'td', time_task_conflict_detection FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'mc', time_motion_construction FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'mq', time_motion_query FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'cr', time_conflict_resolution FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'tv', task_vertices FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'ta', task_hyperarcs FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'tev', task_extended_vertices FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'tea', task_extended_hyperarcs FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'mv', motion_vertices FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'ma', motion_hyperarcs FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'mev', motion_extended_vertices FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'mea', motion_extended_hyperarcs FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'ce', collision_checks_eager FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'cl', collision_checks_lazy FROM r WHERE status = 'solved'),
+  ranked AS (SELECT scene, planner, m, v, ROW_NUMBER() OVER (PARTITION BY scene, planner, m ORDER BY v) AS i,
+                    COUNT(*) OVER (PARTITION BY scene, planner, m) AS n FROM long),
+  med AS (SELECT scene, planner, m, AVG(v) AS v FROM ranked WHERE i IN ((n + 1) / 2, (n + 2) / 2)
+          GROUP BY scene, planner, m),
+  w AS (SELECT scene, planner,
+          MAX(CASE m WHEN 'total' THEN v END) AS total, MAX(CASE m WHEN 'tc' THEN v END) AS tc,
+          MAX(CASE m WHEN 'tq' THEN v END) AS tq, MAX(CASE m WHEN 'td' THEN v END) AS td,
+          MAX(CASE m WHEN 'mc' THEN v END) AS mc, MAX(CASE m WHEN 'mq' THEN v END) AS mq,
+          MAX(CASE m WHEN 'cr' THEN v END) AS cr, MAX(CASE m WHEN 'tv' THEN v END) AS tv,
+          MAX(CASE m WHEN 'ta' THEN v END) AS ta, MAX(CASE m WHEN 'tev' THEN v END) AS tev,
+          MAX(CASE m WHEN 'tea' THEN v END) AS tea, MAX(CASE m WHEN 'mv' THEN v END) AS mv,
+          MAX(CASE m WHEN 'ma' THEN v END) AS ma, MAX(CASE m WHEN 'mev' THEN v END) AS mev,
+          MAX(CASE m WHEN 'mea' THEN v END) AS mea, MAX(CASE m WHEN 'ce' THEN v END) AS ce,
+          MAX(CASE m WHEN 'cl' THEN v END) AS cl
+        FROM med GROUP BY scene, planner),
+  c AS (SELECT scene, planner, MIN(family) AS family, MIN(objects) AS objects, COUNT(*) AS runs,
+               SUM(status = 'solved') AS solved, SUM(status = 'timeout') AS timeouts
+        FROM r GROUP BY scene, planner),
+  s AS (SELECT DISTINCT scene, family, objects FROM c),
+  j AS (SELECT s.scene, s.family, s.objects,
+               lc.runs AS l_runs, lc.solved AS l_solved, dc.runs AS d_runs, dc.solved AS d_solved,
+               l.total AS l_total, d.total AS d_total, l.tv AS l_tv, l.ta AS l_ta, d.tv AS d_tv, d.ta AS d_ta,
+               l.tev AS l_tev, l.tea AS l_tea, l.mv AS l_mv, l.ma AS l_ma, d.mv AS d_mv, d.ma AS d_ma,
+               l.mev AS l_mev, l.mea AS l_mea, d.mev AS d_mev, d.mea AS d_mea,
+               l.ce AS l_ce, l.cl AS l_cl, d.ce AS d_ce, d.cl AS d_cl
+        FROM s LEFT JOIN c lc ON lc.scene = s.scene AND lc.planner = 'lazy-dash'
+               LEFT JOIN c dc ON dc.scene = s.scene AND dc.planner = 'dash'
+               LEFT JOIN w l ON l.scene = s.scene AND l.planner = 'lazy-dash'
+               LEFT JOIN w d ON d.scene = s.scene AND d.planner = 'dash')"
+  local f2="CASE WHEN %s IS NULL THEN '-' ELSE printf('%%.2f', %s) END"
+  # shellcheck disable=SC2059
+  num() { printf "$f2" "$1" "$1"; }
+  pair() { echo "CASE WHEN $1 IS NULL THEN '-' ELSE printf('%d/%d', $1, $2) END"; }
+  ratio() { echo "CASE WHEN $1 > 0 AND $2 IS NOT NULL THEN printf('%.1fx', 1.0 * $2 / $1) ELSE '-' END"; }
+
+  echo "Batch $id (medians over the solved runs; x = DaSH / Lazy-DaSH)"
+  echo
+  echo "Total time and motion representation"
+  echo
+  query "$with SELECT scene AS Scene,
+      printf('%d/%d', IFNULL(l_solved, 0), IFNULL(l_runs, 0)) AS \"Lazy solved\",
+      printf('%d/%d', IFNULL(d_solved, 0), IFNULL(d_runs, 0)) AS \"DaSH solved\",
+      $(num l_total) AS \"Lazy total (s)\", $(num d_total) AS \"DaSH total (s)\",
+      $(ratio l_total d_total) AS \"total x\",
+      $(pair l_mv l_ma) AS \"Lazy H_M V/A\", $(pair d_mv d_ma) AS \"DaSH H_M V/A\",
+      $(ratio l_ma d_ma) AS \"H_M A x\", $(ratio l_mv d_mv) AS \"H_M V x\"
+    FROM j ORDER BY family DESC, objects" | markdown
+  echo
+  echo "Representation sizes (V/A) and collision checks (eager / lazy)"
+  echo
+  query "$with SELECT scene AS Scene,
+      $(pair l_tv l_ta) AS \"Lazy H_T\", $(pair d_tv d_ta) AS \"DaSH H_T\", $(pair l_tev l_tea) AS \"Lazy H_TE\",
+      $(pair l_mv l_ma) AS \"Lazy H_M\", $(pair d_mv d_ma) AS \"DaSH H_M\",
+      $(pair l_mev l_mea) AS \"Lazy H_ME\", $(pair d_mev d_mea) AS \"DaSH H_ME\",
+      $(pair l_ce l_cl) AS \"Lazy checks\", $(pair d_ce d_cl) AS \"DaSH checks\"
+    FROM j ORDER BY family DESC, objects" | markdown
+  echo
+  echo "Time breakdown (s): task construction / task query / task conflict detection / motion construction /"
+  echo "motion query (DaSH: the combined task-and-motion query) / conflict resolution / total"
+  echo
+  query "$with SELECT w.scene AS Scene, CASE w.planner WHEN 'dash' THEN 'DaSH' ELSE 'Lazy-DaSH' END AS Planner,
+      $(num tc) AS \"task constr\", $(num tq) AS \"task query\", $(num td) AS \"task conflicts\",
+      $(num mc) AS \"motion constr\", $(num mq) AS \"motion query\", $(num cr) AS \"conflict res\",
+      $(num total) AS total
+    FROM w JOIN s ON s.scene = w.scene ORDER BY s.family DESC, s.objects, w.planner DESC" | markdown
+  echo
+  query "$with SELECT
+      CASE WHEN COUNT(*) = 0 THEN 'no scene solved by both planners' ELSE
+        printf('Over the %d scenes both planners solved: DaSH / Lazy-DaSH total time %.1fx to %.1fx (median %.1fx), motion hyperarcs %.1fx to %.1fx, motion vertices %.1fx to %.1fx.',
+               COUNT(*), MIN(1.0 * d_total / l_total), MAX(1.0 * d_total / l_total),
+               (SELECT AVG(x) FROM (SELECT 1.0 * d_total / l_total AS x, ROW_NUMBER() OVER (ORDER BY 1.0 * d_total / l_total) AS i,
+                                           COUNT(*) OVER () AS n FROM j WHERE d_total > 0 AND l_total > 0)
+                WHERE i IN ((n + 1) / 2, (n + 2) / 2)),
+               MIN(1.0 * d_ma / l_ma), MAX(1.0 * d_ma / l_ma), MIN(1.0 * d_mv / l_mv), MAX(1.0 * d_mv / l_mv)) END AS summary
+    FROM j WHERE d_total > 0 AND l_total > 0" | tail -n +2 | sed 's/^"//; s/"$//'
+}
+
+if [ -n "$TABLE_ONLY" ]; then
+  tables "$TABLE_ONLY"
+  exit 0
+fi
+
+RUN_SPEC="$SPEC"
+if [ -n "$TIME_LIMIT" ] || [ -n "$SEEDS" ]; then
+  RUN_SPEC="$(mktemp --suffix=.json)"
+  trap 'rm -f "$RUN_SPEC"' EXIT
+  edits=()
+  [ -n "$TIME_LIMIT" ] && edits+=(-e "s/\"time_limit\": *[0-9.]*/\"time_limit\": $TIME_LIMIT/")
+  [ -n "$SEEDS" ] && edits+=(-e "s/\"seeds\": *.*\$/\"seeds\": {\"from\": 1, \"count\": $SEEDS}/")
+  sed "${edits[@]}" "$SPEC" > "$RUN_SPEC"
+fi
+ID="$(basename "$SPEC" .json)-$(date +%Y%m%d-%H%M%S)"
+echo "run.sh: batch $ID ($RUN_SPEC, $WORKERS workers) into $DB" >&2
+"$DASHBENCH" batch run "$RUN_SPEC" --db "$DB" --workers "$WORKERS" --id "$ID" --quiet >&2
+tables "$ID"
