@@ -33,7 +33,7 @@ struct CombinedQuery::Summary {
   std::vector<VertexId> robot_at;  ///< the vertex each robot's instance is at
 };
 
-CombinedQuery::CombinedQuery(const MotionHypergraph& graph) : graph_(&graph) { refresh(); }
+CombinedQuery::CombinedQuery(const MotionHypergraph& graph) : graph_(&graph) { refresh({}); }
 
 std::pair<VertexId, VertexId> CombinedQuery::objectMove(HyperarcId a) const {
   const MotionGraph& g = graph_->graph();
@@ -48,12 +48,13 @@ std::pair<VertexId, VertexId> CombinedQuery::objectMove(HyperarcId a) const {
   return {from, to};
 }
 
-void CombinedQuery::refresh() {
+void CombinedQuery::refresh(const std::unordered_set<HyperarcId>& forbidden) {
   const MotionGraph& g = graph_->graph();
   const TaskSpace& space = graph_->space();
   const Scene& scene = space.scene();
   std::vector<std::vector<std::pair<VertexId, double>>> reverse(g.vertexCount());
   for (HyperarcId a : g.hyperarcs()) {
+    if (forbidden.contains(a)) continue;
     const auto [from, to] = objectMove(a);
     if (from.valid() && to.valid()) reverse[to.value()].push_back({from, graph_->cost(a)});
   }
@@ -105,6 +106,18 @@ double CombinedQuery::costToGo(const HyperpathState& state, VertexId v) const {
   return to_goal_[v.value()];
 }
 
+bool CombinedQuery::placementFree(const HyperpathState& state, HyperarcId a) const {
+  const MotionGraph& g = graph_->graph();
+  if (g.property(a).type != Type::kPlace) return true;
+  for (VertexId v : g.head(a)) {
+    const int spot = graph_->spotOf(v);
+    if (spot < 0) continue;
+    for (VertexId other : graph_->spotVertices(spot))
+      if (other != v && state.inFrontier(other)) return false;
+  }
+  return true;
+}
+
 double CombinedQuery::regret(const HyperpathState& state, HyperarcId a) const {
   const auto [from, to] = objectMove(a);
   if (!from.valid() || !to.valid()) return graph_->cost(a);
@@ -148,7 +161,7 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
     double level = kInf;
     for (HyperarcId t : graph_->transitionsFrom(to)) {
       const MotionArc& ta = g.property(t);
-      if (ta.type == Type::kPlace) level = std::min(level, kHoldMove);
+      if (ta.type == Type::kPlace && placementFree(state, t)) level = std::min(level, kHoldMove);
       if (ta.type == Type::kHandover) {
         const HandoverSample& h = catalog.handovers[ta.index];
         if (h.giver != mv.robot || !emptyHanded(h.receiver)) continue;
@@ -195,11 +208,13 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
 
 HyperpathResult CombinedQuery::run(const std::unordered_set<HyperarcId>& forbidden, const CombinedQueryParams& params,
                                    const Deadline& deadline, std::function<void(const ExtendedVertex&)> on_vertex,
-                                   std::function<void(const ExtendedHyperarc&)> on_hyperarc) const {
+                                   std::function<void(const ExtendedHyperarc&)> on_hyperarc) {
+  refresh(forbidden);
   HyperpathSearchParams search;
   search.algorithm = HyperpathAlgorithm::kGreedy;
-  if (!forbidden.empty())
-    search.allowed = [&forbidden](const HyperpathState&, HyperarcId a) { return !forbidden.contains(a); };
+  search.allowed = [this, &forbidden](const HyperpathState& state, HyperarcId a) {
+    return !forbidden.contains(a) && placementFree(state, a);
+  };
   // Only for pruning: a state the goal cannot be reached from (either way of counting).
   search.costToGo = [this](VertexId v) { return std::min(to_goal_[v.value()], to_away_[v.value()]); };
   search.arcCost = [this](HyperarcId a) { return graph_->cost(a); };

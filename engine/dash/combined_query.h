@@ -16,6 +16,8 @@
 //     robot holds, then inspecting, then picking an object that rests there, by regret plus path cost;
 //  4. transitions and moves off the cheapest routes, then moves home, then steps that take an object
 //     away from its goal.
+// A shared placement (placement_sampling.h) holds one object at a time: a place onto it is applicable
+// only while no other object rests there (a property of the representation, not a learned constraint).
 // Moves to a configuration where nothing can happen now are not expanded: the robot can still go
 // there later, directly, because moves join every exit of a planning space to every entry.
 // Motion constraints forbid hyperarcs outright (the `forbidden` set).
@@ -33,19 +35,23 @@ struct CombinedQueryParams {
 
 class CombinedQuery {
  public:
-  /// `graph` must outlive the query; call refresh() after its move costs change.
+  /// `graph` must outlive the query.
   explicit CombinedQuery(const MotionHypergraph& graph);
-  void refresh();
 
+  /// One query with the hyperarcs in `forbidden` (motion constraints) left out, the cost-to-go
+  /// included: it is computed for each query over what the constraints leave.
   HyperpathResult run(const std::unordered_set<HyperarcId>& forbidden, const CombinedQueryParams& params,
                       const Deadline& deadline, std::function<void(const ExtendedVertex&)> on_vertex = {},
-                      std::function<void(const ExtendedHyperarc&)> on_hyperarc = {}) const;
+                      std::function<void(const ExtendedHyperarc&)> on_hyperarc = {});
 
-  /// Cost-to-go to the object's goal.
+  /// Cost-to-go to the object's goal, as of the last run() (or with no constraints before one).
   double costToGo(VertexId v) const { return to_goal_[v.value()]; }
 
  private:
   struct Summary;
+  void refresh(const std::unordered_set<HyperarcId>& forbidden);
+  /// A place onto a shared placement another object rests at now is not applicable.
+  bool placementFree(const HyperpathState& state, HyperarcId a) const;
   double priority(const HyperpathState& state, HyperarcId a, Summary& summary) const;
   /// The object state an object-moving hyperarc leaves and the one it reaches (invalid otherwise).
   std::pair<VertexId, VertexId> objectMove(HyperarcId a) const;

@@ -263,7 +263,6 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
         }
       }
       motion->connectMoves(roadmaps, growable, deadline);
-      query.refresh();
       eager += checks() - before;
       emitCounters();
       open.push_back(node);

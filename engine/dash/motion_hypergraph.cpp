@@ -30,6 +30,7 @@ VertexId MotionHypergraph::vertex(const MotionVertex& v) {
   const auto [id, inserted] = graph_.addVertex(v);
   if (inserted) {
     transitions_from_.emplace_back();
+    spot_of_.push_back(-1);
     if (emitter_->enabled()) emitter_->vertex(log::Layer::Motion, id.value(), label(id));
   }
   return id;
@@ -119,8 +120,22 @@ MotionHypergraph::MotionHypergraph(const TaskSpace& space_in, const TransitionCa
     s.entries.push_back(home_.back());
     s.exits.push_back(home_.back());
   }
+  std::vector<Vec3> spots;  // extra locations at one position are one shared placement
   for (int o = 0; o < space_in.objectCount(); ++o) {
-    for (int p = 0; p < static_cast<int>(space_in.locations(o).size()); ++p) objectVertex(o, p);
+    for (int p = 0; p < static_cast<int>(space_in.locations(o).size()); ++p) {
+      const VertexId v = objectVertex(o, p);
+      const ObjectLocation& l = space_in.location(o, p);
+      if (l.kind != ObjectLocation::Kind::kExtra) continue;
+      auto same = std::find_if(spots.begin(), spots.end(),
+                               [&](const Vec3& q) { return (q - l.X_WO.translation()).norm() < 1e-9; });
+      const int spot = static_cast<int>(same - spots.begin());
+      if (same == spots.end()) {
+        spots.push_back(l.X_WO.translation());
+        spot_vertices_.emplace_back();
+      }
+      spot_of_[v.value()] = spot;
+      spot_vertices_[spot].push_back(v);
+    }
     start.push_back(objectVertex(o, space_in.startLocation(o)));
     if (space_in.goalLocation(o) >= 0) goal.push_back(objectVertex(o, space_in.goalLocation(o)));
   }

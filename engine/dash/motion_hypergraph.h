@@ -109,6 +109,10 @@ class MotionHypergraph {
   VertexId homeVertex(int robot) const { return home_[robot]; }
   /// The transition hyperarcs a vertex is in the tail of (what a robot arriving there can do).
   const std::vector<HyperarcId>& transitionsFrom(VertexId v) const { return transitions_from_[v.value()]; }
+  /// Shared placements (placement_sampling.h): the spot an object vertex rests at (-1 for a start or
+  /// goal, an object's own) and the object vertices at one spot.
+  int spotOf(VertexId v) const { return spot_of_[v.value()]; }
+  const std::vector<VertexId>& spotVertices(int spot) const { return spot_vertices_[spot]; }
   /// The robot whose planning space a move hyperarc lies in.
   int moveRobot(HyperarcId a) const { return moves_[graph_.property(a).index].robot; }
   std::string label(VertexId v) const;
@@ -143,6 +147,8 @@ class MotionHypergraph {
   std::vector<MovePath> moves_;
   std::map<std::pair<std::uint32_t, std::uint32_t>, int> move_of_;  ///< (from, to) -> moves_ index
   std::vector<std::vector<HyperarcId>> transitions_from_;
+  std::vector<int> spot_of_;
+  std::vector<std::vector<VertexId>> spot_vertices_;
 };
 
 }  // namespace dash

@@ -24,46 +24,56 @@ bool graspable(GeometricReachability& reach, int robot, int object, const Pose& 
 void presamplePlacements(TaskSpace& space, GeometricReachability& reach, TransitionSampler& sampler, Rng& rng,
                          const PlacementSamplingParams& params) {
   const Scene& scene = space.scene();
-  if (params.per_robot <= 0 || scene.surfaces.empty()) return;
+  if (params.per_object <= 0 || scene.surfaces.empty()) return;
   std::vector<PlacementRegion> regions;
   for (const SceneSurface& s : scene.surfaces) regions.emplace_back(s);
   const ObjectLayout none = ObjectLayout::empty(scene);
-  // One pool per object size: the objects that share it (movable ones only).
-  std::vector<std::vector<int>> sizes;
+  struct Sampled {
+    int object;
+    Pose X_WO;
+    int surface;
+  };
+  std::vector<Sampled> sampled;
+  std::vector<int> short_of;  // objects that found too little room
   for (int o = 0; o < space.objectCount(); ++o) {
     if (space.isFixed(o)) continue;
-    auto same = std::find_if(sizes.begin(), sizes.end(), [&](const std::vector<int>& g) {
-      return scene.objects[g.front()].shape.size == scene.objects[o].shape.size;
-    });
-    if (same == sizes.end()) {
-      sizes.push_back({o});
-    } else {
-      same->push_back(o);
+    std::vector<int> robots;
+    for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r) {
+      if (!scene.robots[r].hasCapability("grasp")) continue;
+      bool takes = graspable(reach, r, o, space.location(o, space.startLocation(o)).X_WO);
+      if (space.goalLocation(o) >= 0) takes = takes || graspable(reach, r, o, space.location(o, space.goalLocation(o)).X_WO);
+      if (takes) robots.push_back(r);
     }
-  }
-  for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r) {
-    if (!scene.robots[r].hasCapability("grasp")) continue;
-    for (const std::vector<int>& group : sizes) {
-      const int o = group.front();  // stands for every object of its size
-      const BoxShape& box = scene.objects[o].shape;
-      for (int added = 0, attempt = 0; added < params.per_robot && attempt < kPlacementAttempts; ++attempt) {
-        const int s = static_cast<int>(rng.integer(0, static_cast<std::int64_t>(regions.size()) - 1));
-        const auto pose = regions[s].sampleNear(box, scene.robots[r].X_WB.translation(), params.radius, rng, 4);
-        if (!pose) continue;
-        bool clear = true;
-        for (int j = 0; j < space.objectCount() && clear; ++j) {
-          // Far enough from every known location that the two footprints cannot overlap.
-          const double spacing = std::max(params.spacing, 0.5 * (footprint(box) + footprint(scene.objects[j].shape)));
-          for (const ObjectLocation& l : space.locations(j))
-            clear = clear && (l.X_WO.translation() - pose->translation()).norm() >= spacing;
-        }
-        if (!clear || objectInCollision(sampler.world(), sampler.context(), o, *pose, none)) continue;
-        if (!graspable(reach, r, o, *pose)) continue;
-        for (int j : group) space.addExtraLocation(j, *pose, s);
-        ++added;
+    if (robots.empty()) continue;
+    const BoxShape& box = scene.objects[o].shape;
+    int added = 0;
+    for (int attempt = 0; added < params.per_object && attempt < kPlacementAttempts; ++attempt) {
+      const int r = robots[static_cast<std::size_t>(rng.integer(0, static_cast<std::int64_t>(robots.size()) - 1))];
+      const int s = static_cast<int>(rng.integer(0, static_cast<std::int64_t>(regions.size()) - 1));
+      const auto pose = regions[s].sampleNear(box, scene.robots[r].X_WB.translation(), params.radius, rng, 4);
+      if (!pose) continue;
+      bool clear = true;
+      for (int j = 0; j < space.objectCount() && clear; ++j) {
+        // Far enough from every known location that the two footprints cannot overlap.
+        const double spacing = std::max(params.spacing, 0.5 * (footprint(box) + footprint(scene.objects[j].shape)));
+        for (const ObjectLocation& l : space.locations(j))
+          clear = clear && (l.X_WO.translation() - pose->translation()).norm() >= spacing;
       }
+      if (!clear || objectInCollision(sampler.world(), sampler.context(), o, *pose, none)) continue;
+      if (!graspable(reach, r, o, *pose)) continue;
+      space.addExtraLocation(o, *pose, s);
+      sampled.push_back({o, *pose, s});
+      ++added;
     }
+    if (added < params.per_object) short_of.push_back(o);
   }
+  // No room left near the robots for these: they share the placements of objects of their size.
+  for (int o : short_of)
+    for (const Sampled& p : sampled) {
+      if (space.extraLocationCount(o) >= params.per_object) break;
+      if (p.object != o && scene.objects[p.object].shape.size == scene.objects[o].shape.size)
+        space.addExtraLocation(o, p.X_WO, p.surface);
+    }
 }
 
 }  // namespace dash

@@ -1,12 +1,13 @@
 #pragma once
 // DaSH pre-samples object placements besides each object's start and goal, without asking whether a
 // plan will need them (paper, "Analysis and Discussion": DaSH "pre samples object poses without
-// reasoning about their necessity"). Its object elements are location-free, so a placement is a
-// place any object of a size may rest at: per robot that can grasp and per object size, stable poses
-// on a support surface near the robot, clear of obstacles and of every known object location
-// (footprints never overlap), graspable there by that robot. Each becomes an extra location of every
-// object of that size in the TaskSpace; two objects resting at one placement at once is a conflict
-// the planner's conflict resolution finds (a transition touching a resting object).
+// reasoning about their necessity"): per object, stable poses on a support surface near a robot that
+// can take it from its start or put it at its goal, clear of obstacles and of every known object
+// location (footprints never overlap), graspable there by that robot; each becomes an extra location
+// of the object in the TaskSpace. Where the room runs out (the lab's small sanitisation zone), an
+// object shares a placement of another object of its size: DaSH's object elements are location-free,
+// and a shared placement holds one object at a time (the combined query never places onto an
+// occupied one). Sharing is the fallback only: objects queueing for one spot serialise a plan.
 #include "engine/core/rng.h"
 #include "engine/task/geometric_reachability.h"
 #include "engine/task/task_space.h"
@@ -14,8 +15,8 @@
 namespace dash {
 
 struct PlacementSamplingParams {
-  int per_robot = 1;      ///< placements per grasping robot and object size
-  double radius = 0.75;   ///< metres from the robot's base
+  int per_object = 1;     ///< placements per object besides its start and goal
+  double radius = 0.75;   ///< metres from the base of a robot that can take the object
   double spacing = 0.09;  ///< least centre distance to every other known object location
 };
 

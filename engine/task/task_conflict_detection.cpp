@@ -244,6 +244,32 @@ void TaskConflictDetector::addBlockerConstraints(const TaskPlan& plan, const Tra
   }
 }
 
+bool TaskConflictDetector::handoverPossible(int giver, int receiver, int object, GraspClass g1, GraspClass g2) {
+  const Vec3& size = space_->scene().objects[object].shape.size;
+  const auto key = std::make_tuple(giver, receiver, static_cast<int>(g1), static_cast<int>(g2),
+                                   std::lround(size.x() * 1e4), std::lround(size.y() * 1e4), std::lround(size.z() * 1e4));
+  if (auto it = handover_possible_.find(key); it != handover_possible_.end()) return it->second;
+  const ObjectLayout none = ObjectLayout::empty(space_->scene());
+  bool possible = false;
+  for (const Pose& X_WO : sampler_->handoverPoses(giver, receiver)) {
+    const std::vector<GraspConfig> givers = sampler_->graspConfigs(giver, object, X_WO, g1, 4);
+    if (givers.empty()) continue;
+    for (const GraspConfig& gc2 : sampler_->graspConfigs(receiver, object, X_WO, g2, 4)) {
+      for (const GraspConfig& gc1 : givers) {
+        const RobotState states[2] = {{giver, gc1.q, HeldObject{object, gc1.X_TO}}, {receiver, gc2.q, HeldObject{}}};
+        if (!robotsInCollision(sampler_->world(), sampler_->context(), states, none, nullptr, CheckScope::kStaticOnly)) {
+          possible = true;
+          break;
+        }
+      }
+      if (possible) break;
+    }
+    if (possible) break;
+  }
+  handover_possible_.emplace(key, possible);
+  return possible;
+}
+
 void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& trace, const Deadline& deadline,
                                              TaskConflictResult& result) {
   std::vector<std::vector<int>> chains(static_cast<std::size_t>(space_->objectCount()));
@@ -255,6 +281,25 @@ void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& 
       result.interrupted = true;
       return;
     }
+    // A handover that is impossible whatever the grasps (an arm on each side of a wall) is an
+    // interaction constraint at once; searching the chain around it would try every pose on every branch.
+    bool impossible = false;
+    for (int k : chains[o]) {
+      const TaskArc& a = plan.steps[k].action;
+      if (a.type != TaskArcType::kHandover || handoverPossible(a.robot, a.robot2, o, a.grasp, a.grasp2)) continue;
+      TaskConstraint c;
+      c.kind = TaskConstraint::Kind::kInteraction;
+      c.giver = a.robot;
+      c.receiver = a.robot2;
+      c.giver_grasp = a.grasp;
+      c.receiver_grasp = a.grasp2;
+      c.cause = "step " + std::to_string(k) + " (" + describeStep(plan.steps[k], *space_) +
+                "): no collision-free handover configuration at any sampled pose";
+      result.constraints.push_back(c);
+      result.conflicts.push_back(c.cause);
+      impossible = true;
+    }
+    if (impossible) continue;
     ChainSearch full(*sampler_, *space_, plan, trace.before, trace.empty, chains[o], o, true, params_, deadline);
     if (full.run()) {
       for (std::size_t i = 0; i < chains[o].size(); ++i) result.transitions[chains[o][i]] = full.assignment()[i];

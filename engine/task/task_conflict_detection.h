@@ -11,7 +11,9 @@
 //  - a transition with no collision-free configuration even without objects (a handover through a
 //    wall) becomes an interaction constraint. The paper finds these when building the motion
 //    hypergraph; here transition configurations are sampled once, in this layer, and reused there.
+#include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "engine/core/deadline.h"
@@ -68,12 +70,16 @@ class TaskConflictDetector {
   void addBlockerConstraints(const TaskPlan& plan, const Trace& trace, int step, const std::vector<int>& blockers,
                              TaskConflictResult& result);
   VertexId producedElement(const TaskStep& step) const;
+  /// Whether robots `giver` and `receiver` can hand `object` over with these grasp classes at all
+  /// (no resting objects, any grasps). Static, so cached for the whole run.
+  bool handoverPossible(int giver, int receiver, int object, GraspClass g1, GraspClass g2);
 
   TransitionSampler* sampler_;
   TaskSpace* space_;
   const TaskHypergraph* graph_;
   Rng* rng_;
   TaskConflictParams params_;
+  std::map<std::tuple<int, int, int, int, long, long, long>, bool> handover_possible_;
 };
 
 }  // namespace dash

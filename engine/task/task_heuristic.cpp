@@ -41,7 +41,8 @@ std::vector<double> dijkstraFrom(const std::vector<VertexId>& targets, const std
 
 }  // namespace
 
-TaskHeuristic::TaskHeuristic(const TaskHypergraph& hypergraph, const TaskSpace& space) {
+TaskHeuristic::TaskHeuristic(const TaskHypergraph& hypergraph, const TaskSpace& space,
+                             const std::function<bool(HyperarcId)>& forbidden) {
   const TaskGraph& graph = hypergraph.graph();
   const std::size_t n = graph.vertexCount();
   moves_.resize(graph.hyperarcCount());
@@ -57,7 +58,7 @@ TaskHeuristic::TaskHeuristic(const TaskHypergraph& hypergraph, const TaskSpace& 
       if (isObjectState(graph.property(v))) move.to = v;
     move.valid = move.from.valid() && move.to.valid();
     moves_[a.value()] = move;
-    if (move.valid) reverse[move.to.value()].push_back({move.from, arc.cost});
+    if (move.valid && !(forbidden && forbidden(a))) reverse[move.to.value()].push_back({move.from, arc.cost});
   }
 
   std::vector<VertexId> goal_targets;

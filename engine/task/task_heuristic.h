@@ -3,6 +3,7 @@
 // base-to-object for grasps and base-to-base for handovers, after Shome et al.). Each object's states
 // (at a location, or held with a grasp class) form a small graph; a backward Dijkstra from the
 // object's goal gives its cost-to-go. Robots alone cost nothing.
+#include <functional>
 #include <vector>
 
 #include "engine/task/task_hypergraph.h"
@@ -11,7 +12,9 @@ namespace dash {
 
 class TaskHeuristic {
  public:
-  TaskHeuristic(const TaskHypergraph& graph, const TaskSpace& space);
+  /// Hyperarcs that `forbidden` rejects (interaction constraints) are left out of the routes.
+  TaskHeuristic(const TaskHypergraph& graph, const TaskSpace& space,
+                const std::function<bool(HyperarcId)>& forbidden = {});
 
   /// Cost from v to the object's goal (any location if it has none); 0 for robots and tasks done.
   double costToGo(VertexId v) const { return to_goal_[v.value()]; }

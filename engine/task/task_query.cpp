@@ -91,7 +91,9 @@ TaskPlan planFromHyperpath(const TaskHypergraph& graph, const HyperpathResult& r
 TaskQueryResult queryTaskPlan(const TaskHypergraph& graph, const TaskSpace& space,
                               const TaskConstraintSet& constraints, const TaskQueryParams& params,
                               const Deadline& deadline, const TaskQueryObserver& observer) {
-  const TaskHeuristic heuristic(graph, space);
+  const TaskHeuristic heuristic(graph, space, [&](HyperarcId a) {
+    return constraints.forbidsInteraction(a, graph.graph().property(a));
+  });
   const TaskGreedyOrder priority(graph, space, constraints, heuristic);
   HyperpathSearchParams search;
   search.algorithm = params.algorithm;

@@ -174,7 +174,7 @@ TEST(CombinedQuery, FindsAHyperpathAndHonoursMotionConstraints) {
     log::EventEmitter emitter(nullptr);
     b.buildMotion(emitter);
   }
-  const CombinedQuery query(*b.motion);
+  CombinedQuery query(*b.motion);
   const HyperpathResult first = query.run({}, {}, Deadline());
   ASSERT_TRUE(first.found()) << toString(first.status);
   const ExtractedPlan plan = extractPlan(*b.motion, first);

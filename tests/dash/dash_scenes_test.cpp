@@ -29,8 +29,8 @@ TEST(DashScenes, SolvesWallWithFiveRobots) {
 }
 
 TEST(DashScenes, SolvesLabWithInspectionsAndSharedPlacements) {
-  // Two gantries; each lid must be away from its container while it is inspected. DaSH's placements
-  // are shared by objects of a size, so both lids can use the one spot the sanitisation zone offers.
+  // Two gantries; each lid must be away from its container while it is inspected. The sanitisation
+  // zone is small: a lid that finds no room of its own shares another lid's placement.
   const Scene scene = test::dashScene("lab", {{"containers", "2"}});
   auto planner = makePlanner("dash");
   PlannerSettings settings;
