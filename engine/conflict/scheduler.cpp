@@ -38,6 +38,16 @@ double Scheduler::duration(int robot, const JointVector& a, const JointVector& b
   return std::max(params_.min_segment, std::ceil(t * 1000.0) / 1000.0);
 }
 
+std::vector<double> Scheduler::compositeDurations(const std::vector<int>& robots, const CompositePath& path) const {
+  std::vector<double> out;
+  for (std::size_t w = 1; w < path.size(); ++w) {
+    double d = 0.0;
+    for (std::size_t i = 0; i < robots.size(); ++i) d = std::max(d, duration(robots[i], path[w - 1][i], path[w][i]));
+    out.push_back(d);
+  }
+  return out;
+}
+
 double Scheduler::pathDuration(int robot, const std::vector<JointVector>& path) const {
   double t = 0.0;
   for (std::size_t i = 1; i < path.size(); ++i) t += duration(robot, path[i - 1], path[i]);
@@ -137,6 +147,42 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
     std::optional<ScheduleConflict> last_conflict;
     std::vector<int> blockers;  // robots found standing in the way of this step
     std::vector<int> evicted;   // idle robots sent home to clear the way for this step
+    // ARC's subproblem for this step: the participants first, then robots standing in their way.
+    std::vector<int> movers;
+    for (const Participant& p : parts) movers.push_back(p.robot);
+    std::optional<CompositePath> composite;
+    std::vector<double> composite_steps;
+    double composite_time = 0.0;
+    int composite_tries = 0;
+    double max_approach = 0.0;
+    for (const Participant& p : parts) max_approach = std::max(max_approach, p.approach_time);
+    // Plans the movers together from where they stand: participants to their approach starts, the
+    // others back to where they stand (they may step aside meanwhile).
+    auto replanComposite = [&]() {
+      ++composite_tries;
+      double depart = 0.0;
+      for (int r : movers) depart = std::max(depart, timelines[r].end());
+      CompositeProblem problem;
+      problem.robots = movers;
+      problem.layout = objects.layoutAt(depart);
+      for (std::size_t i = 0; i < movers.size(); ++i) {
+        const int r = movers[i];
+        problem.start.push_back(timelines[r].last());
+        problem.goal.push_back(i < parts.size() ? parts[i].visit->q_pre : timelines[r].last());
+        problem.held.push_back(timelines[r].heldAt(kForever / 2));
+      }
+      for (const RobotState& st : parkedAt(-1, depart))
+        if (std::find(movers.begin(), movers.end(), st.robot) == movers.end()) problem.parked.push_back(st);
+      CompositeParams cp;
+      cp.seconds = params_.composite_seconds;
+      composite = planComposite(*world_, *context_, problem, cp, deadline);
+      if (!composite) return false;
+      composite_steps = compositeDurations(movers, *composite);
+      composite_time = 0.0;
+      for (double d : composite_steps) composite_time += d;
+      ++result.stats.composite_replans;
+      return true;
+    };
     // Replans the participants' transits for an arrival mode around the robots standing still and the
     // partner: arriving together, each avoids the partner where it stands now; staggered, whoever goes
     // first avoids the partner where it stands now and whoever goes second avoids the first one in its
@@ -197,27 +243,50 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
     };
     while (!scheduled && T <= give_up) {
       std::optional<ScheduleConflict> round_conflict;
-      for (int mode = 0; mode < modes && !scheduled; ++mode) {
+      // Modes 0-2: each participant on its own path (arriving together, giver first, receiver
+      // first); mode 3: the composite path of ARC's subproblem, once there is one.
+      for (int mode = 0; mode < 4 && !scheduled; ++mode) {
         if (deadline.expired()) return fail(k, "deadline");
-        const std::vector<double> arrive = arrivals(mode, T);
-        bool fits = true;
-        for (std::size_t i = 0; i < parts.size(); ++i) {
-          const double travel =
-              parts[i].staggered[mode].empty() ? parts[i].transit_time : parts[i].staggered_time[mode];
-          fits = fits && arrive[i] - travel >= timelines[parts[i].robot].end() - 1e-9;
-        }
-        if (!fits) continue;
+        if (mode == 3 ? !composite : mode >= modes) continue;
         std::vector<RobotTimeline> trial = timelines;
-        for (std::size_t i = 0; i < parts.size(); ++i) {
-          const Participant& p = parts[i];
-          RobotTimeline& c = trial[p.robot];
-          const bool own = !p.staggered[mode].empty();
-          const std::vector<JointVector>& path = own ? p.staggered[mode] : p.transit;
-          const double depart = arrive[i] - (own ? p.staggered_time[mode] : p.transit_time);
-          c.append(depart, c.last());  // wait where it stands: always clear (its standing was checked)
-          appendPath(c, depart, path);
-          c.append(T - p.approach_time, p.visit->q_pre);
-          c.append(T, p.visit->q);
+        if (mode == 3) {
+          const double depart = T - max_approach - composite_time;
+          bool fits = true;
+          for (int r : movers) fits = fits && depart >= timelines[r].end() - 1e-9;
+          if (!fits) continue;
+          for (std::size_t i = 0; i < movers.size(); ++i) {
+            RobotTimeline& c = trial[movers[i]];
+            c.append(depart, c.last());
+            double t = depart;
+            for (std::size_t w = 1; w < composite->size(); ++w) {
+              t += composite_steps[w - 1];
+              c.append(t, (*composite)[w][i]);
+            }
+          }
+          for (const Participant& p : parts) {
+            trial[p.robot].append(T - p.approach_time, p.visit->q_pre);
+            trial[p.robot].append(T, p.visit->q);
+          }
+        } else {
+          const std::vector<double> arrive = arrivals(mode, T);
+          bool fits = true;
+          for (std::size_t i = 0; i < parts.size(); ++i) {
+            const double travel =
+                parts[i].staggered[mode].empty() ? parts[i].transit_time : parts[i].staggered_time[mode];
+            fits = fits && arrive[i] - travel >= timelines[parts[i].robot].end() - 1e-9;
+          }
+          if (!fits) continue;
+          for (std::size_t i = 0; i < parts.size(); ++i) {
+            const Participant& p = parts[i];
+            RobotTimeline& c = trial[p.robot];
+            const bool own = !p.staggered[mode].empty();
+            const std::vector<JointVector>& path = own ? p.staggered[mode] : p.transit;
+            const double depart = arrive[i] - (own ? p.staggered_time[mode] : p.transit_time);
+            c.append(depart, c.last());  // wait where it stands: always clear (its standing was checked)
+            appendPath(c, depart, path);
+            c.append(T - p.approach_time, p.visit->q_pre);
+            c.append(T, p.visit->q);
+          }
         }
         // The transition itself at time T.
         const int o = a.object;
@@ -228,14 +297,19 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
           trial[a.robot2].grasp(T, {o, tc.X_TO2});
         }
         std::optional<ScheduleConflict> conflict;
-        for (const Participant& p : parts) {
-          conflict = checker_.check(trial[p.robot], timelines[p.robot].end(), kForever, trial, objects);
+        for (const int r : mode == 3 ? movers : std::vector<int>{}) {
+          if (r == parts[0].robot || (parts.size() == 2 && r == parts[1].robot)) continue;
+          conflict = checker_.check(trial[r], timelines[r].end(), kForever, trial, objects);
           if (conflict) break;
+        }
+        for (const Participant& p : parts) {
+          if (conflict) break;
+          conflict = checker_.check(trial[p.robot], timelines[p.robot].end(), kForever, trial, objects);
         }
         if (!conflict && a.type == TaskArcType::kPlace) conflict = checker_.checkResting(o, tc.X_WO, T, trial, a.robot);
         const bool with_partner =
             conflict && parts.size() == 2 && (conflict->other == parts[0].robot || conflict->other == parts[1].robot);
-        if (with_partner && !parts[0].staggered_tried[mode]) {
+        if (with_partner && mode < 3 && !parts[0].staggered_tried[mode]) {
           parts[0].staggered_tried[mode] = true;
           replanTransits(mode);
           --mode;  // the same arrival mode again, with the new transits
@@ -259,6 +333,18 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
           evicted.push_back(conflict->other);
           if (sendHome(conflict->other)) {
             --mode;
+            continue;
+          }
+        }
+        // Still in conflict with the partner or with a robot standing still: plan the robots involved
+        // together (ARC), adding the robot in the way to the subproblem.
+        const bool standing = conflict && conflict->other >= 0 && timelines[conflict->other].end() <= conflict->t;
+        if (conflict && (standing || (with_partner && mode >= modes - 1)) && composite_tries < params_.composite_attempts) {
+          const bool known = std::find(movers.begin(), movers.end(), conflict->other) != movers.end();
+          if (!known && standing && static_cast<int>(movers.size()) < params_.max_composite_robots)
+            movers.push_back(conflict->other);
+          if ((!known || !composite) && replanComposite()) {
+            mode = 2;  // try the composite path (mode 3) at this T
             continue;
           }
         }

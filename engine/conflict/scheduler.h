@@ -6,13 +6,16 @@
 // timed piece is checked in continuous time against everything already scheduled (ScheduleChecker).
 // A conflict is resolved first by retiming (a later departure: the robot waits where it stands, which
 // is always clear), then by replanning the move in the space of the robot with the robots in its way
-// standing still (the subproblem of ARC with a fixed window). What cannot be resolved is reported,
-// with the step it happened at, for the planner to turn into a constraint.
+// standing still, then by replanning in the composite space of the robots in conflict (ARC's
+// subproblem: the step's participants plus the robots standing in their way, which may step aside and
+// come back; the robot set grows with each new robot found in the way). What cannot be resolved is
+// reported, with the step it happened at, for the planner to turn into a constraint.
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "engine/conflict/composite_planner.h"
 #include "engine/conflict/schedule_checker.h"
 #include "engine/core/deadline.h"
 #include "engine/motion/motion_layer.h"
@@ -26,11 +29,15 @@ struct SchedulerParams {
   double delay_step = 0.25;       ///< retiming granularity, seconds
   double max_delay = 30.0;        ///< give up retiming a transition after this much delay
   double min_segment = 0.02;      ///< shortest segment duration, seconds
+  int max_composite_robots = 4;   ///< ARC's robot set stops growing here
+  int composite_attempts = 3;     ///< composite replans per step
+  double composite_seconds = 1.5; ///< planning budget of one composite replan
 };
 
 struct ScheduleStats {
   int delays = 0;       ///< retiming steps taken
   int replans = 0;      ///< moves replanned around robots in the way
+  int composite_replans = 0;  ///< subproblems solved in the composite space of several robots
   std::int64_t checks = 0;
 };
 
@@ -59,6 +66,8 @@ class Scheduler {
   double duration(int robot, const JointVector& a, const JointVector& b) const;
   void appendPath(RobotTimeline& timeline, double start, const std::vector<JointVector>& path) const;
   double pathDuration(int robot, const std::vector<JointVector>& path) const;
+  /// Durations of a composite path's segments: each as long as its slowest mover needs.
+  std::vector<double> compositeDurations(const std::vector<int>& robots, const CompositePath& path) const;
 
   const CollisionWorld* world_;
   CollisionContext* context_;

@@ -1,5 +1,7 @@
 #include "engine/motion/motion_layer.h"
 
+#include <cmath>
+
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/segment_queries.h"
 #include "engine/robots/kinematics.h"
@@ -42,6 +44,23 @@ std::vector<ObjectLayout> layoutsAlong(const TaskPlan& plan, const TaskSpace& sp
 }
 
 double jointDistance(const JointVector& a, const JointVector& b) { return (a - b).cwiseAbs().sum(); }
+
+}  // namespace
+
+/// For people reading a failure: whether an end of the missing path is itself in collision.
+std::string MotionLayer::whyNoPath(int robot, const JointVector& from, const JointVector& q_pre, const JointVector& q,
+                                   const HeldObject& held, const ObjectLayout& layout) const {
+  const Scene& scene = world_->scene();
+  const std::pair<const char*, const JointVector*> ends[] = {{"start", &from}, {"approach start", &q_pre}, {"transition", &q}};
+  for (const auto& [name, cfg] : ends) {
+    CollisionReport report;
+    if (robotInCollision(*world_, *context_, RobotState{robot, *cfg, held}, layout, &report))
+      return std::string(": the ") + name + " configuration is in collision (" + describe(report, scene) + ")";
+  }
+  return ": the roadmap found no way between valid ends";
+}
+
+namespace {
 
 }  // namespace
 
@@ -96,11 +115,17 @@ std::optional<std::vector<JointVector>> MotionLayer::connect(int robot, const Jo
 }
 
 std::optional<JointVector> MotionLayer::backedOff(int robot, const JointVector& q, const HeldObject& held,
-                                                  const ObjectLayout& layout, const std::optional<Vec3>& direction_W) {
+                                                  const ObjectLayout& layout, const std::optional<Vec3>& direction_W,
+                                                  double distance) {
   const SceneRobot& r = world_->scene().robots[robot];
   const Pose X_WT = forwardKinematics(*r.model, r.X_WB, q).X_WT;
-  Pose X_WTpre = X_WT * makePose(Vec3(0, 0, -params_.approach_distance));
-  if (direction_W) X_WTpre = makePose(params_.approach_distance * direction_W->normalized()) * X_WT;
+  const double d = distance > 0.0 ? distance : params_.approach_distance;
+  Pose X_WTpre = X_WT * makePose(Vec3(0, 0, -d));
+  if (direction_W) X_WTpre = makePose(d * direction_W->normalized()) * X_WT;
+  // Sideways approaches also rise a little: an object resting on a pedestal or board touches it, and
+  // the joint-space segment would graze it on the way out.
+  const Vec3 axis_W = direction_W ? direction_W->normalized() : Vec3(X_WT.linear().col(2));
+  if (std::abs(axis_W.z()) < 0.7) X_WTpre = makePose(Vec3(0, 0, params_.side_lift)) * X_WTpre;
   std::optional<JointVector> best;
   for (const JointVector& cand : inverseKinematics(*r.model, r.X_WB, X_WTpre)) {
     if (best && jointDistance(cand, q) >= jointDistance(*best, q)) continue;
@@ -121,6 +146,8 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
   const std::vector<ObjectLayout> layouts = layoutsAlong(plan, space);
   std::vector<JointVector> at(static_cast<std::size_t>(robots));
   std::vector<std::uint32_t> last_vertex(static_cast<std::size_t>(robots));
+  // Whether each robot's last retreat backed off along its own approach axis (so may back off farther).
+  std::vector<bool> own_retreat(static_cast<std::size_t>(robots), false);
   for (int r = 0; r < robots; ++r) {
     at[r] = scene.robots[r].home;
     last_vertex[r] = motionVertex(scene.robots[r].id + " home");
@@ -149,7 +176,8 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
       // The giver brings the object straight to the handover pose; everyone else approaches along the
       // TCP axis so that fingers slide around the object instead of sweeping through it.
       visit.q_pre = giver ? visit.q : backedOff(r, visit.q, held.before, layouts[k]).value_or(visit.q);
-      if (receiver && !giver_backs_off) {
+      const bool own_axis = !(receiver && !giver_backs_off);
+      if (!own_axis) {
         // The giver cannot back off (its approach axis leads out of reach): the receiver pulls the
         // object out of the giver's open fingers along the giver's approach axis instead.
         visit.q_post = backedOff(r, visit.q, held.after, layouts[k + 1], giver_approach_W).value_or(visit.q);
@@ -161,12 +189,35 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
         const SceneRobot& sr = scene.robots[r];
         giver_approach_W = forwardKinematics(*sr.model, sr.X_WB, visit.q).X_WT.linear().col(2);
       }
-      const auto transit = connect(r, at[r], visit.q_pre, MotionContext{held.before, layouts[k], {}}, deadline);
+      const MotionContext context{held.before, layouts[k], {}};
+      auto transit = connect(r, at[r], visit.q_pre, context, deadline);
+      // Local refinement: deep in a shelf cubby the short approach and retreat leave the arm where a
+      // roadmap hardly reaches. Back off farther along the same axes (the straight segment to the
+      // transition is checked) and connect again.
+      for (const double d : params_.deep_approach_distances) {
+        if (transit || deadline.expired()) break;
+        bool changed = false;
+        if (!giver)
+          if (auto pre = backedOff(r, visit.q, held.before, layouts[k], {}, d)) {
+            visit.q_pre = *pre;
+            changed = true;
+          }
+        if (own_retreat[r] && !result.robots[r].visits.empty()) {
+          StepVisit& prev = result.robots[r].visits.back();
+          if (auto post = backedOff(r, prev.q, prev.held_after, layouts[prev.step + 1], {}, d)) {
+            prev.q_post = *post;
+            at[r] = *post;
+            changed = true;
+          }
+        }
+        if (changed) transit = connect(r, at[r], visit.q_pre, context, deadline);
+      }
       if (!transit) {
         result.status = deadline.expired() ? MotionStatus::kTimeout : MotionStatus::kFailed;
         result.failed_step = k;
         result.reason = "no path for " + scene.robots[r].id + " to step " + std::to_string(k) + " (" +
-                        describeStep(plan.steps[k], space) + ")";
+                        describeStep(plan.steps[k], space) + ")" +
+                        whyNoPath(r, at[r], visit.q_pre, visit.q, held.before, layouts[k]);
         return result;
       }
       visit.transit = *transit;
@@ -180,6 +231,7 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
       motionArc("move", v_q, v_post);
       last_vertex[r] = v_post;
       at[r] = visit.q_post;
+      own_retreat[r] = own_axis;
       result.robots[r].visits.push_back(std::move(visit));
     }
   }

@@ -37,6 +37,9 @@ struct RobotMotionPlan {
 
 struct MotionLayerParams {
   double approach_distance = 0.06;  ///< metres the TCP backs off along its approach axis
+  double side_lift = 0.015;         ///< metres a sideways back-off also rises
+  /// Farther back-offs tried, in order, when no transit reaches the short ones (a shelf cubby).
+  std::vector<double> deep_approach_distances = {0.15, 0.25, 0.35};
   RoadmapParams roadmap;
 };
 
@@ -71,8 +74,11 @@ class MotionLayer {
  private:
   /// q moved so that the TCP goes back along its own approach axis (or along `direction_W`, a world
   /// direction, when given) by the approach distance: free, and the straight segment to q free.
+  std::string whyNoPath(int robot, const JointVector& from, const JointVector& q_pre, const JointVector& q,
+                        const HeldObject& held, const ObjectLayout& layout) const;
   std::optional<JointVector> backedOff(int robot, const JointVector& q, const HeldObject& held,
-                                       const ObjectLayout& layout, const std::optional<Vec3>& direction_W = {});
+                                       const ObjectLayout& layout, const std::optional<Vec3>& direction_W = {},
+                                       double distance = 0.0);
   LazyRoadmap& roadmap(int robot, bool holding);
   std::uint32_t motionVertex(const std::string& label);
   void motionArc(const char* type, std::uint32_t from, std::uint32_t to);

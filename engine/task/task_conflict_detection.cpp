@@ -233,6 +233,9 @@ void TaskConflictDetector::addBlockerConstraints(const TaskPlan& plan, const Tra
     c.kind = final_goal ? TaskConstraint::Kind::kHistory : TaskConstraint::Kind::kFrontier;
     c.pre = *pre;
     c.post = post;
+    const TaskElement& produced = graph_->graph().property(post);
+    c.post_required =
+        produced.kind == ElementKind::kObjectAt && produced.location == space_->goalLocation(produced.object);
     c.cause = "step " + std::to_string(step) + " (" + describeStep(plan.steps[step], *space_) + ") blocked by " +
               space_->locationLabel(b, lb);
     result.constraints.push_back(c);

@@ -37,7 +37,7 @@ struct TransitionConfig {
 struct TaskConflictParams {
   int chain_budget = 8000;        ///< sampler calls per object chain
   int grasp_candidates = 6;       ///< per grasp class and pose
-  int handover_poses = 400;       ///< object poses tried per handover (the whole search grid)
+  int handover_poses = 1040;      ///< object poses tried per handover (the whole search grid)
 };
 
 struct TaskConflictResult {

@@ -62,6 +62,14 @@ bool TaskConstraintSet::forbidsInteraction(HyperarcId id, const TaskArc& arc) co
 HyperarcFilter TaskConstraintSet::filter(const TaskGraph& graph) const {
   return [this, &graph](const HyperpathState& state, HyperarcId a) {
     if (!interactions_.empty() && forbidsInteraction(a, graph.property(a))) return false;
+    for (VertexId pre : graph.head(a)) {
+      auto it = by_pre_.find(pre.value());
+      if (it == by_pre_.end()) continue;
+      for (int i : it->second) {
+        const TaskConstraint& c = constraints_[i];
+        if (c.kind == TaskConstraint::Kind::kHistory && c.post_required && !state.inHistory(c.post)) return false;
+      }
+    }
     for (VertexId post : graph.head(a)) {
       auto it = by_post_.find(post.value());
       if (it == by_post_.end()) continue;
@@ -76,10 +84,13 @@ HyperarcFilter TaskConstraintSet::filter(const TaskGraph& graph) const {
 }
 
 bool TaskConstraintSet::historyRelevant(VertexId v) const {
-  auto it = by_pre_.find(v.value());
-  if (it == by_pre_.end()) return false;
-  for (int i : it->second)
-    if (constraints_[i].kind == TaskConstraint::Kind::kHistory) return true;
+  if (auto it = by_pre_.find(v.value()); it != by_pre_.end())
+    for (int i : it->second)
+      if (constraints_[i].kind == TaskConstraint::Kind::kHistory) return true;
+  // The required v_post of a history constraint decides what may follow (filter()).
+  if (auto it = by_post_.find(v.value()); it != by_post_.end())
+    for (int i : it->second)
+      if (constraints_[i].kind == TaskConstraint::Kind::kHistory && constraints_[i].post_required) return true;
   return false;
 }
 

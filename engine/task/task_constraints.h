@@ -29,6 +29,10 @@ struct TaskConstraint {
   /// Fed back from the motion layer: holds for the next task query only (the paper does not remove a
   /// hyperarc for ever because one motion failed).
   bool temporary = false;
+  /// History: v_post must be in every complete plan (an object at its final goal). Then v_pre may
+  /// not appear before v_post either: afterwards v_post could never be reached (a dead end pruned
+  /// early instead of found by backtracking).
+  bool post_required = false;
 
   bool sameAs(const TaskConstraint& o) const;
 };

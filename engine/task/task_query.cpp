@@ -12,11 +12,14 @@ namespace {
 //  2. objects already in a hand before new picks, so at most one object waits on a free hand and
 //     the greedy search cannot lock robots that each wait for another's hand; among picks, those that
 //     move a blocking object out of the way first;
+//     picks of an object whose goal must wait for another object's (a required history constraint:
+//     it would block that goal) after all other picks, so that it does not occupy a hand meanwhile;
 //  3. the regret of the action against the object's best remaining route (0 on a best route);
 //  4. shorter remaining routes first.
 constexpr double kReblockPenalty = 1e6;
 constexpr double kPickPenalty = 1e4;
 constexpr double kUnblockingPickPenalty = 5e3;
+constexpr double kWaitingPickPenalty = 1e5;
 constexpr double kRemainingWeight = 1e-3;
 
 class TaskGreedyOrder {
@@ -32,6 +35,10 @@ class TaskGreedyOrder {
       const int lid = scene.tasks[k].requires_removed_object;
       if (lid < 0) continue;
       if (auto v = graph.find(TaskElement::taskState(k, false))) pending_tasks_of_object_[lid].push_back(*v);
+    }
+    for (int o = 0; o < space.objectCount(); ++o) {
+      const auto v = space.goalLocation(o) >= 0 ? graph.find(TaskElement::objectAt(o, space.goalLocation(o))) : std::nullopt;
+      goal_vertex_.push_back(v.value_or(VertexId()));
     }
   }
 
@@ -59,7 +66,13 @@ class TaskGreedyOrder {
         constraints_.forEachOnPre(t, [&](const TaskConstraint& c) {
           if (c.kind == TaskConstraint::Kind::kFrontier && !state.inFrontier(c.post)) unblocks = true;
         });
-      level += unblocks ? kUnblockingPickPenalty : kPickPenalty;
+      bool waits = false;
+      const VertexId goal = goal_vertex_[arc.object];
+      if (goal.valid())
+        constraints_.forEachOnPre(goal, [&](const TaskConstraint& c) {
+          if (c.kind == TaskConstraint::Kind::kHistory && c.post_required && !state.inHistory(c.post)) waits = true;
+        });
+      level += waits ? kWaitingPickPenalty : unblocks ? kUnblockingPickPenalty : kPickPenalty;
     }
     return level + regret + kRemainingWeight * cost(move.to);
   }
@@ -70,6 +83,7 @@ class TaskGreedyOrder {
   const TaskHeuristic& heuristic_;
   std::vector<char> required_;
   std::vector<std::vector<VertexId>> pending_tasks_of_object_;
+  std::vector<VertexId> goal_vertex_;  ///< per object, invalid if it has no goal
 };
 
 TaskPlan planFromHyperpath(const TaskHypergraph& graph, const HyperpathResult& result) {

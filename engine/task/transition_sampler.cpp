@@ -14,7 +14,8 @@ constexpr double kUrReachMetres = 1.05;       // TCP from the base axis, generou
 // Handover search grid (as the scenario generators' handover graph): heights above the higher base,
 // offsets along the base-to-base line and across it (round the end of a panel or shelf).
 constexpr double kHandoverHeights[] = {0.35, 0.25, 0.45, 0.6};
-constexpr double kHandoverAcross[] = {0.0, -0.15, 0.15, -0.3, 0.3};
+// Across offsets reach round the end of a divider (shelf-wall), as the generators' handover search does.
+constexpr double kHandoverAcross[] = {0.0, -0.15, 0.15, -0.3, 0.3, -0.45, 0.45, -0.55, 0.55, -0.65, 0.65, -0.75, 0.75};
 constexpr double kHandoverAlong[] = {0.0, -0.1, 0.1, -0.2, 0.2};
 constexpr double kHandoverYaws[] = {0.0, 1.5707963267948966, 3.141592653589793, -1.5707963267948966};
 
@@ -119,8 +120,10 @@ std::vector<Pose> TransitionSampler::handoverPoses(int giver, int receiver) cons
     for (double across : kHandoverAcross)
       for (double along_offset : kHandoverAlong)
         for (double dyaw : kHandoverYaws) {
-          const Vec3 p = mid + along_offset * forward + across * lateral;
-          poses.push_back(makePose(Vec3(p.x(), p.y(), base_z + h), Quat(Eigen::AngleAxisd(yaw + dyaw, Vec3::UnitZ()))));
+          const Vec3 q = mid + along_offset * forward + across * lateral;
+          const Vec3 p(q.x(), q.y(), base_z + h);
+          if (!inRange(giver, p) || !inRange(receiver, p)) continue;
+          poses.push_back(makePose(p, Quat(Eigen::AngleAxisd(yaw + dyaw, Vec3::UnitZ()))));
         }
   return poses;
 }

@@ -1,0 +1,90 @@
+// The task layer on generated scenes with real geometry (UR5e IK, FCL): task conflict detection must
+// find what the paper's Algorithm 2 finds there, and the task query must get round it.
+#include <gtest/gtest.h>
+
+#include "engine/log/memory_sink.h"
+#include "engine/scenarios/scenario_registry.h"
+#include "engine/task/task_layer.h"
+
+namespace dash {
+namespace {
+
+struct LayerRun {
+  Scene scene;
+  log::MemorySink sink;
+  TaskLayerResult result;
+  std::unique_ptr<CollisionWorld> world;
+  std::unique_ptr<CollisionContext> context;
+  std::unique_ptr<log::EventEmitter> emitter;
+  std::unique_ptr<TaskLayer> layer;
+
+  LayerRun(const std::string& family, std::vector<std::pair<std::string, std::string>> params, std::uint64_t seed) {
+    scene = generateScenario(family, params, seed, RobotLibrary::loadDefault());
+    world = std::make_unique<CollisionWorld>(scene);
+    context = std::make_unique<CollisionContext>(*world);
+    emitter = std::make_unique<log::EventEmitter>(&sink);
+    layer = std::make_unique<TaskLayer>(scene, *world, *context, *emitter, seed);
+    result = layer->plan(Deadline(120));
+  }
+
+  bool visitsExtraLocation() const {
+    for (const TaskStep& s : result.plan.steps)
+      if (s.action.type == TaskArcType::kPlace &&
+          layer->space().location(s.action.object, s.action.location).kind == ObjectLocation::Kind::kExtra)
+        return true;
+    return false;
+  }
+};
+
+// Shelf-wall: both cubby slots are goals. A cube already at its goal in the front slot blocks the arm
+// that must reach the rear slot behind it, for ever (it will not move again): a history constraint.
+// The query then fills every rear slot before the front slot in front of it.
+TEST(TaskConflictDetection, FrontGoalBlockingARearGoalGivesAHistoryConstraint) {
+  LayerRun run("shelf-wall", {{"robots", "2"}, {"objects", "8"}}, 1);
+  ASSERT_EQ(run.result.status, TaskLayerStatus::kFeasible) << run.result.reason;
+  EXPECT_GE(run.sink.countConstraints(log::ConstraintKind::History, log::ConstraintAction::Created), 1);
+  bool found = false;
+  for (const TaskConstraint& c : run.layer->constraints().all()) {
+    if (c.kind != TaskConstraint::Kind::kHistory) continue;
+    found = true;
+    // v_pre: the blocker at its goal; v_post: the blocked object at its goal (placed there).
+    const TaskElement& pre = run.layer->graph().graph().property(c.pre);
+    EXPECT_EQ(pre.kind, ElementKind::kObjectAt);
+    EXPECT_EQ(pre.location, run.layer->space().goalLocation(pre.object));
+    // In the final schedule the blocked placement happens before the blocker reaches its goal.
+    const TaskElement& post = run.layer->graph().graph().property(c.post);
+    int place_pre = -1, place_post = -1;
+    for (int k = 0; k < static_cast<int>(run.result.plan.steps.size()); ++k) {
+      const TaskArc& a = run.result.plan.steps[k].action;
+      if (a.type != TaskArcType::kPlace) continue;
+      if (a.object == pre.object && a.location == pre.location) place_pre = k;
+      if (post.kind == ElementKind::kObjectAt && a.object == post.object && a.location == post.location) place_post = k;
+    }
+    if (place_pre >= 0 && place_post >= 0) {
+      EXPECT_LT(place_post, place_pre);
+    }
+  }
+  EXPECT_TRUE(found);
+}
+
+// Stocking: every existing item sits at its start, which is also its goal, in front of the slot a new
+// item must fill. Frontier constraints alone cannot be met (the item has nowhere else to be), so the
+// task space grows an extra stable pose for it, and the schedule moves it out and back.
+TEST(TaskConflictDetection, StockingNeedsATaskSpaceExpansion) {
+  LayerRun run("stocking", {{"layers", "2"}, {"objects", "4"}}, 1);
+  ASSERT_EQ(run.result.status, TaskLayerStatus::kFeasible) << run.result.reason;
+  EXPECT_GE(run.sink.countTaskSpaceExpansions(), 1);
+  EXPECT_GE(run.sink.countConstraints(log::ConstraintKind::Frontier, log::ConstraintAction::Created), 1);
+  EXPECT_TRUE(run.visitsExtraLocation());
+  // Every step of the schedule got its transition configurations.
+  ASSERT_EQ(run.result.transitions.size(), run.result.plan.steps.size());
+  for (std::size_t k = 0; k < run.result.plan.steps.size(); ++k) {
+    const TaskArcType t = run.result.plan.steps[k].action.type;
+    if (t == TaskArcType::kPick || t == TaskArcType::kPlace || t == TaskArcType::kHandover) {
+      EXPECT_TRUE(run.result.transitions[k].sampled) << "step " << k;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace dash
