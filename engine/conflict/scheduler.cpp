@@ -157,7 +157,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
     double max_approach = 0.0;
     for (const Participant& p : parts) max_approach = std::max(max_approach, p.approach_time);
     // Plans the movers together from where they stand: participants to their approach starts, the
-    // others back to where they stand (they may step aside meanwhile).
+    // others to their home configurations.
     auto replanComposite = [&]() {
       ++composite_tries;
       double depart = 0.0;
@@ -168,7 +168,9 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
       for (std::size_t i = 0; i < movers.size(); ++i) {
         const int r = movers[i];
         problem.start.push_back(timelines[r].last());
-        problem.goal.push_back(i < parts.size() ? parts[i].visit->q_pre : timelines[r].last());
+        // A robot in the way steps aside to its home configuration (it must stay clear until the
+        // step is done); one already home can only dodge and come back.
+        problem.goal.push_back(i < parts.size() ? parts[i].visit->q_pre : scene.robots[r].home);
         problem.held.push_back(timelines[r].heldAt(kForever / 2));
       }
       for (const RobotState& st : parkedAt(-1, depart))
@@ -309,6 +311,10 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
         if (!conflict && a.type == TaskArcType::kPlace) conflict = checker_.checkResting(o, tc.X_WO, T, trial, a.robot);
         const bool with_partner =
             conflict && parts.size() == 2 && (conflict->other == parts[0].robot || conflict->other == parts[1].robot);
+        // A conflict among the robots of this step (participants, and the movers of its composite
+        // subproblem) is not one with a robot standing in the way.
+        const bool internal =
+            with_partner || (conflict && std::find(movers.begin(), movers.end(), conflict->other) != movers.end());
         if (with_partner && mode < 3 && !parts[0].staggered_tried[mode]) {
           parts[0].staggered_tried[mode] = true;
           replanTransits(mode);
@@ -317,7 +323,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
         }
         // Another robot standing still in the way (its schedule has ended) will not move before this
         // step is done: waiting cannot help, so move around it.
-        if (conflict && conflict->other >= 0 && !with_partner && timelines[conflict->other].end() <= conflict->t &&
+        if (conflict && conflict->other >= 0 && !internal && timelines[conflict->other].end() <= conflict->t &&
             std::find(blockers.begin(), blockers.end(), conflict->other) == blockers.end()) {
           blockers.push_back(conflict->other);
           replanTransits(0);
@@ -328,7 +334,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
         }
         // Moving around it did not help (gantries share one rail; an arm may stand right over the
         // spot): send the idle robot home first (ARC's subproblem with the blocker as a mover).
-        if (conflict && conflict->other >= 0 && !with_partner && timelines[conflict->other].end() <= conflict->t &&
+        if (conflict && conflict->other >= 0 && !internal && timelines[conflict->other].end() <= conflict->t &&
             std::find(evicted.begin(), evicted.end(), conflict->other) == evicted.end()) {
           evicted.push_back(conflict->other);
           if (sendHome(conflict->other)) {
@@ -350,6 +356,9 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
         }
         if (!conflict) {
           timelines = std::move(trial);
+          // Robots that stepped aside continue from where they now stand.
+          for (std::size_t i = parts.size(); mode == 3 && i < movers.size(); ++i)
+            if (!fixNextTransit(movers[i])) return fail(k, "no path after " + scene.robots[movers[i]].id + " stepped aside");
           if (a.type == TaskArcType::kPick) objects.pick(o, T);
           if (a.type == TaskArcType::kPlace) objects.place(o, T, tc.X_WO);
           step_time[k] = T;
