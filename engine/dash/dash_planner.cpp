@@ -172,7 +172,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   CombinedQuery query(*motion);
   std::vector<std::vector<HyperarcId>> open{{}};
   std::set<std::vector<HyperarcId>> seen{{}};
-  std::vector<int> growths(static_cast<std::size_t>(world.robotCount()), 0);
+  BreakRule break_rule(world.robotCount(), params_.break_rule, Rng::derive(settings.seed, 29));
   std::function<void(const ExtendedVertex&)> on_vertex = [&](const ExtendedVertex& v) {
     emitter.vertex(log::Layer::MotionExtended, static_cast<std::uint32_t>(extended_vertices++),
                    emitter.enabled() ? motion->label(v.vertex) : std::string());
@@ -186,7 +186,23 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
     emitter.hyperarc(log::Layer::MotionExtended, motionArcTypeName(motion->graph().property(a.hyperarc).type), id,
                      std::move(head), std::move(tail));
   };
+  // A roadmap growth: more milestones in both hand states of each robot, then their moves again.
+  auto growRoadmaps = [&](const std::vector<int>& robots) {
+    log::PhaseTimer timer(emitter, log::Phase::MotionConstruction);
+    const std::int64_t before = checks();
+    for (int r : robots) {
+      for (int holding = 0; holding < 2; ++holding) {
+        ValidatedRoadmap& rm = *roadmaps[static_cast<std::size_t>(r) * 2 + holding];
+        rm.growTo(rm.milestoneCount() + params_.growth_samples, deadline);
+      }
+    }
+    motion->connectMoves(roadmaps, robots, deadline);
+    eager += checks() - before;
+    emitCounters();
+  };
   std::string last_failure = "no hyperpath from the start to the goal in the motion hypergraph";
+  emitter.counter("roadmap_growths", 0);
+  emitter.counter("constraint_tree_branchings", 0);
   while (!open.empty()) {
     if (deadline.expired()) return timeout("constraint tree");
     if (queries >= params_.max_tree_nodes)
@@ -195,6 +211,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
     const std::vector<HyperarcId> node = std::move(open.back());
     open.pop_back();
     emitter.setIteration(queries++);
+    emitter.counter("constraint_tree_nodes", queries);
     const std::unordered_set<HyperarcId> forbidden(node.begin(), node.end());
     HyperpathResult path;
     {
@@ -203,7 +220,20 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
     }
     if (!path.found()) {
       if (path.status == HyperpathStatus::kDeadline) return timeout("combined query");
-      continue;  // no hyperpath under these constraints: back up the tree
+      // Under constraints: back up the tree. Without any, the representation itself has no
+      // hyperpath (a move a sparse roadmap misses, e.g. into a narrow cubby): only denser roadmaps
+      // can add one, so the roadmaps of every robot with budget left grow and the root is queried
+      // again; with no budget left, the run ends infeasible.
+      if (!node.empty()) continue;
+      MotionConflict none;
+      none.what = last_failure;
+      for (int r = 0; r < world.robotCount(); ++r) none.robots.push_back(r);
+      const BreakRule::Choice choice = break_rule.decide(none);
+      emitter.counter("roadmap_growths", break_rule.roadmapDecisions());
+      if (choice.decision != BreakRule::Decision::kGrowRoadmaps) continue;
+      growRoadmaps(choice.robots);
+      open.push_back(node);
+      continue;
     }
     ExtractedPlan extracted = extractPlan(*motion, path);
     if (settings.task_only) {
@@ -246,25 +276,12 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
     last_failure = conflict->what;
 
     // CBS-MP's probabilistic break rule: grow the roadmaps, or grow the constraint tree.
-    std::vector<int> growable;
-    for (int r : conflict->robots)
-      if (growths[r] < params_.max_roadmap_growths) growable.push_back(r);
-    const bool grow = conflict->kind != MotionConflict::Kind::kTransition && !growable.empty() &&
-                      rng.uniform01() < params_.grow_roadmap_probability;
-    if (grow || conflict->arcs.empty()) {
-      if (growable.empty()) continue;  // nothing to forbid and nothing to grow: a dead node
-      log::PhaseTimer timer(emitter, log::Phase::MotionConstruction);
-      const std::int64_t before = checks();
-      for (int r : growable) {
-        ++growths[r];
-        for (int holding = 0; holding < 2; ++holding) {
-          ValidatedRoadmap& rm = *roadmaps[static_cast<std::size_t>(r) * 2 + holding];
-          rm.growTo(rm.milestoneCount() + params_.growth_samples, deadline);
-        }
-      }
-      motion->connectMoves(roadmaps, growable, deadline);
-      eager += checks() - before;
-      emitCounters();
+    const BreakRule::Choice choice = break_rule.decide(*conflict);
+    emitter.counter("roadmap_growths", break_rule.roadmapDecisions());
+    emitter.counter("constraint_tree_branchings", break_rule.treeDecisions());
+    if (choice.decision == BreakRule::Decision::kDeadNode) continue;
+    if (choice.decision == BreakRule::Decision::kGrowRoadmaps) {
+      growRoadmaps(choice.robots);
       open.push_back(node);
       continue;
     }

@@ -13,11 +13,11 @@
 //  4. conflict resolution: resting-object conflicts by CBS-MP's low-level search (resting_conflicts.h),
 //     robot-robot conflicts by the Scheduler Lazy-DaSH also uses (the paper gives both planners the
 //     same scheduler "for a fair comparison"); an unresolved conflict triggers CBS-MP's probabilistic
-//     break rule (Solis et al. 2021): with probability grow_roadmap_probability the roadmaps of the
-//     robots involved grow and the same node is queried again, otherwise the constraint tree grows by
-//     one child per motion hyperarc involved, each forbidding it in the queries below (a motion
-//     constraint). A transition conflict always grows the tree: more roadmap samples cannot move a
-//     sampled transition configuration.
+//     break rule (break_rule.h): the roadmaps of the robots involved grow and the same node is
+//     queried again, or the constraint tree grows by one child per motion hyperarc involved, each
+//     forbidding it in the queries below (a motion constraint).
+// Counters in the event stream: "constraint_tree_nodes" (queries), "roadmap_growths" and
+// "constraint_tree_branchings" (the break rule's decisions).
 // DaSH has no task conflict detection and no task space expansion: only motion constraints drive its
 // replanning. That is what the paper shows failing on Wall, Shelf-wall and Stocking.
 //
@@ -27,6 +27,7 @@
 #include <cstddef>
 
 #include "engine/conflict/scheduler.h"
+#include "engine/dash/break_rule.h"
 #include "engine/dash/combined_query.h"
 #include "engine/dash/placement_sampling.h"
 #include "engine/dash/transition_catalog.h"
@@ -42,8 +43,7 @@ struct DashParams {
   std::size_t empty_roadmap_samples = 100;    ///< og::PRM milestones per robot, empty hand
   std::size_t holding_roadmap_samples = 60;   ///< og::PRM milestones per robot, holding
   std::size_t growth_samples = 50;            ///< milestones added per roadmap growth
-  int max_roadmap_growths = 8;                ///< per robot
-  double grow_roadmap_probability = 0.3;      ///< CBS-MP break rule: grow roadmaps rather than the tree
+  BreakRuleParams break_rule;                 ///< CBS-MP: grow roadmaps or the constraint tree
   int max_tree_nodes = 400;                   ///< constraint tree nodes queried at most
   CombinedQueryParams query;
   SchedulerParams scheduler;

@@ -19,9 +19,8 @@
 #include "engine/log/run_columns.h"
 #include "engine/log/sqlite_recorder.h"
 
-#ifndef DASHBENCH_VERSION
-#define DASHBENCH_VERSION "0.0.0"
-#endif
+// DASHBENCH_CODE_VERSION: git describe of the source tree at build time (code_version.cmake).
+#include "dash_code_version.h"
 
 namespace dash::log {
 namespace {
@@ -220,7 +219,7 @@ std::string ResultsDb::beginRun(const RunMetadata& meta) {
   const std::string params = canonicalObject(meta.params_json, "scenario parameters", true);
   const std::string settings = canonicalObject(meta.planner_settings_json, "planner settings", false);
   const std::string uuid = meta.uuid.empty() ? newUuid() : meta.uuid;
-  const std::string version = meta.code_version.empty() ? DASHBENCH_VERSION : meta.code_version;
+  const std::string version = meta.code_version.empty() ? DASHBENCH_CODE_VERSION : meta.code_version;
   std::string config_name = meta.planner_config_name;
   if (config_name.empty()) config_name = settings == "{}" ? meta.planner : meta.planner + " " + settings;
 

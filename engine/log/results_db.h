@@ -55,7 +55,7 @@ struct RunMetadata {
   std::string planner_config_name;             ///< empty: planner, plus settings when not "{}"
   std::optional<double> time_limit;            ///< seconds
   std::optional<double> memory_limit;          ///< MB
-  std::string code_version;                    ///< git describe; empty: the project version
+  std::string code_version;                    ///< empty: this build's git describe (or the project version)
   std::string host;                            ///< empty: this machine's host name
   std::string cpu_info;                        ///< empty: this machine's CPU model and core count
 };

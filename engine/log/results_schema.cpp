@@ -186,6 +186,45 @@ CREATE TABLE dash_run_tags (
 ) WITHOUT ROWID;
 )sql";
 
+// Every plan dispatched to arm controllers (server/dispatch): who asked, when, how it ended, and
+// each arm's result. Times are ISO-8601 UTC text like dash_runs'; `dispatch_id` is the service's id.
+// IF NOT EXISTS: a file made to look older by dropping only version 2's additions (the merge tests
+// do) still migrates.
+constexpr const char* kSchemaV3 = R"sql(
+CREATE TABLE IF NOT EXISTS dash_dispatches (
+  id TEXT PRIMARY KEY,
+  created TEXT NOT NULL,
+  started TEXT,
+  ended TEXT,
+  state TEXT NOT NULL,
+  reason TEXT,
+  run_uuid TEXT,
+  scene TEXT,
+  planner TEXT,
+  requested_by TEXT,
+  client TEXT,
+  time_scale REAL,
+  duration REAL,
+  elapsed REAL,
+  preflight TEXT
+);
+CREATE INDEX IF NOT EXISTS dash_dispatches_created ON dash_dispatches(created);
+CREATE TABLE IF NOT EXISTS dash_dispatch_arms (
+  dispatch_id TEXT NOT NULL,
+  robot TEXT NOT NULL,
+  ordinal INTEGER NOT NULL,
+  driver TEXT,
+  status TEXT,
+  result TEXT NOT NULL,
+  result_code INTEGER,
+  message TEXT,
+  duration REAL,
+  max_deviation REAL,
+  samples INTEGER,
+  PRIMARY KEY (dispatch_id, robot)
+) WITHOUT ROWID;
+)sql";
+
 struct Migration {
   int to;  ///< the version after it
   void (*apply)(sqlite3* db);
@@ -195,6 +234,7 @@ struct Migration {
 constexpr std::array<Migration, kSchemaVersion> kMigrations = {{
     {1, [](sqlite3* db) { sql::exec(db, kSchemaV1); }},
     {2, [](sqlite3* db) { sql::exec(db, kSchemaV2); }},
+    {3, [](sqlite3* db) { sql::exec(db, kSchemaV3); }},
 }};
 
 std::string newerMessage(int version) {

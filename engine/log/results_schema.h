@@ -10,6 +10,7 @@
 //   1  dash_batches, dash_experiments, dash_planner_configs, dash_runs, dash_events,
 //      dash_constraints, dash_expansions, dash_phases, dash_counters, dash_progress, enums
 //   2  dash_runs.exit_signal, dash_runs.note, dash_run_tags (tags and notes per run)
+//   3  dash_dispatches, dash_dispatch_arms (plans dispatched to arm controllers: dispatch_store.h)
 #include <string>
 
 #include "engine/core/check.h"
@@ -18,7 +19,7 @@ struct sqlite3;
 
 namespace dash::log {
 
-inline constexpr int kSchemaVersion = 2;
+inline constexpr int kSchemaVersion = 3;
 /// PRAGMA application_id of a dashbench results file ("DaSH").
 inline constexpr int kApplicationId = 0x44615348;
 

@@ -32,9 +32,10 @@ const std::vector<Entry>& entries() {
          {.name = "walls",
           .default_value = 1,
           .min = 1,
-          .max = 6,
-          .meaning = "walls between neighbours: walls-1 fence off pairs, the rest is one long arc "
-                     "(walls <= robots/2)"}}},
+          .max = 31,
+          .meaning = "walls between neighbours: walls-1 fence off pairs, the rest is one long arc; "
+                     "beyond robots/2 they split pairs into single arms that sort their own cubes "
+                     "(walls <= robots-1)"}}},
        generateWall},
       {{"shelf-wall",
         "arms in rows on both sides of a double-sided shelf whose middle panel is a wall; cubes start on the "

@@ -80,7 +80,8 @@ Wall makeWall(const Ring& ring, int gap) {
 /// an arc is mirrored end to end: the robot at position p of an arc of m robots sends to position
 /// m - 1 - p, so the two robots beside a wall send to each other the long way round. The middle robot
 /// of an odd arc sends to its counter-clockwise neighbour. (The farthest robot of the arc would pile
-/// every object of an arc onto the two boxes at its ends.)
+/// every object of an arc onto the two boxes at its ends.) A robot walled in on both sides is an arc
+/// of one: it sorts its objects into its own box.
 int goalRobot(int s, int robots, const std::vector<int>& wall_gaps) {
   if (wall_gaps.empty()) return (s + robots / 2) % robots;
   auto blocked = [&](int gap) { return std::find(wall_gaps.begin(), wall_gaps.end(), gap) != wall_gaps.end(); };
@@ -88,6 +89,7 @@ int goalRobot(int s, int robots, const std::vector<int>& wall_gaps) {
   while (ccw < robots - 1 && !blocked((s + ccw) % robots)) ++ccw;
   int cw = 0;  // steps clockwise before a wall
   while (cw < robots - 1 && !blocked(((s - cw - 1) % robots + robots) % robots)) ++cw;
+  if (ccw == 0 && cw == 0) return s;
   // s sits at position cw of an arc of cw + ccw + 1 robots; its mirror is ccw - cw steps away.
   int steps = ccw - cw;
   if (steps == 0) steps = 1;
@@ -203,18 +205,23 @@ GeneratedLayout generateWall(const FamilyInput& in) {
   const int robots = in.params.get("robots");
   const int objects = in.params.get("objects");
   const int walls = in.params.get("walls");
-  DASH_THROW_UNLESS(2 * walls <= robots, "scenario wall: walls=" + std::to_string(walls) +
-                                             " needs robots >= " + std::to_string(2 * walls) +
-                                             " (every arc between walls holds at "
-                                             "least 2 robots), got robots=" +
-                                             std::to_string(robots));
-  // Walls fence off W - 1 pairs of neighbours side by side and leave the rest of the ring as one
-  // long arc, starting at a random place. The long arc is what makes the lazy assumption fail: once it
-  // holds more than robots/2 + 1 robots (robots >= 4 walls - 1), the robots at its ends are closer
-  // through the wall than along the arc, yet must send to each other along it.
+  DASH_THROW_UNLESS(walls < robots, "scenario wall: walls=" + std::to_string(walls) + " needs robots >= " +
+                                        std::to_string(walls + 1) +
+                                        " (at least one pair of neighbours keeps its handover), got robots=" +
+                                        std::to_string(robots));
+  // Up to robots/2 walls: they fence off W - 1 pairs of neighbours side by side and leave the rest
+  // of the ring as one long arc, starting at a random place. The long arc is what makes the lazy
+  // assumption fail: once it holds more than robots/2 + 1 robots (robots >= 4 walls - 1), the robots
+  // at its ends are closer through the wall than along the arc, yet must send to each other along it.
+  // More walls go into the remaining gaps in ring order from the same place, splitting pairs into
+  // single robots that sort their own objects (scenes with walls <= robots/2 are unchanged).
   const int offset = static_cast<int>(portable::integer(in.rng, 0, robots - 1));
   std::vector<int> gaps;
-  for (int k = 0; k < walls; ++k) gaps.push_back((offset + 2 * k) % robots);
+  for (int k = 0; k < std::min(walls, robots / 2); ++k) gaps.push_back((offset + 2 * k) % robots);
+  for (int j = 0; j < robots && static_cast<int>(gaps.size()) < walls; ++j) {
+    const int gap = (offset + j) % robots;
+    if (std::find(gaps.begin(), gaps.end(), gap) == gaps.end()) gaps.push_back(gap);
+  }
   std::sort(gaps.begin(), gaps.end());
   return generateRing(in, robots, objects, gaps,
                       "r" + std::to_string(robots) + "-o" + std::to_string(objects) + "-w" + std::to_string(walls));

@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Lazy-DaSH vs DaSH on the same scenes and seeds: runs a batch spec (default compare.json: Sorting
-# with 4 robots and 4-14 objects, Wall with 5 robots and 2-10 objects, 5 seeds) and prints markdown
+# with 4 robots and 4-14 objects, Wall with 5 robots, 2 walls and 2-10 objects, 5 seeds) and prints markdown
 # tables for the README: per scene, medians over the solved runs of each planner, the total time
 # ratio DaSH / Lazy-DaSH, representation sizes and the time breakdown.
 #
 #   experiments/compare/run.sh [SPEC] [--db DB] [--workers N] [--time-limit SEC] [--seeds N]
+#   experiments/compare/run.sh --quick [...]                   # compare-quick.json: 16 runs
 #   experiments/compare/run.sh --table BATCH_ID [--db DB]      # tables of a batch already run
 #
 # DASHBENCH names the dashbench to use (default: the repository's ./dashbench, which builds first).
@@ -28,7 +29,8 @@ while [ $# -gt 0 ]; do
     --time-limit) TIME_LIMIT="$2"; shift 2 ;;
     --seeds) SEEDS="$2"; shift 2 ;;
     --table) TABLE_ONLY="$2"; shift 2 ;;
-    -h|--help) sed -n '2,12p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --quick) SPEC="$HERE/compare-quick.json"; shift ;;
+    -h|--help) sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "run.sh: unknown option $1" >&2; exit 2 ;;
     *) SPEC="$1"; shift ;;
   esac

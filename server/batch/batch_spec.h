@@ -32,7 +32,7 @@ enum class SpecErrorKind {
   kEmptyGrid,       ///< an empty list of scenarios, planners, seeds or parameter values
   kUnknownFamily,   ///< a scenario family the registry does not know
   kOutOfRange,      ///< a parameter value outside the registry's range (or odd where even is needed)
-  kBadCombination,  ///< parameter values the family's generator refuses together (walls > robots/2)
+  kBadCombination,  ///< parameter values the family's generator refuses together (walls >= robots)
   kUnknownPlanner,  ///< a planner name not in plannerNames()
   kBadValue,        ///< a limit that is not positive, a duplicate planner label, a duplicate run
   kTooManyRuns,     ///< the grid expands to more runs than allowed
@@ -54,7 +54,7 @@ struct SpecOptions {
   /// can validate a spec that names a planner this build does not have yet, and skip running it).
   bool allow_unknown_planners = false;
   /// Probe each parameter combination with the family's generator (one layout, no validation) so
-  /// that combinations it refuses (e.g. walls > robots/2) are reported before the batch starts.
+  /// that combinations it refuses (e.g. walls >= robots) are reported before the batch starts.
   bool check_combinations = true;
 };
 

@@ -43,7 +43,7 @@ const std::vector<Command>& allCommands() {
       {"ik", "all inverse-kinematics solutions of a robot model for a TCP pose", kIkHelp, runIk},
       {"controller", "the agent next to one arm: takes dispatched plans from the server (sim or UR driver)",
        kControllerHelp, runController},
-      {"batch", "experiment batches from spec files: plan, run (a process per run), resume, status",
+      {"batch", "experiment batches from spec files: plan, run (a process per run, or on Slurm), resume, status, cancel",
        kBatchHelp, runBatch},
       {"report", "the paper's tables from a results database: sizes, time breakdown, success rates",
        kReportHelp, runReport},

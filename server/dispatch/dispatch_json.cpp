@@ -81,6 +81,8 @@ std::string dispatchStatusToJson(const DispatchStatus& s) {
     arms.push_back(aj);
   }
   return Json{{"id", s.id},
+              {"run_id", s.origin.run_id},
+              {"requested_by", s.origin.requested_by},
               {"state", dispatchStateName(s.state)},
               {"reason", s.reason},
               {"final", s.final},
@@ -108,6 +110,8 @@ DispatchRequestBody parseDispatchRequest(const std::string& body) {
     out.plan_json = textOf(field(j, "plan", w), "request.plan");
     out.scene_json = textOf(field(j, "scene", w), "request.scene");
   }
+  out.user = strOr(j, "user", "", w);
+  DASH_THROW_UNLESS(out.user.size() <= 100, "request.user: at most 100 characters");
   if (j.contains("options")) {
     const Json& o = j["options"];
     DASH_THROW_UNLESS(o.is_object(), "request.options: expected an object");

@@ -19,16 +19,18 @@ std::string controllerToJson(const ControllerInfo& c, std::int64_t now_us);
 std::string controllersToJson(const std::vector<ControllerInfo>& list, std::int64_t now_us);
 /// {"passed", "reason", "checks": [{"name", "robot", "passed", "message"}]}
 std::string preflightToJson(const PreflightReport& report);
-/// {"id", "state", "reason", "final", "scene", "planner", "time_scale", "duration", "elapsed",
+/// {"id", "run_id", "requested_by", "state", "reason", "final", "scene", "planner", "time_scale", "duration", "elapsed",
 ///  "tolerances": {...}, "arms": [{"robot", "driver", "status", "done", "result": {...}, "duration",
 ///  "t", "planned", "actual", "deviation", "max_deviation", "samples", "trace"?: [[t, planned, actual]]}]}
 std::string dispatchStatusToJson(const DispatchStatus& status);
 
 /// A dispatch request body: {"plan": {...} | "plan text", "scene": {...} | "scene text"} or
 /// {"run_id": "..."}, with optional "options": {"start_delay", "start_tolerance", "path_tolerance",
-/// "goal_tolerance", "time_scale", "validate_geometry"}. Throws InputError on a malformed body.
+/// "goal_tolerance", "time_scale", "validate_geometry"} and "user" (a label for the record, at most
+/// 100 characters). Throws InputError on a malformed body.
 struct DispatchRequestBody {
   std::string run_id;      ///< set instead of the texts for a stored run
+  std::string user;        ///< who asks, as they say (the record's requested_by)
   std::string plan_json;
   std::string scene_json;
   DispatchOptions options;

@@ -22,6 +22,10 @@ class DispatchListener {
   virtual void onControllerState(const ControllerInfo& /*controller*/) {}
   /// A dispatch request was checked (passed or not). `dispatch_id` is empty if it was refused.
   virtual void onPreflight(const PreflightReport& /*report*/, const std::string& /*dispatch_id*/) {}
+  /// A request was refused before any goal was sent (a failed pre-flight check, or an arm that went
+  /// away during the checks). `record` is final, state kRefused, with its own id; its arms are the
+  /// plan's robots, never started (status idle, not done). Follows onPreflight(report, "").
+  virtual void onDispatchRefused(const DispatchStatus& /*record*/, const PreflightReport& /*report*/) {}
   /// Every arm accepted its goal and the common start time was sent.
   virtual void onDispatchStarted(const DispatchStatus& /*status*/) {}
   /// The dispatch was aborted (on request, a deviation, a fault or a lost agent); arms' results may

@@ -40,36 +40,55 @@ httplib::Server::Handler guarded(const RequestAuthorizer& authorized, Handler ha
   };
 }
 
-void handleDispatch(DispatchService& service, const httplib::Request& req, httplib::Response& res) {
-  DispatchRequestBody body = parseDispatchRequest(req.body);
+/// The plan and scene of a request body (inline, or a stored run's); false after answering an error.
+bool loadPlan(DispatchService& service, DispatchRequestBody& body, Plan& plan, Scene& scene, httplib::Response& res) {
   if (!body.run_id.empty()) {
     if (!service.config().resolve_run) {
       reply(res, 400, errorToJson("bad_request", "this server does not resolve run ids; send the plan and scene"));
-      return;
+      return false;
     }
     const auto source = service.config().resolve_run(body.run_id);
     if (!source) {
       reply(res, 404, errorToJson("unknown_run", "no stored plan for run '" + body.run_id + "'"));
-      return;
+      return false;
     }
     body.plan_json = source->plan_json;
     body.scene_json = source->scene_json;
   }
-  Scene scene;
-  Plan plan;
   try {
     scene = parseScene(body.scene_json, service.library(), "scene");
   } catch (const InputError& e) {
     reply(res, 422, errorToJson("bad_scene", e.what()));
-    return;
+    return false;
   }
   try {
     plan = parsePlan(body.plan_json, "plan");
   } catch (const InputError& e) {
     reply(res, 422, errorToJson("bad_plan", e.what()));
-    return;
+    return false;
   }
-  const DispatchOutcome outcome = service.dispatch(plan, scene, body.options);
+  return true;
+}
+
+void handlePreflight(DispatchService& service, const httplib::Request& req, httplib::Response& res) {
+  DispatchRequestBody body = parseDispatchRequest(req.body);
+  Scene scene;
+  Plan plan;
+  if (!loadPlan(service, body, plan, scene, res)) return;
+  const PreflightReport report = service.check(plan, scene, body.options);
+  reply(res, 200, preflightToJson(report));
+}
+
+void handleDispatch(DispatchService& service, const httplib::Request& req, httplib::Response& res) {
+  DispatchRequestBody body = parseDispatchRequest(req.body);
+  Scene scene;
+  Plan plan;
+  if (!loadPlan(service, body, plan, scene, res)) return;
+  DispatchOrigin origin;
+  origin.requested_by = !body.user.empty() ? body.user : req.get_header_value("X-Dashbench-User").substr(0, 100);
+  origin.client = req.remote_addr;
+  origin.run_id = body.run_id;
+  const DispatchOutcome outcome = service.dispatch(plan, scene, body.options, origin);
   if (!outcome.accepted) {
     Json j = Json::parse(errorToJson(outcome.error, outcome.reason, &outcome.preflight));
     if (outcome.status) j["dispatch"] = Json::parse(dispatchStatusToJson(*outcome.status));
@@ -86,10 +105,84 @@ void handleDispatch(DispatchService& service, const httplib::Request& req, httpl
   reply(res, outcome.http_status, j.dump());
 }
 
+int intParam(const httplib::Request& req, const char* name, int fallback, int lo, int hi) {
+  if (!req.has_param(name)) return fallback;
+  const std::string text = req.get_param_value(name);
+  try {
+    std::size_t used = 0;
+    const int v = std::stoi(text, &used);
+    DASH_THROW_UNLESS(used == text.size() && v >= lo && v <= hi, "");
+    return v;
+  } catch (const std::exception&) {
+    throw InputError(std::string(name) + ": expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
+  }
+}
+
+/// The dashboard's live view: the dispatch status whenever it changes (polled at 10 Hz here, so
+/// every page sees the same rate whatever the agents report), and the registry every 0.5 s.
+void streamStatus(DispatchService& svc, httplib::Response& res) {
+  res.set_header("Cache-Control", "no-cache");
+  res.set_header("X-Accel-Buffering", "no");
+  struct State {
+    std::string last_status;
+    std::int64_t last_controllers_us = 0;
+    std::int64_t last_write_us = 0;
+    bool first = true;
+  };
+  auto state = std::make_shared<State>();
+  res.set_chunked_content_provider(
+      "text/event-stream", [svc = &svc, state](std::size_t, httplib::DataSink& sink) {
+        if (!state->first && svc->sleepUnlessStopping(std::chrono::milliseconds(100))) return false;
+        state->first = false;
+        std::string out;
+        const std::int64_t t = svc->now();
+        if (const auto status = svc->status(false)) {
+          const std::string text = dispatchStatusToJson(*status);
+          if (text != state->last_status) {
+            state->last_status = text;
+            out += formatSse("dispatch", text);
+          }
+        }
+        if (t - state->last_controllers_us >= 500000) {
+          state->last_controllers_us = t;
+          out += formatSse("controllers", controllersToJson(svc->controllers(), t));
+        }
+        if (out.empty() && t - state->last_write_us >= 2000000) out = ": keep-alive\n\n";
+        if (out.empty()) return true;
+        state->last_write_us = t;
+        return sink.write(out.data(), out.size());
+      });
+}
+
 }  // namespace
 
-void registerDispatchRoutes(httplib::Server& server, DispatchService& service, RequestAuthorizer authorized) {
+void registerDispatchRoutes(httplib::Server& server, DispatchService& service, RequestAuthorizer authorized,
+                            const DispatchRecorder* history) {
   DispatchService* svc = &service;
+
+  server.Get("/api/dispatch/stream", guarded(authorized, [svc](const httplib::Request&, httplib::Response& res) {
+               streamStatus(*svc, res);
+             }));
+
+  server.Get("/api/dispatches", guarded(authorized, [history](const httplib::Request& req, httplib::Response& res) {
+               if (history == nullptr) {
+                 reply(res, 404, errorToJson("none", "this server does not record dispatches"));
+                 return;
+               }
+               const int limit = intParam(req, "limit", 50, 1, 1000);
+               const int offset = intParam(req, "offset", 0, 0, 1 << 30);
+               reply(res, 200, history->historyJson(limit, offset));
+             }));
+
+  server.Get(R"(/api/dispatches/([A-Za-z0-9_.\-]+))",
+             guarded(authorized, [history](const httplib::Request& req, httplib::Response& res) {
+               const std::string record = history != nullptr ? history->recordJson(req.matches[1]) : "";
+               if (record.empty()) {
+                 reply(res, 404, errorToJson("unknown_dispatch", "no recorded dispatch '" + std::string(req.matches[1]) + "'"));
+                 return;
+               }
+               reply(res, 200, record);
+             }));
 
   server.Get("/api/controllers", guarded(authorized, [svc](const httplib::Request&, httplib::Response& res) {
                reply(res, 200, controllersToJson(svc->controllers(), svc->now()));
@@ -133,6 +226,11 @@ void registerDispatchRoutes(httplib::Server& server, DispatchService& service, R
 
   server.Post("/api/dispatch", guarded(authorized, [svc](const httplib::Request& req, httplib::Response& res) {
                 handleDispatch(*svc, req, res);
+              }));
+
+  server.Post("/api/dispatch/preflight",
+              guarded(authorized, [svc](const httplib::Request& req, httplib::Response& res) {
+                handlePreflight(*svc, req, res);
               }));
 
   server.Post("/api/dispatch/abort", guarded(authorized, [svc](const httplib::Request& req, httplib::Response& res) {

@@ -395,7 +395,74 @@ std::optional<DispatchStatus> DispatchService::status(bool with_trace) const {
   return snapshotLocked(with_trace);
 }
 
-DispatchOutcome DispatchService::dispatch(const Plan& plan, const Scene& scene, const DispatchOptions& options) {
+std::string DispatchService::newIdLocked() {
+  return "d" + std::to_string(wallMillis()) + "-" + std::to_string(next_dispatch_++);
+}
+
+void DispatchService::noteRefusedLocked(const Plan& plan, const DispatchOptions& options, const DispatchOrigin& origin,
+                                        const PreflightReport& report, const std::string& reason) {
+  DispatchStatus st;
+  st.id = newIdLocked();
+  st.origin = origin;
+  st.state = DispatchState::kRefused;
+  st.reason = reason;
+  st.scene = plan.scene;
+  st.planner = plan.planner;
+  st.time_scale = options.time_scale;
+  st.created_us = now();
+  st.created_unix_ms = wallMillis();
+  st.end_time_us = st.created_us;
+  st.final = true;
+  for (const RobotTrajectory& r : plan.robots) {
+    ArmDispatchStatus arm;
+    arm.robot = r.robot;
+    auto it = controllers_.find(r.robot);
+    if (it != controllers_.end()) arm.driver = it->second.info.driver;
+    for (const PreflightCheck& c : report.checks) {
+      if (!c.passed && c.robot == r.robot) arm.message += (arm.message.empty() ? "" : "; ") + c.message;
+    }
+    if (!r.points.empty()) arm.duration = (r.points.back().t - r.points.front().t) * options.time_scale;
+    st.duration = std::max(st.duration, arm.duration);
+    st.arms.push_back(std::move(arm));
+  }
+  noteLocked([st, report](DispatchListener& l) { l.onDispatchRefused(st, report); });
+}
+
+PreflightOptions DispatchService::preflightOptions(const DispatchOptions& options) const {
+  PreflightOptions popts;
+  popts.start_tolerance = options.start_tolerance.value_or(config_.start_tolerance);
+  popts.time_scale = options.time_scale;
+  popts.state_timeout = config_.state_timeout;
+  popts.validate_geometry = options.validate_geometry.value_or(config_.validate_geometry);
+  popts.validator_threads = config_.validator_threads;
+  popts.now_us = now();
+  return popts;
+}
+
+PreflightReport DispatchService::runChecks(const Plan& plan, const Scene& scene, const DispatchOptions& options,
+                                           const std::vector<ControllerInfo>& snapshot) const {
+  PreflightReport report;
+  try {
+    DASH_THROW_UNLESS(options.time_scale > 0.0 && std::isfinite(options.time_scale), "time_scale must be positive");
+    report = runPreflight(scene, plan, snapshot, preflightOptions(options));
+  } catch (const InputError& e) {
+    report.passed = false;
+    report.checks.push_back({"plan_valid", "", false, e.what(), 422});
+  }
+  return report;
+}
+
+PreflightReport DispatchService::check(const Plan& plan, const Scene& scene, const DispatchOptions& options) const {
+  return runChecks(plan, scene, options, controllers());
+}
+
+bool DispatchService::sleepUnlessStopping(std::chrono::microseconds period) const {
+  std::unique_lock<std::mutex> lock(mutex_);
+  return cv_.wait_for(lock, period, [&] { return stopping_; });
+}
+
+DispatchOutcome DispatchService::dispatch(const Plan& plan, const Scene& scene, const DispatchOptions& options,
+                                          const DispatchOrigin& origin) {
   DispatchOutcome outcome;
   std::vector<ControllerInfo> snapshot;
   {
@@ -425,25 +492,14 @@ DispatchOutcome DispatchService::dispatch(const Plan& plan, const Scene& scene, 
     }
   } clear_flag{this};
 
-  PreflightOptions popts;
-  popts.start_tolerance = options.start_tolerance.value_or(config_.start_tolerance);
-  popts.time_scale = options.time_scale;
-  popts.state_timeout = config_.state_timeout;
-  popts.validate_geometry = options.validate_geometry.value_or(config_.validate_geometry);
-  popts.validator_threads = config_.validator_threads;
-  popts.now_us = now();
-  try {
-    DASH_THROW_UNLESS(options.time_scale > 0.0 && std::isfinite(options.time_scale), "time_scale must be positive");
-    outcome.preflight = runPreflight(scene, plan, snapshot, popts);
-  } catch (const InputError& e) {
-    outcome.preflight.passed = false;
-    outcome.preflight.checks.push_back({"plan_valid", "", false, e.what(), 422});
-  }
+  const PreflightOptions popts = preflightOptions(options);
+  outcome.preflight = runChecks(plan, scene, options, snapshot);
   if (!outcome.preflight.passed) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       const PreflightReport report = outcome.preflight;
       noteLocked([report](DispatchListener& l) { l.onPreflight(report, ""); });
+      noteRefusedLocked(plan, options, origin, report, report.reason());
     }
     drainNotes();
     outcome.http_status = outcome.preflight.httpStatus();
@@ -463,17 +519,22 @@ DispatchOutcome DispatchService::dispatch(const Plan& plan, const Scene& scene, 
         outcome.http_status = kConflict;
         outcome.error = "preflight";
         outcome.reason = t.robot + ": the controller disconnected during the pre-flight checks";
+        noteRefusedLocked(plan, options, origin, outcome.preflight, outcome.reason);
+        lock.unlock();
+        drainNotes();
         return outcome;
       }
     }
     Run run;
     DispatchStatus& st = run.status;
-    st.id = "d" + std::to_string(wallMillis()) + "-" + std::to_string(next_dispatch_++);
+    st.id = newIdLocked();
+    st.origin = origin;
     st.state = DispatchState::kArming;
     st.scene = plan.scene;
     st.planner = plan.planner;
     st.time_scale = options.time_scale;
     st.created_us = now();
+    st.created_unix_ms = wallMillis();
     st.path_tolerance = options.path_tolerance.value_or(config_.path_tolerance);
     st.start_tolerance = popts.start_tolerance;
     st.goal_tolerance = options.goal_tolerance.value_or(config_.goal_tolerance);

@@ -9,6 +9,7 @@
 // dashboard attach through DispatchListener. Thread safe; one dispatch at a time.
 //
 // Shutdown order for the owner: service.shutdown() (ends the agents' streams), then server.stop().
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -118,12 +119,19 @@ class DispatchService {
   // ---- operator side ----
   std::vector<ControllerInfo> controllers() const;
   /// Pre-flight, arm every robot, start them together. Blocks until started or refused (at most about
-  /// arm_timeout plus the validator's time).
-  DispatchOutcome dispatch(const Plan& plan, const Scene& scene, const DispatchOptions& options = {});
+  /// arm_timeout plus the validator's time). `origin` goes into the record.
+  DispatchOutcome dispatch(const Plan& plan, const Scene& scene, const DispatchOptions& options = {},
+                           const DispatchOrigin& origin = {});
+  /// The pre-flight checks alone, against the registry as it is now: nothing is sent, nothing
+  /// recorded (the dashboard's "Check" before "Start"; dispatch() checks again).
+  PreflightReport check(const Plan& plan, const Scene& scene, const DispatchOptions& options = {}) const;
   /// Aborts every arm: sends abort to every connected agent, at once.
   AbortOutcome abort(const std::string& reason);
   /// The current dispatch, or the last one; nullopt before the first.
   std::optional<DispatchStatus> status(bool with_trace = false) const;
+
+  /// Waits up to `period`, returning early (true) once shutdown() has begun; for long-lived streams.
+  bool sleepUnlessStopping(std::chrono::microseconds period) const;
 
   /// Closes every agent stream and stops the monitor. Idempotent; the destructor calls it.
   void shutdown();
@@ -152,6 +160,14 @@ class DispatchService {
   int pushToAllLocked(const std::string& event);
   DispatchStatus snapshotLocked(bool with_trace) const;
   int armIndexLocked(const std::string& robot) const;
+  PreflightOptions preflightOptions(const DispatchOptions& options) const;
+  /// Runs the checks; a plan that cannot be checked (or a bad option) fails plan_valid.
+  PreflightReport runChecks(const Plan& plan, const Scene& scene, const DispatchOptions& options,
+                            const std::vector<ControllerInfo>& snapshot) const;
+  std::string newIdLocked();
+  /// The record of a request refused before any goal went out; tells the listeners.
+  void noteRefusedLocked(const Plan& plan, const DispatchOptions& options, const DispatchOrigin& origin,
+                         const PreflightReport& report, const std::string& reason);
   bool allArmsDoneLocked() const;
   /// Queues a listener call (under the lock); drainNotes() makes the calls, in order, outside it.
   void noteLocked(std::function<void(DispatchListener&)> call);
@@ -159,7 +175,7 @@ class DispatchService {
 
   DispatchConfig config_;
   mutable std::mutex mutex_;
-  std::condition_variable cv_;
+  mutable std::condition_variable cv_;  ///< mutable: sleepUnlessStopping() waits on it
   std::map<std::string, ControllerEntry> controllers_;
   std::vector<std::shared_ptr<DispatchListener>> listeners_;
   std::deque<std::function<void()>> pending_notes_;

@@ -44,8 +44,16 @@ struct ArmDispatchStatus {
   std::vector<TracePoint> trace;  ///< filled only when asked for
 };
 
+/// Who asked for a dispatch and what it was (for the record: the results database keeps it).
+struct DispatchOrigin {
+  std::string requested_by;  ///< the request's user label; empty: the token holder, unnamed
+  std::string client;        ///< the requesting client's address
+  std::string run_id;        ///< the stored run whose plan it is; empty for a plan sent with the request
+};
+
 struct DispatchStatus {
   std::string id;
+  DispatchOrigin origin;
   DispatchState state = DispatchState::kArming;
   std::string reason;  ///< why it ended (empty while active and on success)
   std::string scene;
@@ -53,6 +61,7 @@ struct DispatchStatus {
   double time_scale = 1.0;
   double duration = 0.0;  ///< s: the latest arm end time
   std::int64_t created_us = 0;
+  std::int64_t created_unix_ms = 0;  ///< wall clock of created_us, for the record
   std::int64_t start_time_us = 0;  ///< 0 until the start time is set
   std::int64_t end_time_us = 0;    ///< 0 while active
   double elapsed = 0.0;            ///< s since the start time (negative before it)

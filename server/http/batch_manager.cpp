@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <map>
 
 #include "engine/log/results_db.h"
 #include "server/batch/batch_spec.h"
 #include "server/batch/batch_store.h"
+#include "server/batch/slurm_backend.h"
+#include "server/batch/slurm_store.h"
 #include "server/http/api_json.h"
 #include "server/http/api_util.h"
 
@@ -15,6 +18,7 @@ namespace dash::http {
 namespace {
 
 constexpr auto kLoopPeriod = std::chrono::milliseconds(200);
+constexpr auto kSlurmPollPeriod = std::chrono::seconds(5);  ///< squeue is a request to the controller
 
 Json progressJson(const batch::BatchProgress& p) {
   Json j = {{"total", p.total},          {"done", p.done},         {"solved", p.solved},
@@ -106,7 +110,56 @@ SubmitOutcome BatchManager::submit(const std::string& spec_json, int workers) {
   return SubmitOutcome{.batch_id = id, .runs = runs.size(), .status = "queued"};
 }
 
+bool BatchManager::slurmAvailable() const { return batch::SlurmClient::available(); }
+
+SubmitOutcome BatchManager::submitSlurm(const std::string& spec_json, const SlurmRequest& request) {
+  if (!slurmAvailable()) throw HttpError(400, "backend: sbatch is not on this server's PATH");
+  if (request.max_parallel < 0) throw HttpError(400, "max_parallel: must not be negative");
+  const batch::BatchSpec spec = batch::parseBatchSpec(spec_json, "spec", {.max_runs = options_.max_runs});
+  batch::SlurmSubmitOptions o;
+  o.partition = request.partition;
+  o.account = request.account;
+  o.max_parallel = request.max_parallel;
+  o.executable = options_.executable;
+  const std::string id = batch::SlurmBackend(options_.db_path).submit(spec, o);
+  publishBatch(id);
+  return SubmitOutcome{.batch_id = id, .runs = batch::countRuns(spec), .status = "submitted"};
+}
+
+void BatchManager::pollSlurm() {
+  if (std::chrono::steady_clock::now() - last_slurm_poll_ < kSlurmPollPeriod) return;
+  last_slurm_poll_ = std::chrono::steady_clock::now();
+  try {
+    std::vector<std::string> ids;
+    {
+      const log::ResultsDb db(options_.db_path, log::OpenMode::ReadOnly);
+      const batch::SlurmStore store(options_.db_path, log::OpenMode::ReadOnly);
+      const std::vector<std::string> slurm_ids = store.batchIds();
+      for (const log::BatchRecord& b : db.listBatches()) {
+        if (b.status == "submitted" && std::find(slurm_ids.begin(), slurm_ids.end(), b.id) != slurm_ids.end()) {
+          ids.push_back(b.id);
+        }
+      }
+    }
+    for (const std::string& id : ids) {
+      const batch::SlurmBatchView v = batch::SlurmBackend(options_.db_path).update(id);
+      if (v.merged > 0 || !v.active) publishBatch(id);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dashbench serve: following Slurm batches: %s\n", e.what());
+  }
+}
+
 void BatchManager::cancel(const std::string& batch_id) {
+  if (batch::SlurmBackend::isSlurmBatch(options_.db_path, batch_id)) {
+    try {
+      batch::SlurmBackend(options_.db_path).cancel(batch_id);
+    } catch (const InputError& e) {
+      throw HttpError(409, e.what());
+    }
+    publishBatch(batch_id);
+    return;
+  }
   bool was_queued = false;
   {
     std::lock_guard lock(mutex_);
@@ -144,6 +197,15 @@ void BatchManager::cancel(const std::string& batch_id) {
 
 void BatchManager::resume(const std::string& batch_id, int workers) {
   checkedWorkers(workers);
+  if (batch::SlurmBackend::isSlurmBatch(options_.db_path, batch_id)) {
+    try {
+      batch::SlurmBackend(options_.db_path).resume(batch_id);  // the last submission's options
+    } catch (const InputError& e) {
+      throw HttpError(409, e.what());
+    }
+    publishBatch(batch_id);
+    return;
+  }
   {
     std::lock_guard lock(mutex_);
     const bool queued =
@@ -232,6 +294,7 @@ void BatchManager::loop() {
       }
     }
     const bool stop = stopping_ && active_.empty();
+    const bool poll_slurm = !stopping_;
     std::vector<Queued> to_start;
     while (!stopping_ && !queue_.empty() && static_cast<int>(active_.size()) < options_.max_running) {
       to_start.push_back(queue_.front());
@@ -257,6 +320,7 @@ void BatchManager::loop() {
       publishBatch(id);
     }
     for (const Queued& q : to_start) startQueued(q);
+    if (poll_slurm) pollSlurm();
     lock.lock();
     if (stop) return;
   }
@@ -278,6 +342,20 @@ void BatchManager::shutdown() {
 
 std::string BatchManager::batchesJson() const {
   const std::vector<batch::BatchInfo> infos = batch::listBatchInfo(options_.db_path);
+  // Slurm batches: their array tasks per Slurm state, as last seen by pollSlurm (no Slurm call here).
+  std::map<std::string, Json> slurm_states;
+  {
+    const batch::SlurmStore slurm(options_.db_path, log::OpenMode::ReadOnly);
+    for (const std::string& id : slurm.batchIds()) {
+      Json states = Json::object();
+      for (const batch::SlurmJobRecord& job : slurm.jobs(id)) {
+        for (const batch::SlurmTaskRecord& t : slurm.tasks(id, job.submission)) {
+          states[t.state] = states.value(t.state, 0) + 1;
+        }
+      }
+      slurm_states[id] = std::move(states);
+    }
+  }
   std::lock_guard lock(mutex_);
   Json list = Json::array();
   for (const batch::BatchInfo& b : infos) {
@@ -302,6 +380,13 @@ std::string BatchManager::batchesJson() const {
         act != active_.end() && act->second.progress ? progressJson(*act->second.progress) : storedProgressJson(b);
     j["cancellable"] = queued_here || act != active_.end();
     j["resumable"] = !j["here"].get<bool>() && status != "running" && b.pending > 0 && b.total > 0;
+    j["backend"] = "local";
+    if (const auto slurm = slurm_states.find(b.record.id); slurm != slurm_states.end()) {
+      j["backend"] = "slurm";
+      j["slurm"] = slurm->second;
+      j["cancellable"] = status == "submitted";
+      j["resumable"] = status != "submitted" && b.pending > 0 && b.total > 0;
+    }
     if (b.runner) {
       j["runner"] = {{"pid", b.runner->pid},
                      {"host", b.runner->host},

@@ -7,6 +7,7 @@
 // Because a queued batch is stored before it runs, nothing is lost when the server stops: a batch
 // that was queued or running in a server that is gone shows as 'interrupted' and resumes like any
 // other (BatchRunner::resume runs exactly what is missing).
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -30,6 +31,13 @@ struct BatchManagerOptions {
   std::size_t max_runs = 5000;  ///< a spec that expands to more runs is refused
 };
 
+/// A batch for the Slurm backend (server/batch/slurm_backend.h): sbatch's options.
+struct SlurmRequest {
+  std::string partition;
+  std::string account;
+  int max_parallel = 0;  ///< array tasks at once; 0: no limit
+};
+
 struct SubmitOutcome {
   std::string batch_id;
   std::size_t runs = 0;
@@ -50,7 +58,14 @@ class BatchManager {
   std::string validateJson(const std::string& spec_json, std::size_t max_keys) const;
   /// Validates, records and queues a batch. Throws SpecError / HttpError 400 (bad workers).
   SubmitOutcome submit(const std::string& spec_json, int workers);
-  /// Cancels a queued or running batch of this server. HttpError 404 (unknown), 409 (not running here).
+  /// Whether the Slurm backend is offered: sbatch is on the server's PATH.
+  bool slurmAvailable() const;
+  /// Validates, records and submits a batch as a Slurm job array (status 'submitted'); the loop then
+  /// follows it and merges its shards. Throws SpecError, HttpError 400 (Slurm unavailable), or
+  /// InputError with sbatch's message.
+  SubmitOutcome submitSlurm(const std::string& spec_json, const SlurmRequest& request);
+
+  /// Cancels a queued or running batch of this server (a Slurm batch: scancel). HttpError 404 (unknown), 409 (not running here).
   void cancel(const std::string& batch_id);
   /// Queues the missing runs of an interrupted or cancelled batch. HttpError 404, 409 (running, or
   /// nothing is missing).
@@ -77,6 +92,8 @@ class BatchManager {
   };
 
   void loop();
+  /// Brings the Slurm batches still in Slurm up to date (states, shards merged); on the loop's thread.
+  void pollSlurm();
   void startQueued(const Queued& q);
   void onProgress(const batch::BatchProgress& p);
   void publishBatch(const std::string& batch_id) const;
@@ -89,6 +106,7 @@ class BatchManager {
   std::map<std::string, Active> active_;
   std::deque<Queued> queue_;
   bool stopping_ = false;
+  std::chrono::steady_clock::time_point last_slurm_poll_{};
   std::thread thread_;
 };
 

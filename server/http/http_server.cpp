@@ -79,6 +79,7 @@ struct HttpServer::Impl {
   ApiContext ctx;
 #if DASH_HTTP_WITH_DISPATCH
   std::unique_ptr<dispatch::DispatchService> dispatch;
+  std::shared_ptr<dispatch::DispatchRecorder> dispatch_recorder;  ///< every dispatch, into the results database
 #endif
   httplib::Server server;
   std::thread thread;
@@ -186,9 +187,12 @@ void HttpServer::Impl::configure() {
       }
     };
     dispatch = std::make_unique<dispatch::DispatchService>(std::move(config));
+    dispatch_recorder = std::make_shared<dispatch::DispatchRecorder>(options.db_path);
+    dispatch->addListener(dispatch_recorder);
     const std::string token = options.token;
-    dispatch::registerDispatchRoutes(server, *dispatch,
-                                     [token](const httplib::Request& req) { return hasToken(req, token); });
+    dispatch::registerDispatchRoutes(
+        server, *dispatch, [token](const httplib::Request& req) { return hasToken(req, token); },
+        dispatch_recorder.get());
     ctx.dispatch_mounted = true;
   }
 #endif

@@ -19,9 +19,32 @@ constexpr std::size_t kPreviewKeys = 200;
 struct Submission {
   std::string spec_json;
   int workers = 1;
+  std::string backend = "local";  ///< "local" or "slurm"
+  SlurmRequest slurm;
 };
 
-/// The body is the spec itself (as for `dashbench batch run`), or {"spec": {...}, "workers": N}.
+/// {"partition": "P", "account": "A", "max_parallel": N}, each optional.
+SlurmRequest slurmRequestOf(const Json& j) {
+  if (!j.is_object()) throw HttpError(400, "slurm: expected a JSON object");
+  SlurmRequest r;
+  for (const auto& [key, value] : j.items()) {
+    if (key == "partition" || key == "account") {
+      if (!value.is_string()) throw HttpError(400, "slurm." + key + ": expected a string");
+      (key == "partition" ? r.partition : r.account) = value.get<std::string>();
+    } else if (key == "max_parallel") {
+      if (!value.is_number_integer() || value.get<int>() < 0) {
+        throw HttpError(400, "slurm.max_parallel: expected an integer >= 0");
+      }
+      r.max_parallel = value.get<int>();
+    } else {
+      throw HttpError(400, "slurm: unknown key '" + key + "' (expected partition, account, max_parallel)");
+    }
+  }
+  return r;
+}
+
+/// The body is the spec itself (as for `dashbench batch run`), or {"spec": {...}, "workers": N,
+/// "backend": "local"|"slurm", "slurm": {...}}.
 Submission submissionOf(const httplib::Request& req) {
   const Json body = parseBodyObject(req);
   Submission s;
@@ -34,8 +57,16 @@ Submission submissionOf(const httplib::Request& req) {
       if (!body["workers"].is_number_integer()) throw HttpError(400, "workers: expected an integer");
       s.workers = body["workers"].get<int>();
     }
+    if (body.contains("backend")) {
+      if (!body["backend"].is_string()) throw HttpError(400, "backend: expected \"local\" or \"slurm\"");
+      s.backend = body["backend"].get<std::string>();
+      if (s.backend != "local" && s.backend != "slurm") throw HttpError(400, "backend: expected \"local\" or \"slurm\"");
+    }
+    if (body.contains("slurm")) s.slurm = slurmRequestOf(body["slurm"]);
     for (const auto& [key, value] : body.items()) {
-      if (key != "spec" && key != "workers") throw HttpError(400, "unknown key '" + key + "' (expected spec, workers)");
+      if (key != "spec" && key != "workers" && key != "backend" && key != "slurm") {
+        throw HttpError(400, "unknown key '" + key + "' (expected spec, workers, backend, slurm)");
+      }
     }
   } else {
     s.spec_json = body.dump();
@@ -70,12 +101,23 @@ void registerBatchRoutes(httplib::Server& server, ApiContext& ctx) {
         requireToken(req, ctx.token);
         const Submission s = submissionOf(req);
         try {
-          const SubmitOutcome out = ctx.batches->submit(s.spec_json, s.workers);
+          const SubmitOutcome out = s.backend == "slurm" ? ctx.batches->submitSlurm(s.spec_json, s.slurm)
+                                                         : ctx.batches->submit(s.spec_json, s.workers);
           replyJson(res, 202, Json{{"batch_id", out.batch_id}, {"runs", out.runs}, {"status", out.status}}.dump());
         } catch (const batch::SpecError& e) {
           replySpecError(res, e);
+        } catch (const InputError& e) {
+          if (s.backend != "slurm") throw;
+          replyJson(res, 400, Json{{"error", std::string("backend: ") + e.what()}}.dump());  // sbatch refused it
         }
       }));
+
+  // The backends this server offers: "slurm" only where sbatch is on its PATH.
+  server.Get("/api/batches/backends", guarded([&ctx](const httplib::Request&, httplib::Response& res) {
+               Json backends = Json::array({"local"});
+               if (ctx.batches->slurmAvailable()) backends.push_back("slurm");
+               replyJson(res, 200, Json{{"backends", backends}}.dump());
+             }));
 
   server.Get("/api/batches", guarded([&ctx](const httplib::Request&, httplib::Response& res) {
                replyJson(res, 200, ctx.batches->batchesJson());

@@ -184,9 +184,9 @@ TEST(BatchSpecErrors, UnknownFamily) {
 }
 
 TEST(BatchSpecErrors, CombinationsTheGeneratorRefuses) {
-  // Every value is in range, but 6 walls need 12 robots (walls <= robots/2).
+  // Every value is in range, but 6 walls need 7 robots (walls <= robots - 1).
   const std::string text = edit(R"({"family": "sorting", "params": {"robots": 4, "objects": [4, 8]}})",
-                                R"({"family": "wall", "params": {"robots": 8, "walls": [2, 6], "objects": 8}})");
+                                R"({"family": "wall", "params": {"robots": 5, "walls": [2, 6], "objects": 8}})");
   const std::string msg = expectError(text, SpecErrorKind::kBadCombination, SpecOptions{});
   EXPECT_NE(msg.find("walls=6"), std::string::npos) << msg;
   // Without probing, the same spec passes (the run itself would fail).

@@ -69,6 +69,11 @@ void expectConformingRun(const std::string& planner, const Scene& scene, const P
   EXPECT_EQ(run.events.count(log::Layer::MotionExtended, log::ElementKind::Hyperarc),
             static_cast<std::int64_t>(s.motion_extended_hyperarcs));
   EXPECT_GT(s.task_vertices, 0u);
+  // Phase timings: the result's totals are the sums of the stream's phase events.
+  for (int p = 0; p < log::kPhaseCount; ++p)
+    EXPECT_NEAR(run.events.phaseSeconds(static_cast<log::Phase>(p)), r.stats.phase_seconds[p], 1e-9)
+        << log::toString(static_cast<log::Phase>(p));
+  EXPECT_EQ(run.events.counter("collision_checks_lazy", -1), r.stats.collision_checks_lazy);
   EXPECT_GE(run.events.counter("roadmap_vertices", -1), 0);
   EXPECT_GE(run.events.counter("collision_checks_lazy", -1), 0);
   EXPECT_GT(r.stats.phase_seconds[static_cast<int>(log::Phase::TaskConstruction)], 0.0);
@@ -92,6 +97,12 @@ void expectDashRun(const PlannerRun& run) {
   EXPECT_EQ(run.events.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created),
             r.stats.motion_constraints);
   EXPECT_GT(r.stats.phase_seconds[static_cast<int>(log::Phase::MotionConstruction)], 0.0);
+  EXPECT_EQ(run.events.counter("roadmap_vertices", -1), r.stats.roadmap_vertices);
+  EXPECT_EQ(run.events.counter("roadmap_edges", -1), r.stats.roadmap_edges);
+  // The constraint tree and CBS-MP's break rule are in the stream too.
+  EXPECT_EQ(run.events.counter("constraint_tree_nodes", -1), r.stats.iterations);
+  EXPECT_GE(run.events.counter("roadmap_growths", -1), 0);
+  EXPECT_GE(run.events.counter("constraint_tree_branchings", -1), 0);
 }
 
 class Conformance : public ::testing::TestWithParam<Case> {};

@@ -2,9 +2,12 @@
 // its gripper) and two simulated arms, all in this process. Every wait is bounded.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <mutex>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -70,7 +73,9 @@ class Dispatch : public ::testing::Test {
       if (run_id != "run-7") return std::nullopt;
       return PlanSource{test::planJson(plan_), test::sceneJson(scene_)};
     };
-    server_ = std::make_unique<test::TestServer>(config);
+    db_path_ = ::testing::TempDir() + "dispatch-" + ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".db";
+    for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(db_path_ + suffix);
+    server_ = std::make_unique<test::TestServer>(config, db_path_);
     listener_ = std::make_shared<RecordingListener>();
     service().addListener(listener_);
   }
@@ -94,8 +99,22 @@ class Dispatch : public ::testing::Test {
                         kReadyTimeout))
         << httpGet(url(), "/api/controllers").body;
   }
-  test::HttpReply dispatch(const std::string& options = "") {
-    return httpPost(url(), "/api/dispatch", test::dispatchBody(plan_, scene_, options));
+  test::HttpReply dispatch(const std::string& options = "", const std::string& user = "") {
+    auto body = nlohmann::json::parse(test::dispatchBody(plan_, scene_, options));
+    if (!user.empty()) body["user"] = user;
+    return httpPost(url(), "/api/dispatch", body.dump());
+  }
+  /// The recorded history (GET /api/dispatches), once it holds `count` dispatches and the newest is
+  /// in `state` (the recorder writes just after the service's lock).
+  nlohmann::json history(std::size_t count, const std::string& state) {
+    nlohmann::json h;
+    waitFor(
+        [&] {
+          h = nlohmann::json::parse(httpGet(url(), "/api/dispatches").body);
+          return h["dispatches"].size() == count && h["dispatches"][0]["state"] == state;
+        },
+        3.0);
+    return h;
   }
   void expectCancelled(const DispatchStatus& st, const std::string& robot) {
     const ArmDispatchStatus* arm = test::armStatus(st, robot);
@@ -105,6 +124,7 @@ class Dispatch : public ::testing::Test {
 
   Scene scene_;
   Plan plan_;
+  std::string db_path_;
   std::unique_ptr<test::TestServer> server_;
   std::shared_ptr<RecordingListener> listener_;
   test::UrArm ur_;
@@ -118,10 +138,23 @@ TEST_F(Dispatch, ThreeArmPlanSucceedsAndTheUrRobotGetsThePlanPoints) {
   EXPECT_EQ(controllers["controllers"][0]["driver"], "ur");
   EXPECT_TRUE(controllers["controllers"][0]["ready"].get<bool>());
 
-  const test::HttpReply reply = dispatch();
+  // The dashboard's stream, read alongside: planned against actual while the arms move, then the end.
+  std::vector<std::pair<std::string, std::string>> streamed;
+  std::jthread reader([&] {  // joins on the way out, even after a failed ASSERT
+    streamed = test::readEvents(
+        url(), "/api/dispatch/stream",
+        [](const std::vector<std::pair<std::string, std::string>>& events) {
+          return !events.empty() && events.back().first == "dispatch" &&
+                 nlohmann::json::parse(events.back().second)["final"].get<bool>();
+        },
+        20.0);
+  });
+  const test::HttpReply reply = dispatch("", "alice");
   ASSERT_EQ(reply.status, 202) << reply.body;
   const auto accepted = nlohmann::json::parse(reply.body);
   EXPECT_TRUE(accepted["preflight"]["passed"].get<bool>());
+  const auto recorded_running = history(1, "running");
+  EXPECT_EQ(recorded_running["dispatches"][0]["state"], "running");
 
   // While running: per-arm planned vs actual.
   ASSERT_TRUE(waitFor([&] { return service().status()->elapsed > 0.5; }, 5.0));
@@ -182,6 +215,42 @@ TEST_F(Dispatch, ThreeArmPlanSucceedsAndTheUrRobotGetsThePlanPoints) {
     const test::SimArm& arm = std::string(robot) == "ur5e_1" ? sim1_ : sim2_;
     EXPECT_LT(maxAbsDifference(arm.driver->state().q, home(robot)), 1e-3) << robot;
   }
+  // The record: who, when, the result per arm.
+  const auto recorded = history(1, "succeeded")["dispatches"][0];
+  EXPECT_EQ(recorded["id"], st->id);
+  EXPECT_EQ(recorded["requested_by"], "alice");
+  EXPECT_EQ(recorded["client"], "127.0.0.1");
+  EXPECT_EQ(recorded["run_id"], "");
+  EXPECT_TRUE(recorded["started"].is_string() && recorded["ended"].is_string()) << recorded.dump();
+  EXPECT_LT(recorded["created"].get<std::string>(), recorded["ended"].get<std::string>());
+  EXPECT_TRUE(recorded["preflight"]["passed"].get<bool>());
+  ASSERT_EQ(recorded["arms"].size(), 3u);
+  for (const auto& arm : recorded["arms"]) {
+    EXPECT_EQ(arm["result"]["name"], "SUCCESSFUL") << arm.dump();
+    EXPECT_GT(arm["samples"].get<int>(), 50);
+  }
+  EXPECT_EQ(recorded["arms"][0]["driver"], "ur");
+  EXPECT_EQ(nlohmann::json::parse(httpGet(url(), "/api/dispatches/" + st->id).body)["state"], "succeeded");
+  EXPECT_EQ(httpGet(url(), "/api/dispatches/nope").status, 404);
+  EXPECT_EQ(httpGet(url(), "/api/dispatches?limit=x").status, 400);
+
+  reader.join();
+  int running_events = 0;
+  bool moving = false;
+  for (const auto& [name, data] : streamed) {
+    if (name != "dispatch") continue;
+    const auto e = nlohmann::json::parse(data);
+    if (e["state"] != "running") continue;
+    ++running_events;
+    const auto& arm = e["arms"][1];
+    moving = moving || (arm["t"].get<double>() > 0.5 && arm["actual"].size() == 6 && arm["planned"].size() == 6);
+  }
+  EXPECT_GT(running_events, 10) << "about 10 Hz over 3.4 s";
+  EXPECT_TRUE(moving);
+  ASSERT_FALSE(streamed.empty());
+  EXPECT_EQ(nlohmann::json::parse(streamed.back().second)["state"], "succeeded");
+  EXPECT_TRUE(std::any_of(streamed.begin(), streamed.end(), [](const auto& e) { return e.first == "controllers"; }));
+
   const auto done = nlohmann::json::parse(httpGet(url(), "/api/dispatch").body);
   EXPECT_EQ(done["state"], "succeeded");
   EXPECT_TRUE(done["final"].get<bool>());
@@ -195,6 +264,12 @@ TEST_F(Dispatch, PreflightMismatchIsRefusedAndNothingMoves) {
   JointVector off = home("ur5e_2");
   off[2] += 0.2;
   startArms({}, {}, {}, off);
+  // The checks alone (the dashboard's Check button): the report, nothing sent, nothing recorded.
+  const test::HttpReply checked = httpPost(url(), "/api/dispatch/preflight", test::dispatchBody(plan_, scene_));
+  ASSERT_EQ(checked.status, 200) << checked.body;
+  const auto report = nlohmann::json::parse(checked.body);
+  EXPECT_FALSE(report["passed"].get<bool>());
+  EXPECT_NE(report["reason"].get<std::string>().find("ur5e_2: the arm is not at the plan's start"), std::string::npos);
   const test::HttpReply reply = dispatch();
   EXPECT_EQ(reply.status, 409) << reply.body;
   const auto body = nlohmann::json::parse(reply.body);
@@ -204,6 +279,15 @@ TEST_F(Dispatch, PreflightMismatchIsRefusedAndNothingMoves) {
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   EXPECT_FALSE(service().status().has_value());
   EXPECT_TRUE(ur_.robot->commands().empty());
+  // Recorded all the same: refused, why, and no arm result (nothing started).
+  const auto refused = history(1, "refused")["dispatches"][0];
+  EXPECT_NE(refused["reason"].get<std::string>().find("ur5e_2: the arm is not at the plan's start"), std::string::npos);
+  EXPECT_EQ(refused["requested_by"], "token holder");
+  EXPECT_FALSE(refused["preflight"]["passed"].get<bool>());
+  EXPECT_TRUE(refused["started"].is_null());
+  ASSERT_EQ(refused["arms"].size(), 3u);
+  EXPECT_TRUE(refused["arms"][2]["result"].is_null());
+  EXPECT_NE(refused["arms"][2]["message"].get<std::string>().find("not at the plan's start"), std::string::npos);
   EXPECT_TRUE(ur_.robot->points().empty());
   EXPECT_EQ(sim1_.driver->progress().status, ArmStatus::kIdle);
   EXPECT_LT(maxAbsDifference(sim1_.driver->state().q, home("ur5e_1")), 1e-12);
@@ -243,6 +327,10 @@ TEST_F(Dispatch, LagAbortsEveryArm) {
   EXPECT_LT(st->elapsed, 1.5);
   EXPECT_FALSE(ur_.robot->cancelTimes().empty()) << "the UR robot got a CANCEL";
   EXPECT_EQ(ur_.robot->resultsSent(), std::vector<std::int32_t>{1});
+  const auto recorded = history(1, "aborted")["dispatches"][0];
+  EXPECT_EQ(recorded["reason"], st->reason);
+  EXPECT_EQ(recorded["arms"][1]["result"]["name"], "PATH_TOLERANCE_VIOLATED");
+  EXPECT_GT(recorded["arms"][1]["max_deviation"].get<double>(), 0.1);
 }
 
 TEST_F(Dispatch, StopMidTrajectoryAbortsEveryArm) {
@@ -312,6 +400,9 @@ TEST_F(Dispatch, AbortReachesEveryArmWithin100Milliseconds) {
   EXPECT_EQ(listener_->dispatchEvents(),
             (std::vector<std::string>{"preflight passed with id", "started 3", "aborted operator pressed stop",
                                       "finished aborted final"}));
+  const auto recorded = history(1, "aborted")["dispatches"][0];
+  EXPECT_EQ(recorded["reason"], "operator pressed stop");
+  for (const auto& arm : recorded["arms"]) EXPECT_EQ(arm["result"]["name"], "CANCELLED") << arm.dump();
 }
 
 TEST_F(Dispatch, MissingOrWrongTokenIsRefused) {
@@ -321,6 +412,8 @@ TEST_F(Dispatch, MissingOrWrongTokenIsRefused) {
   EXPECT_EQ(httpPost(url(), "/api/dispatch/abort", "", "").status, 401);
   EXPECT_EQ(httpGet(url(), "/api/controllers", "nope").status, 401);
   EXPECT_EQ(httpGet(url(), "/api/dispatch", "").status, 401);
+  EXPECT_EQ(httpGet(url(), "/api/dispatches", "").status, 401);
+  EXPECT_EQ(httpGet(url(), "/api/dispatch/stream", "wrong").status, 401);
   EXPECT_EQ(httpGet(url(), "/api/controllers").status, 200);
   EXPECT_EQ(httpGet(url(), "/api/dispatch").status, 404);
   // A stored run, through the server's callback: unknown -> 404; known -> checked (no arms here: 409).

@@ -66,15 +66,22 @@ std::string dispatchBody(const Plan& plan, const Scene& scene, const std::string
   return body + "}";
 }
 
-TestServer::TestServer(DispatchConfig config) {
+TestServer::TestServer(DispatchConfig config, const std::string& db_path) {
   if (!config.library) config.library = library();
   service_ = std::make_unique<DispatchService>(std::move(config));
+  if (!db_path.empty()) {
+    recorder_ = std::make_shared<DispatchRecorder>(db_path);
+    service_->addListener(recorder_);
+  }
   server_ = std::make_unique<httplib::Server>();
   server_->new_task_queue = [] { return new httplib::ThreadPool(24); };
   server_->set_tcp_nodelay(true);
-  registerDispatchRoutes(*server_, *service_, [](const httplib::Request& req) {
-    return req.get_header_value("Authorization") == std::string("Bearer ") + kToken;
-  });
+  registerDispatchRoutes(
+      *server_, *service_,
+      [](const httplib::Request& req) {
+        return req.get_header_value("Authorization") == std::string("Bearer ") + kToken;
+      },
+      recorder_.get());
   port_ = server_->bind_to_any_port("127.0.0.1");
   thread_ = std::thread([this] { server_->listen_after_bind(); });
   waitFor([this] { return server_->is_running(); }, 5.0);
@@ -246,6 +253,22 @@ std::string ChildProcess::log() const {
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+std::vector<std::pair<std::string, std::string>> readEvents(
+    const std::string& url, const std::string& path,
+    const std::function<bool(const std::vector<std::pair<std::string, std::string>>&)>& enough, double timeout_s) {
+  std::vector<std::pair<std::string, std::string>> events;
+  httplib::Client client(url);
+  client.set_read_timeout(std::chrono::milliseconds(static_cast<int>(timeout_s * 1000)));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<int>(timeout_s * 1000));
+  SseParser parser;
+  httplib::Headers headers{{"Authorization", std::string("Bearer ") + kToken}};
+  client.Get(path, headers, [&](const char* data, std::size_t size) {
+    for (const SseEvent& e : parser.feed(data, size)) events.emplace_back(e.event, e.data);
+    return !enough(events) && std::chrono::steady_clock::now() < deadline;
+  });
+  return events;
 }
 
 std::string writeTokenFile(const std::string& name, const std::string& token) {

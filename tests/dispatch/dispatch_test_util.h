@@ -17,6 +17,7 @@
 #include "engine/robots/robot_model.h"
 #include "engine/scene/scene.h"
 #include "server/dispatch/controller_agent.h"
+#include "server/dispatch/dispatch_recorder.h"
 #include "server/dispatch/dispatch_service.h"
 #include "server/dispatch/sim_driver.h"
 #include "server/dispatch/ur_driver.h"
@@ -43,17 +44,20 @@ std::string planJson(const Plan& plan);
 std::string dispatchBody(const Plan& plan, const Scene& scene, const std::string& options_json = "");
 JointVector homeOf(const Scene& scene, const std::string& robot);
 
-/// The dispatch service mounted on an httplib server on 127.0.0.1 (any free port).
+/// The dispatch service mounted on an httplib server on 127.0.0.1 (any free port); with `db_path`,
+/// a DispatchRecorder writes every dispatch there and serves the history routes.
 class TestServer {
  public:
-  explicit TestServer(DispatchConfig config = {});
+  explicit TestServer(DispatchConfig config = {}, const std::string& db_path = "");
   ~TestServer();
   DispatchService& service() { return *service_; }
+  DispatchRecorder* recorder() { return recorder_.get(); }
   std::string url() const { return "http://127.0.0.1:" + std::to_string(port_); }
   int port() const { return port_; }
 
  private:
   std::unique_ptr<DispatchService> service_;
+  std::shared_ptr<DispatchRecorder> recorder_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   int port_ = 0;
@@ -66,6 +70,11 @@ struct HttpReply {
 HttpReply httpPost(const std::string& url, const std::string& path, const std::string& body,
                    const std::string& token = kToken);
 HttpReply httpGet(const std::string& url, const std::string& path, const std::string& token = kToken);
+/// Reads the server-sent events of GET `path` (with the token) until `enough` says so or `timeout_s`
+/// passes; returns the events as (name, data).
+std::vector<std::pair<std::string, std::string>> readEvents(
+    const std::string& url, const std::string& path,
+    const std::function<bool(const std::vector<std::pair<std::string, std::string>>&)>& enough, double timeout_s);
 
 /// A simulated arm and its agent, in this process.
 struct SimArm {

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include "engine/log/dispatch_store.h"
 #include "engine/log/results_db.h"
 #include "engine/log/results_schema.h"
 #include "tests/log/log_test_util.h"
@@ -252,6 +253,76 @@ TEST(Schema, AVersion1FileIsMigratedAndKeepsItsRuns) {
   EXPECT_EQ(db.getRun(uuid)->summary.exit_signal, 11);
   // Planner Arena sees both runs.
   EXPECT_EQ(db.select("SELECT COUNT(*) FROM runs").rows.at(0).at(0), SqlValue(std::int64_t{2}));
+}
+
+// Version 3 added the dispatch history. A version-2 file (version 3's tables dropped) opens, migrates,
+// keeps its runs, and records dispatches.
+TEST(Schema, AVersion2FileGetsTheDispatchHistory) {
+  testing::TempDir dir;
+  const std::string path = dir.file("v2.db");
+  std::string uuid;
+  {
+    ResultsDb db(path);
+    uuid = db.beginRun(testing::sampleMeta());
+    db.finishRun(uuid, RunSummary{.status = RunStatus::Solved});
+  }
+  setUserVersion(path, 2, "DROP TABLE dash_dispatch_arms; DROP TABLE dash_dispatches;");
+  EXPECT_THROW(DispatchStore(path, OpenMode::ReadOnly), SchemaError);  // read-only cannot migrate
+
+  DispatchStore store(path);
+  {
+    const ResultsDb db(path, OpenMode::ReadOnly);
+    EXPECT_EQ(db.schemaVersion(), 3);
+    EXPECT_EQ(db.getRun(uuid)->status, RunStatus::Solved);
+  }
+  DispatchRecord r;
+  r.id = "d1-1";
+  r.created = isoTimeFromUnixMillis(1767225600123);  // 2026-01-01
+  r.state = "running";
+  r.run_uuid = uuid;
+  r.requested_by = "alice";
+  r.client = "127.0.0.1";
+  r.arms = {{.robot = "ur5e_0", .driver = "ur", .status = "executing", .result = "SUCCESSFUL"},
+            {.robot = "ur5e_1", .driver = "sim", .status = "executing", .result = "SUCCESSFUL"}};
+  store.save(r);
+  // The end replaces the record: state, reason, per-arm results.
+  r.state = "aborted";
+  r.ended = isoTimeFromUnixMillis(1767225605000);
+  r.reason = "ur5e_1 deviated 0.2 from the plan";
+  r.arms[0].result = "CANCELLED";
+  r.arms[0].result_code = -10;
+  r.arms[1].result = "PATH_TOLERANCE_VIOLATED";
+  r.arms[1].result_code = -4;
+  r.arms[1].max_deviation = 0.2;
+  store.save(r);
+  DispatchRecord refused{.id = "d2-2", .created = isoTimeFromUnixMillis(1767225700000), .state = "refused",
+                         .reason = "ur5e_1: the arm is not at the plan's start"};
+  refused.arms = {{.robot = "ur5e_1"}};
+  store.save(refused);
+
+  const DispatchStore reader(path, OpenMode::ReadOnly);
+  EXPECT_EQ(reader.count(), 2);
+  const auto list = reader.list();
+  ASSERT_EQ(list.size(), 2u);
+  EXPECT_EQ(list[0].id, "d2-2");  // newest first
+  EXPECT_EQ(list[0].arms.at(0).result, "");
+  const DispatchRecord& back = list[1];
+  EXPECT_EQ(back.created, "2026-01-01T00:00:00.123Z");
+  EXPECT_EQ(back.ended, "2026-01-01T00:00:05.000Z");
+  EXPECT_EQ(back.started, "");
+  EXPECT_EQ(back.state, "aborted");
+  EXPECT_EQ(back.reason, "ur5e_1 deviated 0.2 from the plan");
+  EXPECT_EQ(back.run_uuid, uuid);
+  EXPECT_EQ(back.requested_by, "alice");
+  ASSERT_EQ(back.arms.size(), 2u);  // replaced, not doubled, in their order
+  EXPECT_EQ(back.arms[0].robot, "ur5e_0");
+  EXPECT_EQ(back.arms[0].result, "CANCELLED");
+  EXPECT_EQ(back.arms[1].result_code, -4);
+  EXPECT_DOUBLE_EQ(back.arms[1].max_deviation, 0.2);
+  EXPECT_EQ(reader.list(1, 1).at(0).id, "d1-1");
+  EXPECT_FALSE(reader.get("nope").has_value());
+  EXPECT_THROW(DispatchStore(path, OpenMode::ReadOnly).save(r), InputError);
+  EXPECT_EQ(testing::integrityCheck(path), "ok");
 }
 
 TEST(Schema, ANewerVersionGivesAClearError) {

@@ -76,7 +76,7 @@ TEST_F(CliScenario, ListNamesEveryFamily) {
   ASSERT_EQ(r.exit_code, 0) << r.out;
   for (const auto& f : scenarioFamilies()) EXPECT_NE(r.out.find(f.name + ": "), std::string::npos) << f.name;
   EXPECT_NE(r.out.find("robots=4  (2..32)"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("walls=1  (1..6)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("walls=1  (1..31)"), std::string::npos) << r.out;
 }
 
 TEST_F(CliScenario, BadInputExitsTwoNamingTheProblem) {
@@ -91,7 +91,8 @@ TEST_F(CliScenario, BadInputExitsTwoNamingTheProblem) {
       {"stocking layers=4", {"layers", "2..3"}},
       {"shelf-wall robots=3", {"robots", "even"}},
       {"lab containers=many", {"containers", "not an integer", "1..8"}},
-      {"wall robots=6 walls=4", {"walls=4 needs robots >= 8"}},
+      {"wall robots=5 walls=6", {"walls=6 needs robots >= 7"}},
+      {"wall walls=32", {"walls", "1..31"}},
       {"sorting --seed -1", {"--seed"}},
       {"sorting --speed 3", {"unknown option --speed"}},
       {"", {"expected a scenario family"}},

@@ -61,8 +61,9 @@ TEST(ScenarioParams, UnknownFamilyListsTheFamilies) {
 }
 
 TEST(ScenarioParams, WallCountBoundByRobots) {
-  const std::string e = errorOf([] { test::generate("wall", {{"robots", "4"}, {"walls", "3"}}, 1); });
-  EXPECT_NE(e.find("walls=3 needs robots >= 6"), std::string::npos) << e;
+  const std::string e = errorOf([] { test::generate("wall", {{"robots", "4"}, {"walls", "4"}}, 1); });
+  EXPECT_NE(e.find("walls=4 needs robots >= 5"), std::string::npos) << e;
+  EXPECT_NO_THROW(test::generate("wall", {{"robots", "4"}, {"walls", "3"}}, 1));
 }
 
 TEST(ScenarioParams, ListShowsEveryFamilyWithDefaultsAndRanges) {

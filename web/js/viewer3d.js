@@ -148,17 +148,65 @@ export class PlanViewer {
     this.render();
   }
 
+  /// Poses one robot's meshes (its bodies, or its ghost's) at joints q.
+  poseRobot(meshes, r, q) {
+    collisionBodies(r.model, r.base, q).forEach((b, k) => {
+      const mesh = meshes[k];
+      if (b.type === 'capsule') placeCapsule(mesh, b.a, b.b);
+      else mesh.matrix.copy(toThree(b.pose));
+    });
+  }
+
   /// Poses every robot body and object at time t (seconds into the plan) and redraws.
   setTime(t) {
     this.time = Math.max(0, Math.min(t, this.player.duration));
+    this.player.robots.forEach((r, i) => this.poseRobot(this.robotMeshes[i], r, this.player.jointsAt(r, this.time)));
+    if (this.ghostMeshes) for (const g of this.ghostMeshes) for (const m of g) m.visible = false;
+    this.poseObjects();
+  }
+
+  /// Translucent copies of every robot's bodies: where the plan wants the arm while the solid one
+  /// shows where it is (the Dispatch page's live view). Made on first use.
+  ensureGhosts() {
+    if (this.ghostMeshes) return;
+    const material = new THREE.MeshBasicMaterial({ color: 0xe69f00, transparent: true, opacity: 0.28, depthWrite: false });
+    this.ghostMeshes = this.robotMeshes.map((meshes) =>
+      meshes.map((m) => {
+        const ghost = new THREE.Mesh(m.geometry, material);
+        ghost.matrixAutoUpdate = m.matrixAutoUpdate;
+        ghost.visible = false;
+        this.scene3.add(ghost);
+        return ghost;
+      }),
+    );
+  }
+
+  /// Live view: arms = {robotId: {planned: [q...], actual: [q...]}} draws each listed robot at its
+  /// measured joints (solid) with a ghost at its planned joints; other robots and the objects follow
+  /// the plan at planTime (seconds into the plan).
+  setLive(arms, planTime) {
+    this.ensureGhosts();
+    this.time = Math.max(0, Math.min(planTime, this.player.duration));
+    let worst = 0;
+    let live = 0;
     this.player.robots.forEach((r, i) => {
-      const q = this.player.jointsAt(r, this.time);
-      collisionBodies(r.model, r.base, q).forEach((b, k) => {
-        const mesh = this.robotMeshes[i][k];
-        if (b.type === 'capsule') placeCapsule(mesh, b.a, b.b);
-        else mesh.matrix.copy(toThree(b.pose));
-      });
+      const a = arms[r.id];
+      const planned = a && a.planned && a.planned.length ? a.planned : this.player.jointsAt(r, this.time);
+      const actual = a && a.actual && a.actual.length === planned.length ? a.actual : planned;
+      this.poseRobot(this.robotMeshes[i], r, actual);
+      const ghost = Boolean(a && a.planned && a.planned.length);
+      if (ghost) {
+        this.poseRobot(this.ghostMeshes[i], r, planned);
+        live += 1;
+        for (let j = 0; j < planned.length; j++) worst = Math.max(worst, Math.abs(actual[j] - planned[j]));
+      }
+      for (const m of this.ghostMeshes[i]) m.visible = ghost;
     });
+    this.poseObjects();
+    Object.assign(this.container.dataset, { live: String(live), liveError: worst.toFixed(4) });
+  }
+
+  poseObjects() {
     const objects = this.player.objectsAt(this.time);
     let held = 0;
     for (const [id, state] of Object.entries(objects)) {

@@ -1,16 +1,54 @@
-// Dispatch: the controller agents connected to this server (one per arm), the current dispatch and
-// its arms, and dispatching a solved run's plan or aborting every arm. Only when the server was
+// Dispatch: the controller agents connected to this server (one per arm), the pre-flight checks and
+// Start for a solved run's plan, the live progress of the current dispatch per arm (planned against
+// actual: numbers, and a 3D view with a ghost of the planned configuration next to the measured one),
+// the Abort button, and the recorded history. Live data comes from the server's dispatch stream
+// (GET /api/dispatch/stream, read with fetch because it needs the token). Only when the server was
 // built with the dispatch library; otherwise the page says so.
-import { api, getToken } from '../api.js';
-import { el, clear, badge, fmtNumber, errorBox, table } from '../dom.js';
+import { api, getToken, query } from '../api.js';
+import { el, clear, badge, fmtNumber, fmtSeconds, errorBox, table } from '../dom.js';
+
+const USER_KEY = 'dashbench.dispatch.user';
+
+/// Reads server-sent events from a fetch response body; calls onEvent(name, data) per event.
+async function readSse(response, onEvent) {
+  const reader = response.body.getReader();
+  const decoder = new TextDecoder();
+  let buffer = '';
+  for (;;) {
+    const { value, done } = await reader.read();
+    if (done) return;
+    buffer += decoder.decode(value, { stream: true });
+    let end;
+    while ((end = buffer.indexOf('\n\n')) >= 0) {
+      const frame = buffer.slice(0, end);
+      buffer = buffer.slice(end + 2);
+      let name = 'message';
+      let data = '';
+      for (const line of frame.split('\n')) {
+        if (line.startsWith('event: ')) name = line.slice(7);
+        else if (line.startsWith('data: ')) data += line.slice(6);
+      }
+      if (data) onEvent(name, data);
+    }
+  }
+}
+
+function pct(v) {
+  return `${Math.round(100 * Math.max(0, Math.min(1, v)))} %`;
+}
+
+function progressBar(fraction, cls) {
+  return el('div', { class: 'progress' }, el('div', { class: cls, style: `width:${(100 * Math.max(0, Math.min(1, fraction))).toFixed(1)}%` }));
+}
 
 export function mount(root) {
   root.append(el('h1', { text: 'Dispatch to arms' }));
   const body = el('div', {});
   root.append(body);
-  let timer = 0;
   let stopped = false;
-  let dispatched = false; // this page started one: show its record even after the arms let go
+  let streamAbort = null;
+  let retryTimer = 0;
+  const cleanups = [];
 
   (async () => {
     const health = await api.get('/api/health');
@@ -24,89 +62,301 @@ export function mount(root) {
       );
       return;
     }
-    const controllersBox = el('div', { 'data-testid': 'controllers' });
-    const statusBox = el('div', { 'data-testid': 'dispatch-status' });
-    const runInput = el('input', { type: 'text', size: 40, placeholder: 'uuid of a solved run' });
-    const scale = el('input', { type: 'number', value: 2, min: 1, step: 0.5, style: 'width:5em' });
-    const go = el('button', { type: 'button' }, 'Dispatch');
-    const abort = el('button', { type: 'button', class: 'danger' }, 'Abort every arm');
-    const message = el('div', {});
+    const controllersBox = el('div', { 'data-testid': 'controllers' }, el('div', { class: 'muted', text: 'Connecting…' }));
+    const runInput = el('input', { type: 'text', size: 40, placeholder: 'uuid of a solved run', list: 'dispatch-runs', 'data-testid': 'dispatch-run' });
+    const runList = el('datalist', { id: 'dispatch-runs' });
+    const scale = el('input', { type: 'number', value: 1, min: 0.1, step: 0.5, style: 'width:5em', 'data-testid': 'time-scale' });
+    const user = el('input', { type: 'text', size: 12, placeholder: 'your name', value: localStorage.getItem(USER_KEY) || '', 'data-testid': 'dispatch-user' });
+    const check = el('button', { type: 'button', class: 'secondary', 'data-testid': 'preflight' }, 'Pre-flight check');
+    const start = el('button', { type: 'button', disabled: true, 'data-testid': 'start' }, 'Start');
+    const abort = el('button', { type: 'button', class: 'danger', 'data-testid': 'abort' }, 'Abort every arm');
+    const preflightBox = el('div', { 'data-testid': 'preflight-result' });
+    const message = el('div', { 'data-testid': 'dispatch-message' });
+    const statusBox = el('div', { 'data-testid': 'dispatch-status' }, el('div', { class: 'muted', text: 'No dispatch yet.' }));
+    const armsBox = el('div', {});
+    const viewerNote = el('div', { class: 'muted' });
+    const viewerBox = el('div', { class: 'viewer', 'data-testid': 'dispatch-viewer', hidden: true });
+    const historyBox = el('div', { 'data-testid': 'dispatch-history' });
     body.append(
       el('div', { class: 'panel' }, el('h2', { text: 'Controllers' }), el('div', { class: 'muted', text: 'Agents started with `dashbench controller --server URL --robot ID --token-file ...` appear here.' }), controllersBox),
       el(
         'div',
         { class: 'panel' },
         el('h2', { text: 'Dispatch a plan' }),
-        el('div', { class: 'muted', text: 'Dry-run with --driver sim agents first. time scale > 1 slows every arm alike.' }),
-        el('div', { class: 'toolbar' }, runInput, el('label', {}, 'time scale', scale), go, abort),
+        el('div', { class: 'muted', text: 'Dry-run with --driver sim agents first. Check, then Start; a time scale > 1 slows every arm alike.' }),
+        el('div', { class: 'toolbar' }, runInput, runList, el('label', {}, 'time scale', scale), el('label', {}, 'who', user), check, start, abort),
+        preflightBox,
         message,
       ),
-      el('div', { class: 'panel' }, el('h2', { text: 'Current dispatch' }), statusBox),
+      el('div', { class: 'panel' }, el('h2', { text: 'Current dispatch' }), statusBox, armsBox, viewerNote, viewerBox),
+      el('div', { class: 'panel' }, el('h2', { text: 'History' }), historyBox),
     );
-    go.addEventListener('click', async () => {
+
+    // ---------------------------------------------------------------- requests
+    function requestBody() {
+      const label = user.value.trim();
+      localStorage.setItem(USER_KEY, label);
+      return { run_id: runInput.value.trim(), options: { time_scale: Number(scale.value) || 1 }, user: label || undefined };
+    }
+
+    function showChecks(report) {
+      clear(preflightBox);
+      if (!report) return;
+      preflightBox.dataset.passed = report.passed ? '1' : '0';
+      preflightBox.append(
+        el('div', { class: report.passed ? 'ok' : 'error', text: report.passed ? 'Pre-flight checks passed.' : `Pre-flight refused: ${report.reason}` }),
+        table(['name', 'robot', 'passed', 'message'], report.checks || [], { cell: (c, v) => (c === 'passed' ? (v ? '✓' : '✗') : v) }),
+      );
+    }
+
+    let checkedFor = '';
+    runInput.addEventListener('input', () => {
+      start.disabled = true;
+      clear(preflightBox);
+      delete preflightBox.dataset.passed;
+    });
+    scale.addEventListener('input', () => (start.disabled = true));
+
+    check.addEventListener('click', async () => {
       clear(message);
+      clear(preflightBox).append(el('div', { class: 'muted', text: 'Checking…' }));
+      delete preflightBox.dataset.passed;
+      start.disabled = true;
       try {
-        const r = await api.post('/api/dispatch', { run_id: runInput.value.trim(), options: { time_scale: Number(scale.value) } });
-        dispatched = true;
-        message.append(el('div', { class: 'ok', text: `dispatch ${r.dispatch_id} started; arms move in ${fmtNumber(r.start_in)} s` }));
+        const req = requestBody();
+        const report = await api.post('/api/dispatch/preflight', req);
+        showChecks(report);
+        checkedFor = JSON.stringify([req.run_id, req.options]);
+        start.disabled = !report.passed;
       } catch (e) {
+        clear(preflightBox);
         message.append(errorBox(e.message));
-        const checks = e.body && e.body.preflight && e.body.preflight.checks;
-        if (checks) message.append(table(['name', 'robot', 'passed', 'message'], checks));
       }
     });
+
+    start.addEventListener('click', async () => {
+      clear(message);
+      const req = requestBody();
+      if (JSON.stringify([req.run_id, req.options]) !== checkedFor) {
+        start.disabled = true;
+        message.append(errorBox('The plan or the time scale changed since the check: check again.'));
+        return;
+      }
+      start.disabled = true;
+      try {
+        const r = await api.post('/api/dispatch', req);
+        showChecks(r.preflight);
+        message.append(el('div', { class: 'ok', 'data-testid': 'dispatch-started', text: `dispatch ${r.dispatch_id} started; arms move in ${fmtNumber(r.start_in)} s` }));
+      } catch (e) {
+        message.append(errorBox(e.message + (e.body && e.body.reason ? `: ${e.body.reason}` : '')));
+        if (e.body && e.body.preflight) showChecks(e.body.preflight);
+      }
+    });
+
     abort.addEventListener('click', async () => {
       try {
-        const r = await api.post('/api/dispatch/abort', { reason: 'abort from the dashboard' });
-        clear(message).append(el('div', { class: 'ok', text: r.aborted ? `aborted (${r.controllers_notified} controllers told)` : 'nothing was moving' }));
+        const r = await api.post('/api/dispatch/abort', { reason: `abort from the dashboard${user.value.trim() ? ` (${user.value.trim()})` : ''}` });
+        clear(message).append(el('div', { class: 'ok', 'data-testid': 'abort-result', text: r.aborted ? `aborted (${r.controllers_notified} controllers told)` : 'nothing was moving' }));
       } catch (e) {
         clear(message).append(errorBox(e.message));
       }
     });
 
-    async function refresh() {
-      if (stopped) return;
-      if (!getToken()) {
-        clear(controllersBox).append(el('div', { class: 'muted', text: 'The controller list needs the token (Token button, top right).' }));
-      } else {
-        let active = dispatched;
-        try {
-          const c = await api.get('/api/controllers');
-          active = active || c.controllers.some((x) => x.dispatch_id);
-          clear(controllersBox);
-          if (c.controllers.length === 0) controllersBox.append(el('div', { class: 'muted', text: 'No controller is connected.' }));
-          else {
-            controllersBox.append(
-              table(['robot', 'driver', 'model', 'connected', 'ready', 'status', 'detail', 'state_age'], c.controllers, {
-                cell: (col, v) => (col === 'status' ? badge(String(v)) : typeof v === 'boolean' ? (v ? 'yes' : 'no') : v),
-              }),
-            );
-          }
-        } catch (e) {
-          clear(controllersBox).append(errorBox(e.message));
-        }
-        // Only when there is one: GET /api/dispatch answers 404 before the first dispatch.
-        if (active) {
-          try {
-            const s = await api.get('/api/dispatch');
-            clear(statusBox).append(
-              el('div', {}, badge(s.state), ` ${s.id} — ${s.reason || ''}`),
-              table(['robot', 'driver', 'status', 'done', 'deviation', 'max_deviation', 'samples'], s.arms || []),
-            );
-          } catch (e) {
-            clear(statusBox).append(el('div', { class: 'muted', text: e.status === 404 ? 'No dispatch yet.' : e.message }));
-          }
-        } else {
-          clear(statusBox).append(el('div', { class: 'muted', text: 'No dispatch yet.' }));
-        }
+    // ---------------------------------------------------------------- live view
+    function renderControllers(list) {
+      clear(controllersBox);
+      if (list.length === 0) {
+        controllersBox.append(el('div', { class: 'muted', text: 'No controller is connected.' }));
+        return;
       }
-      timer = setTimeout(refresh, 1000);
+      controllersBox.append(
+        table(['robot', 'driver', 'model', 'connected', 'ready', 'status', 'detail', 'state_age'], list, {
+          cell: (col, v) => (col === 'status' ? badge(String(v)) : typeof v === 'boolean' ? (v ? 'yes' : 'no') : col === 'state_age' && typeof v === 'number' ? fmtSeconds(v) : v),
+        }),
+      );
     }
-    refresh();
+
+    let viewer = null;
+    let viewerRun = '';
+    async function loadViewer(runId) {
+      viewerRun = runId;
+      if (viewer) {
+        viewer.dispose();
+        viewer = null;
+      }
+      viewerBox.hidden = !runId;
+      viewerNote.textContent = runId ? '' : 'A plan sent with its request has no stored scene here: no 3D view.';
+      if (!runId) return;
+      try {
+        const [scene, plan, models] = await Promise.all([api.get(`/api/runs/${runId}/scene`), api.get(`/api/runs/${runId}/plan`), api.get('/api/robots')]);
+        const { PlanViewer } = await import('../viewer3d.js');
+        if (stopped || viewerRun !== runId) return;
+        viewer = new PlanViewer(viewerBox, scene, plan, models.models);
+        viewerBox.dataset.ready = '1';
+        viewerNote.textContent = 'Solid: where each arm is (measured). Orange ghost: where the plan wants it now.';
+        if (lastStatus) drawLive(lastStatus);
+      } catch (e) {
+        viewerNote.textContent = '';
+        viewerBox.append(errorBox(`3D view: ${e.message}`));
+      }
+    }
+
+    function drawLive(s) {
+      if (!viewer) return;
+      const arms = {};
+      for (const a of s.arms || []) arms[a.robot] = { planned: a.planned, actual: a.actual };
+      viewer.setLive(arms, Math.max(0, s.elapsed) / (s.time_scale || 1));
+    }
+
+    let lastStatus = null;
+    let lastFinalId = '';
+    let lastSeenId = '';
+    function renderStatus(s) {
+      lastStatus = s;
+      Object.assign(statusBox.dataset, { state: s.state, id: s.id, final: s.final ? '1' : '0' });
+      const overall = s.duration > 0 ? Math.max(0, s.elapsed) / s.duration : 0;
+      clear(statusBox).append(
+        el(
+          'div',
+          { class: 'toolbar' },
+          badge(s.state),
+          el('span', { class: 'mono', text: s.id }),
+          el('span', { text: `${fmtNumber(Math.max(0, s.elapsed))} s of ${fmtNumber(s.duration)} s` }),
+          progressBar(overall, s.state === 'succeeded' ? 'solved' : s.final ? 'failed' : 'running'),
+          s.requested_by ? el('span', { class: 'muted', text: `by ${s.requested_by}` }) : null,
+          s.run_id ? el('a', { href: `#/run/${s.run_id}`, text: 'run' }) : null,
+        ),
+        ...(s.reason ? [el('div', { class: s.state === 'succeeded' ? 'muted' : 'error', 'data-testid': 'dispatch-reason', text: s.reason })] : []),
+      );
+      const head = ['robot', 'driver', 'status', 'progress', 'joint error', 'max error', 'samples', 'result'];
+      const rows = (s.arms || []).map((a) => {
+        const progress = a.duration > 0 ? Math.max(0, a.t) / a.duration : a.done ? 1 : 0;
+        const tolerance = (s.tolerances && s.tolerances.path) || 0;
+        return el(
+          'tr',
+          { 'data-robot': a.robot, 'data-status': a.status, 'data-result': a.done ? a.result.name : '', 'data-progress': progress.toFixed(3) },
+          el('td', { text: a.robot }),
+          el('td', { text: a.driver }),
+          el('td', {}, badge(a.status)),
+          el('td', {}, el('div', { class: 'toolbar', style: 'margin:0' }, progressBar(progress, 'running'), el('span', { text: pct(progress) }))),
+          el('td', { class: `num${tolerance && a.deviation > 0.5 * tolerance ? ' error' : ''}`, text: `${a.deviation.toFixed(4)} rad` }),
+          el('td', { class: 'num', text: `${a.max_deviation.toFixed(4)} rad` }),
+          el('td', { class: 'num', text: String(a.samples) }),
+          el('td', { text: a.done ? `${a.result.name}${a.result.message ? `: ${a.result.message}` : ''}` : '' }),
+        );
+      });
+      clear(armsBox).append(el('table', { class: 'data', 'data-testid': 'arms-table' }, el('thead', {}, el('tr', {}, head.map((h) => el('th', { text: h })))), el('tbody', {}, rows)));
+      if ((s.run_id || '') !== viewerRun) loadViewer(s.run_id || '');
+      drawLive(s);
+      if (s.id !== lastSeenId) {
+        lastSeenId = s.id;
+        setTimeout(loadHistory, 300); // a new dispatch: its record (started) is written as it starts
+      }
+      if (s.final && s.id !== lastFinalId) {
+        lastFinalId = s.id;
+        setTimeout(loadHistory, 300); // the record is written just after the end
+      }
+    }
+
+    async function loadHistory() {
+      if (stopped || !getToken()) return;
+      try {
+        const h = await api.get('/api/dispatches?limit=20');
+        clear(historyBox);
+        if (h.dispatches.length === 0) {
+          historyBox.append(el('div', { class: 'muted', text: 'No dispatch recorded yet.' }));
+          return;
+        }
+        const head = ['created', 'id', 'state', 'who', 'client', 'run', 'elapsed', 'arms', 'reason'];
+        historyBox.dataset.total = String(h.total);
+        historyBox.append(
+          el('div', { class: 'muted', text: `${h.total} recorded; newest first.` }),
+          el(
+            'div',
+            { class: 'table-wrap', style: 'max-height:360px' },
+            el(
+              'table',
+              { class: 'data' },
+              el('thead', {}, el('tr', {}, head.map((c) => el('th', { text: c })))),
+              el(
+                'tbody',
+                {},
+                h.dispatches.map((d) =>
+                  el(
+                    'tr',
+                    { 'data-dispatch': d.id, 'data-state': d.state },
+                    el('td', { text: d.created.replace('T', ' ').replace('Z', '') }),
+                    el('td', { class: 'mono', text: d.id }),
+                    el('td', {}, badge(d.state)),
+                    el('td', { text: d.requested_by }),
+                    el('td', { text: d.client }),
+                    el('td', {}, d.run_id ? el('a', { href: `#/run/${d.run_id}`, text: d.run_id.slice(0, 8) }) : ''),
+                    el('td', { class: 'num', text: d.started ? fmtSeconds(d.elapsed) : '' }),
+                    el('td', { text: d.arms.map((a) => `${a.robot}: ${a.result ? a.result.name : 'not started'}`).join(', ') }),
+                    el('td', { text: d.reason }),
+                  ),
+                ),
+              ),
+            ),
+          ),
+        );
+      } catch (e) {
+        clear(historyBox).append(errorBox(e.message));
+      }
+    }
+
+    async function loadRuns() {
+      try {
+        const r = await api.get(`/api/runs${query({ limit: 50, q: 'has_plan = 1 and status = solved' })}`);
+        clear(runList).append(r.runs.map((x) => el('option', { value: x.uuid, text: `${x.family} ${JSON.stringify(x.params || {})} ${x.config || x.planner || ''}` })));
+      } catch {
+        // The list is a convenience: a uuid typed in still works.
+      }
+    }
+
+    async function stream() {
+      if (stopped) return;
+      clearTimeout(retryTimer);
+      if (streamAbort) streamAbort.abort();
+      if (!getToken()) {
+        clear(controllersBox).append(el('div', { class: 'muted', text: 'The dispatch view needs the token (Token button, top right).' }));
+        return;
+      }
+      const controller = new AbortController();
+      streamAbort = controller;
+      try {
+        const res = await fetch('/api/dispatch/stream', { headers: { Authorization: `Bearer ${getToken()}` }, signal: controller.signal });
+        if (!res.ok) throw new Error(`${res.status} ${res.statusText}`);
+        await readSse(res, (name, data) => {
+          const value = JSON.parse(data);
+          if (name === 'dispatch') renderStatus(value);
+          else if (name === 'controllers') renderControllers(value.controllers);
+        });
+      } catch (e) {
+        if (controller.signal.aborted || stopped) return;
+        clear(controllersBox).append(errorBox(`live stream: ${e.message}; reconnecting`));
+      }
+      if (!stopped && !controller.signal.aborted) retryTimer = setTimeout(stream, 1000);
+    }
+
+    const onToken = () => {
+      stream();
+      loadHistory();
+    };
+    window.addEventListener('dashbench-token', onToken);
+    cleanups.push(() => window.removeEventListener('dashbench-token', onToken));
+    stream();
+    loadHistory();
+    loadRuns();
+    cleanups.push(() => {
+      if (viewer) viewer.dispose();
+    });
   })().catch((e) => body.append(errorBox(e.message)));
 
   return () => {
     stopped = true;
-    clearTimeout(timer);
+    clearTimeout(retryTimer);
+    if (streamAbort) streamAbort.abort();
+    for (const fn of cleanups) fn();
   };
 }

@@ -61,6 +61,26 @@ export function mount(root) {
   const timeLimit = el('input', { type: 'number', value: 30, min: 1, step: 'any', style: 'width:7em', 'data-testid': 'time-limit' });
   const memoryLimit = el('input', { type: 'number', value: 4096, min: 0, style: 'width:7em' });
   const workers = el('input', { type: 'number', value: 1, min: 1, style: 'width:5em', 'data-testid': 'workers' });
+  // Backend: the local runner, or a Slurm job array where the server has sbatch on its PATH
+  // (GET /api/batches/backends); the Slurm fields show only then.
+  const backendSelect = el('select', { 'data-testid': 'backend' }, el('option', { value: 'local', text: 'local (this machine)' }));
+  const partition = el('input', { type: 'text', size: 10, placeholder: 'default', 'data-testid': 'slurm-partition' });
+  const account = el('input', { type: 'text', size: 10, placeholder: 'default', 'data-testid': 'slurm-account' });
+  const maxParallel = el('input', { type: 'number', value: 0, min: 0, style: 'width:6em', 'data-testid': 'slurm-max-parallel' });
+  const slurmBox = el(
+    'div',
+    { class: 'row', hidden: true, 'data-testid': 'slurm-options' },
+    el('label', { class: 'field', dataset: { key: 'partition' } }, el('span', { text: 'partition' }), partition, el('span', { class: 'error-text' })),
+    el('label', { class: 'field', dataset: { key: 'account' } }, el('span', { text: 'account' }), account, el('span', { class: 'error-text' })),
+    el('label', { class: 'field', dataset: { key: 'max_parallel' } }, el('span', { text: 'array tasks at once (0: no limit)' }), maxParallel, el('span', { class: 'error-text' })),
+  );
+  const backendField = el('label', { class: 'field', hidden: true, dataset: { key: 'backend' } }, el('span', { text: 'backend' }), backendSelect, el('span', { class: 'error-text' }));
+  const workersField = el('label', { class: 'field', dataset: { key: 'workers' } }, el('span', { text: 'runs at once' }), workers, el('span', { class: 'error-text' }));
+  backendSelect.addEventListener('change', () => {
+    const slurm = backendSelect.value === 'slurm';
+    slurmBox.hidden = !slurm;
+    workersField.hidden = slurm;
+  });
   const runCount = el('div', { 'data-testid': 'run-count', class: 'muted', text: 'runs: …' });
   const formError = el('div', { class: 'error', 'data-testid': 'launch-error' });
   const submit = el('button', { type: 'button', 'data-testid': 'submit' }, 'Launch');
@@ -86,8 +106,10 @@ export function mount(root) {
       field('seeds', seedCount, 'seeds'),
       field('time limit per run (s)', timeLimit, 'time_limit'),
       field('memory limit per run (MB, 0: none)', memoryLimit, 'memory_limit'),
-      field('runs at once', workers, 'workers'),
+      workersField,
     ),
+    el('div', { class: 'row' }, backendField),
+    slurmBox,
     runCount,
     formError,
     el('div', { class: 'toolbar' }, submit, submitted),
@@ -253,8 +275,16 @@ export function mount(root) {
     }
     submit.disabled = true;
     try {
-      const r = await api.post('/api/batches', { spec: buildSpec(), workers: Number(workers.value) });
-      submitted.textContent = `batch ${r.batch_id} queued: ${r.runs} runs`;
+      const body =
+        backendSelect.value === 'slurm'
+          ? {
+              spec: buildSpec(),
+              backend: 'slurm',
+              slurm: { partition: partition.value.trim(), account: account.value.trim(), max_parallel: Number(maxParallel.value) || 0 },
+            }
+          : { spec: buildSpec(), workers: Number(workers.value) };
+      const r = await api.post('/api/batches', body);
+      submitted.textContent = `batch ${r.batch_id} ${r.status}: ${r.runs} runs`;
       submitted.dataset.batch = r.batch_id;
       loadBatches();
     } catch (e) {
@@ -281,6 +311,11 @@ export function mount(root) {
     const body = el('tbody');
     for (const b of list) {
       const statusCell = el('td', {}, badge(b.status));
+      if (b.backend === 'slurm') {
+        // Slurm's array task states next to the batch's status: "slurm: 3 completed, 1 running".
+        const states = Object.entries(b.slurm || {}).map(([state, n]) => `${n} ${state}`).join(', ');
+        statusCell.append(el('div', { class: 'muted', 'data-testid': 'slurm-states', text: `slurm: ${states}` }));
+      }
       const progressCell = el('td', {}, progressBar(b.progress));
       const actions = el('td', {});
       if (b.cancellable) {
@@ -327,7 +362,7 @@ export function mount(root) {
       if (m.status) {
         clear(r.statusCell).append(badge(m.status));
         r.row.dataset.status = m.status;
-        if (!['running', 'cancelling', 'queued'].includes(m.status)) {
+        if (!['running', 'cancelling', 'queued', 'submitted'].includes(m.status)) {
           for (const b of r.row.querySelectorAll('button')) b.remove();
           reload();
         }
@@ -337,6 +372,17 @@ export function mount(root) {
     on('resync', reload),
   ];
 
+  (async () => {
+    try {
+      const { backends } = await api.get('/api/batches/backends');
+      if (backends.includes('slurm')) {
+        backendSelect.append(el('option', { value: 'slurm', text: 'Slurm (job array)' }));
+        backendField.hidden = false;
+      }
+    } catch {
+      // An older server without the route: local only.
+    }
+  })();
   (async () => {
     try {
       const cat = await api.get('/api/scenarios');

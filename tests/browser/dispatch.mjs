@@ -1,0 +1,265 @@
+#!/usr/bin/env node
+// Browser test of the Dispatch page: Playwright (playwright-core from web/node_modules) drives
+// Debian's Chromium against `dashbench serve` (a copy of data/demo.db) and two `dashbench controller
+// --driver sim` agents, all on loopback.
+//   node tests/browser/dispatch.mjs --dashbench BUILD/dashbench [--artifacts DIR] [--keep]
+// Checks: both controllers show up ready; a 2-robot sorting plan from the database passes the
+// pre-flight check from the page, starts, shows live progress per arm (numbers, and the 3D view's
+// planned ghosts), and finishes with every arm SUCCESSFUL; the history records it; with one arm
+// away from the plan's start the check refuses; with it put back, Abort stops a running dispatch and
+// every arm reports CANCELLED. No console errors.
+// Exit: 0 passed, 1 failed, 77 skipped (Chromium cannot start here).
+import { spawn } from 'node:child_process';
+import { createRequire } from 'node:module';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const SKIP = 77;
+const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..');
+const CHROMIUM = process.env.DASHBENCH_CHROMIUM || '/usr/bin/chromium';
+const CHROMIUM_ARGS = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage', '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run', '--enable-unsafe-swiftshader'];
+
+function option(name, fallback) {
+  const i = process.argv.indexOf(`--${name}`);
+  return i > 0 && i + 1 < process.argv.length ? process.argv[i + 1] : fallback;
+}
+const DASHBENCH = option('dashbench', path.join(ROOT, 'build', 'dashbench'));
+const ARTIFACTS = path.resolve(option('artifacts', path.join(ROOT, 'build', 'test-artifacts')));
+const KEEP = process.argv.includes('--keep');
+
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
+function expect(condition, message) {
+  if (!condition) throw new Error(message);
+}
+
+function loadPlaywright() {
+  const requireWeb = createRequire(path.join(ROOT, 'web', 'package.json'));
+  try {
+    return requireWeb('playwright-core');
+  } catch (e) {
+    console.error(`FAIL: web/node_modules has no playwright-core (${e.message}); run \`npm ci\` in web/`);
+    process.exit(1);
+  }
+}
+
+async function launchBrowser(playwright, profile) {
+  if (!fs.existsSync(CHROMIUM)) {
+    console.log(`SKIP: ${CHROMIUM} does not exist: install Debian's chromium (./dashbench test does)`);
+    process.exit(SKIP);
+  }
+  try {
+    return await playwright.chromium.launchPersistentContext(profile, { executablePath: CHROMIUM, headless: true, args: CHROMIUM_ARGS, viewport: { width: 1440, height: 1000 }, timeout: 60000 });
+  } catch (e) {
+    console.log(`SKIP: Chromium cannot start here: ${String(e.message).split('\n')[0]}`);
+    process.exit(SKIP);
+  }
+}
+
+/// A child process whose output is kept (for failure messages).
+function startChild(args, name) {
+  const child = spawn(DASHBENCH, args, { stdio: ['ignore', 'pipe', 'pipe'] });
+  const proc = { child, name, log: '' };
+  child.stdout.on('data', (d) => (proc.log += d.toString()));
+  child.stderr.on('data', (d) => (proc.log += d.toString()));
+  return proc;
+}
+
+async function stopChild(proc) {
+  if (!proc || proc.child.exitCode !== null || proc.child.signalCode !== null) return;
+  proc.child.kill('SIGINT');
+  for (let i = 0; i < 100 && proc.child.exitCode === null && proc.child.signalCode === null; i++) await sleep(100);
+  if (proc.child.exitCode === null && proc.child.signalCode === null) proc.child.kill('SIGKILL');
+}
+
+/// `dashbench serve` on a free port over a copy of the demo database; resolves once it prints its URL.
+async function startServer(tmp) {
+  const db = path.join(tmp, 'results.db');
+  const demo = path.join(ROOT, 'data', 'demo.db');
+  if (!fs.existsSync(demo)) throw new Error(`${demo} is missing (see the README's Dashboard section)`);
+  fs.copyFileSync(demo, db);
+  const proc = startChild(['serve', '--port', '0', '--db', db, '--token-file', path.join(tmp, 'token'), '--web', path.join(ROOT, 'web'), '--max-workers', '1'], 'server');
+  for (let i = 0; i < 600; i++) {
+    const m = proc.log.match(/open (http:\/\/127\.0\.0\.1:\d+)/);
+    if (m) return { ...proc, url: m[1] };
+    if (proc.child.exitCode !== null) break;
+    await sleep(100);
+  }
+  throw new Error(`the server did not start:\n${proc.log}`);
+}
+
+const results = [];
+async function step(name, fn) {
+  const t0 = Date.now();
+  try {
+    await fn();
+    results.push({ name, ok: true });
+    console.log(`PASS ${name} (${((Date.now() - t0) / 1000).toFixed(1)} s)`);
+  } catch (e) {
+    results.push({ name, ok: false });
+    console.log(`FAIL ${name} (${((Date.now() - t0) / 1000).toFixed(1)} s): ${e.stack || e}`);
+  }
+}
+
+async function main() {
+  const playwright = loadPlaywright();
+  fs.mkdirSync(ARTIFACTS, { recursive: true });
+  const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'dashbench-dispatch-'));
+  const context = await launchBrowser(playwright, path.join(tmp, 'profile'));
+  let server = null;
+  let agents = [];
+  const page = context.pages()[0] || (await context.newPage());
+  try {
+    server = await startServer(tmp);
+    const url = server.url;
+    const tokenFile = path.join(tmp, 'token');
+    const token = fs.readFileSync(tokenFile, 'utf8').trim();
+    page.setDefaultTimeout(30000);
+    const consoleErrors = [];
+    page.on('console', (m) => {
+      if (m.type() !== 'error') return;
+      consoleErrors.push(`${page.url()}: ${m.text()}`);
+    });
+    page.on('pageerror', (e) => consoleErrors.push(`${page.url()}: ${e.message}`));
+    const auth = { Authorization: `Bearer ${token}` };
+    const apiGet = async (p) => (await page.request.get(`${url}${p}`, { headers: auth })).json();
+
+    // The shortest solved 2-robot sorting plan in the demo database, and where each arm starts.
+    const candidates = (await apiGet(`/api/runs?limit=200&q=${encodeURIComponent('family = sorting and robots = 2 and status = solved and has_plan = 1')}`)).runs;
+    expect(candidates.length > 0, 'the demo database has no solved 2-robot sorting run with a plan');
+    candidates.sort((a, b) => a.makespan - b.makespan);
+    const run = candidates[0];
+    const plan = await apiGet(`/api/runs/${run.uuid}/plan`);
+    const scene = await apiGet(`/api/runs/${run.uuid}/scene`);
+    const robots = Object.keys(plan.robots);
+    expect(robots.length === 2, `expected 2 robots, got ${robots.join(',')}`);
+    const modelOf = Object.fromEntries(scene.robots.map((r) => [r.id, r.model]));
+    const startAgents = () =>
+      robots.map((id) =>
+        startChild(['controller', '--server', url, '--robot', id, '--token-file', tokenFile, '--driver', 'sim', '--model', modelOf[id], '--sim-start', plan.robots[id].points[0].q.join(','), '--quiet'], id),
+      );
+    const agentLogs = () => agents.map((a) => `--- ${a.name}:\n${a.log}`).join('\n');
+    agents = startAgents();
+    console.log(`plan: run ${run.uuid} (${run.family}, makespan ${Number(run.makespan).toFixed(1)} s), robots ${robots.join(', ')}`);
+
+    let firstId = '';
+    await step('Dispatch: both sim controllers show up ready', async () => {
+      await page.goto(`${url}/#token=${token}`);
+      await page.waitForFunction(() => location.hash === '#/runs');
+      await page.goto(`${url}/#/dispatch`);
+      await page.waitForFunction(
+        (ids) => {
+          const rows = [...document.querySelectorAll('[data-testid=controllers] tbody tr')].map((tr) => tr.textContent);
+          return ids.every((id) => rows.some((t) => t.startsWith(id) && t.includes('sim') && /yesyes/.test(t)));
+        },
+        robots,
+        { timeout: 30000 },
+      ).catch((e) => {
+        throw new Error(`${e.message}\n${agentLogs()}`);
+      });
+    });
+
+    await step('Dispatch: pre-flight from the page, Start, live progress, success per arm, history', async () => {
+      await page.locator('[data-testid=dispatch-run]').fill(run.uuid);
+      await page.locator('[data-testid=time-scale]').fill('1');
+      await page.locator('[data-testid=dispatch-user]').fill('browser');
+      await page.locator('[data-testid=preflight]').click();
+      await page.waitForSelector('[data-testid=preflight-result][data-passed]', { timeout: 60000 });
+      const passed = await page.getAttribute('[data-testid=preflight-result]', 'data-passed');
+      expect(passed === '1', `pre-flight refused: ${await page.locator('[data-testid=preflight-result]').textContent()}`);
+      expect(!(await page.locator('[data-testid=start]').isDisabled()), 'Start stays disabled after a passed check');
+      await page.locator('[data-testid=start]').click();
+      await page.waitForSelector('[data-testid=dispatch-started]', { timeout: 60000 });
+      await page.waitForSelector('[data-testid=dispatch-status][data-state=running]');
+      firstId = await page.getAttribute('[data-testid=dispatch-status]', 'data-id');
+      // Live: every arm's progress moves, the 3D view shows both arms with their planned ghosts.
+      await page.waitForFunction(() => {
+        const rows = [...document.querySelectorAll('[data-testid=arms-table] tbody tr')];
+        return rows.length === 2 && rows.every((r) => Number(r.dataset.progress) > 0.02);
+      });
+      await page.waitForSelector('[data-testid=dispatch-viewer][data-live="2"]', { timeout: 30000 });
+      const error = Number(await page.getAttribute('[data-testid=dispatch-viewer]', 'data-live-error'));
+      expect(error < 0.1, `the arms are ${error} rad from their plan`);
+      const numbers = await page.locator('[data-testid=arms-table] tbody tr').first().textContent();
+      expect(/%/.test(numbers) && /rad/.test(numbers), `no progress or joint error shown: ${numbers}`);
+      await page.screenshot({ path: path.join(ARTIFACTS, 'dispatch-running.png'), fullPage: true });
+      await page.waitForSelector('[data-testid=dispatch-status][data-final="1"]', { timeout: (Number(run.makespan) + 60) * 1000 });
+      const state = await page.getAttribute('[data-testid=dispatch-status]', 'data-state');
+      expect(state === 'succeeded', `the dispatch ended ${state}: ${await page.locator('[data-testid=dispatch-status]').textContent()}\n${agentLogs()}`);
+      for (const id of robots) {
+        await page.waitForSelector(`[data-testid=arms-table] tr[data-robot="${id}"][data-result=SUCCESSFUL]`);
+      }
+      await page.waitForSelector(`[data-testid=dispatch-history] tr[data-dispatch="${firstId}"][data-state=succeeded]`);
+      const row = await page.locator(`[data-testid=dispatch-history] tr[data-dispatch="${firstId}"]`).textContent();
+      expect(row.includes('browser') && robots.every((id) => row.includes(`${id}: SUCCESSFUL`)), `history row: ${row}`);
+      const record = await apiGet(`/api/dispatches/${firstId}`);
+      expect(record.run_id === run.uuid && record.requested_by === 'browser' && record.client === '127.0.0.1', `record: ${JSON.stringify(record)}`);
+      await page.screenshot({ path: path.join(ARTIFACTS, 'dispatch-done.png'), fullPage: true });
+    });
+
+    await step('Dispatch: an arm away from the start is refused; Abort stops every arm', async () => {
+      // Restarts one agent at `q` and waits for the registry to have it (its n-th reconnection) ready.
+      let reconnects = 0;
+      const restart = async (q) => {
+        await stopChild(agents[1]);
+        const id = robots[1];
+        agents[1] = startChild(['controller', '--server', url, '--robot', id, '--token-file', tokenFile, '--driver', 'sim', '--model', modelOf[id], '--sim-start', q.join(','), '--quiet'], id);
+        reconnects += 1;
+        for (let i = 0; ; i++) {
+          const c = (await apiGet('/api/controllers')).controllers.find((x) => x.robot === id);
+          if (c && c.reconnects >= reconnects && c.connected && c.ready) break;
+          expect(i < 300, `${id} did not reconnect: ${JSON.stringify(c)}\n${agentLogs()}`);
+          await sleep(100);
+        }
+      };
+      const start = plan.robots[robots[1]].points[0].q;
+      await restart(start.map((v, j) => (j === 2 ? v + 0.2 : v)));
+      await page.locator('[data-testid=preflight]').click();
+      await page.waitForSelector('[data-testid=preflight-result][data-passed]', { timeout: 60000 });
+      const refusal = await page.locator('[data-testid=preflight-result]').textContent();
+      expect(/not at the plan's start/.test(refusal) && refusal.includes(robots[1]), `refusal: ${refusal}`);
+      expect(await page.locator('[data-testid=start]').isDisabled(), 'Start enabled after a failed check');
+      // Put the arm back, check, start, abort from the page.
+      await restart(start);
+      await page.locator('[data-testid=preflight]').click();
+      await page.waitForSelector('[data-testid=preflight-result][data-passed]', { timeout: 60000 });
+      expect((await page.getAttribute('[data-testid=preflight-result]', 'data-passed')) === '1', `pre-flight: ${await page.locator('[data-testid=preflight-result]').textContent()}`);
+      await page.locator('[data-testid=start]').click();
+      await page.waitForFunction((first) => {
+        const s = document.querySelector('[data-testid=dispatch-status]');
+        return s.dataset.state === 'running' && s.dataset.id !== first;
+      }, firstId, { timeout: 60000 });
+      await page.waitForFunction(() => [...document.querySelectorAll('[data-testid=arms-table] tbody tr')].some((r) => Number(r.dataset.progress) > 0.01));
+      await page.locator('[data-testid=abort]').click();
+      await page.waitForSelector('[data-testid=abort-result]:has-text("aborted")');
+      await page.waitForSelector('[data-testid=dispatch-status][data-final="1"]', { timeout: 30000 });
+      const state = await page.getAttribute('[data-testid=dispatch-status]', 'data-state');
+      expect(state === 'aborted', `ended ${state}`);
+      for (const id of robots) await page.waitForSelector(`[data-testid=arms-table] tr[data-robot="${id}"][data-result=CANCELLED]`);
+      const reason = await page.locator('[data-testid=dispatch-reason]').textContent();
+      expect(/abort from the dashboard \(browser\)/.test(reason), `reason: ${reason}`);
+      const secondId = await page.getAttribute('[data-testid=dispatch-status]', 'data-id');
+      await page.waitForSelector(`[data-testid=dispatch-history] tr[data-dispatch="${secondId}"][data-state=aborted]`);
+      await page.screenshot({ path: path.join(ARTIFACTS, 'dispatch-aborted.png'), fullPage: true });
+    });
+
+    await step('no console error', async () => {
+      expect(consoleErrors.length === 0, `console errors:\n${consoleErrors.join('\n')}`);
+    });
+  } catch (e) {
+    results.push({ name: 'setup', ok: false });
+    console.log(`FAIL setup: ${e.stack || e}`);
+  } finally {
+    await context.close().catch(() => {});
+    await Promise.all(agents.map(stopChild));
+    await stopChild(server);
+    if (!KEEP) fs.rmSync(tmp, { recursive: true, force: true });
+  }
+  const failed = results.filter((r) => !r.ok);
+  console.log(`${results.length - failed.length} passed, ${failed.length} failed; screenshots in ${ARTIFACTS}`);
+  process.exit(failed.length ? 1 : 0);
+}
+
+main();
