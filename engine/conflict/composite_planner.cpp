@@ -1,9 +1,7 @@
 #include "engine/conflict/composite_planner.h"
 
-#include <ompl/base/MotionValidator.h>
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/SpaceInformation.h>
-#include <ompl/base/StateValidityChecker.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/geometric/PathGeometric.h>
 #include <ompl/geometric/PathSimplifier.h>
@@ -15,6 +13,7 @@
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/segment_queries.h"
 #include "engine/core/check.h"
+#include "engine/motion/ompl_validity.h"
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
@@ -72,36 +71,6 @@ struct CompositeChecker {
   }
 };
 
-class CompositeStateChecker final : public ob::StateValidityChecker {
- public:
-  CompositeStateChecker(const ob::SpaceInformationPtr& si, const CompositeChecker* c)
-      : ob::StateValidityChecker(si), c_(c) {}
-  bool isValid(const ob::State* s) const override { return c_->stateValid(s); }
-
- private:
-  const CompositeChecker* c_;
-};
-
-class CompositeMotionValidator final : public ob::MotionValidator {
- public:
-  CompositeMotionValidator(const ob::SpaceInformationPtr& si, const CompositeChecker* c)
-      : ob::MotionValidator(si), c_(c) {}
-  bool checkMotion(const ob::State* s1, const ob::State* s2) const override {
-    const bool ok = c_->motionValid(s1, s2);
-    ok ? ++valid_ : ++invalid_;
-    return ok;
-  }
-  bool checkMotion(const ob::State* s1, const ob::State* s2, std::pair<ob::State*, double>& last) const override {
-    if (checkMotion(s1, s2)) return true;
-    if (last.first != nullptr) si_->copyState(last.first, s1);
-    last.second = 0.0;
-    return false;
-  }
-
- private:
-  const CompositeChecker* c_;
-};
-
 }  // namespace
 
 std::optional<CompositePath> planComposite(const CollisionWorld& world, CollisionContext& context,
@@ -134,8 +103,9 @@ std::optional<CompositePath> planComposite(const CollisionWorld& world, Collisio
   }
   space->setBounds(bounds);
   auto si = std::make_shared<ob::SpaceInformation>(space);
-  si->setStateValidityChecker(std::make_shared<CompositeStateChecker>(si, &checker));
-  si->setMotionValidator(std::make_shared<CompositeMotionValidator>(si, &checker));
+  installValidity(
+      si, [&checker](const ob::State* s) { return checker.stateValid(s); },
+      [&checker](const ob::State* a, const ob::State* b) { return checker.motionValid(a, b); });
   si->setup();
 
   ob::ScopedState<> start(si), goal(si);

@@ -1,9 +1,7 @@
 #include "engine/dash/validated_roadmap.h"
 
-#include <ompl/base/MotionValidator.h>
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/SpaceInformation.h>
-#include <ompl/base/StateValidityChecker.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/geometric/planners/prm/PRM.h>
 
@@ -16,6 +14,7 @@
 
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/segment_queries.h"
+#include "engine/motion/ompl_validity.h"
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
@@ -25,13 +24,6 @@ namespace dash {
 namespace {
 constexpr double kPi = 3.141592653589793;
 constexpr double kSameConfig = 1e-12;
-
-JointVector toJoints(const ob::State* s, int dof) {
-  const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
-  JointVector q(dof);
-  for (int i = 0; i < dof; ++i) q[i] = v->values[i];
-  return q;
-}
 
 std::vector<double> keyOf(const JointVector& q) { return std::vector<double>(q.data(), q.data() + q.size()); }
 
@@ -83,40 +75,6 @@ struct ValidatedRoadmap::Checker {
   }
 };
 
-namespace {
-
-class StateChecker final : public ob::StateValidityChecker {
- public:
-  StateChecker(const ob::SpaceInformationPtr& si, const ValidatedRoadmap::Checker* c)
-      : ob::StateValidityChecker(si), c_(c) {}
-  bool isValid(const ob::State* s) const override { return c_->stateValid(toJoints(s, c_->dof)); }
-
- private:
-  const ValidatedRoadmap::Checker* c_;
-};
-
-class SegmentValidator final : public ob::MotionValidator {
- public:
-  SegmentValidator(const ob::SpaceInformationPtr& si, const ValidatedRoadmap::Checker* c)
-      : ob::MotionValidator(si), c_(c) {}
-  bool checkMotion(const ob::State* s1, const ob::State* s2) const override {
-    const bool ok = c_->motionValid(toJoints(s1, c_->dof), toJoints(s2, c_->dof));
-    ok ? ++valid_ : ++invalid_;
-    return ok;
-  }
-  // PRM only needs the yes/no answer; report the start as the last valid state.
-  bool checkMotion(const ob::State* s1, const ob::State* s2, std::pair<ob::State*, double>& last) const override {
-    if (checkMotion(s1, s2)) return true;
-    if (last.first != nullptr) si_->copyState(last.first, s1);
-    last.second = 0.0;
-    return false;
-  }
-
- private:
-  const ValidatedRoadmap::Checker* c_;
-};
-
-}  // namespace
 
 ValidatedRoadmap::ValidatedRoadmap(const CollisionWorld& world, CollisionContext& context, int robot,
                                    ValidatedRoadmapParams params)
@@ -134,8 +92,10 @@ ValidatedRoadmap::ValidatedRoadmap(const CollisionWorld& world, CollisionContext
   }
   state_space->setBounds(bounds);
   si_ = std::make_shared<ob::SpaceInformation>(state_space);
-  si_->setStateValidityChecker(std::make_shared<StateChecker>(si_, checker_.get()));
-  si_->setMotionValidator(std::make_shared<SegmentValidator>(si_, checker_.get()));
+  const Checker* c = checker_.get();
+  installValidity(
+      si_, [c](const ob::State* s) { return c->stateValid(jointsOf(s, c->dof)); },
+      [c](const ob::State* a, const ob::State* b) { return c->motionValid(jointsOf(a, c->dof), jointsOf(b, c->dof)); });
   si_->setup();
   prm_ = std::make_shared<og::PRM>(si_, false);
   prm_->setMaxNearestNeighbors(params_.neighbours);
@@ -179,7 +139,7 @@ void ValidatedRoadmap::sync(Space& space) {
   space.of_milestone.resize(n, -1);
   std::vector<int> fresh;
   for (std::size_t v = first_new; v < n; ++v) {
-    const JointVector q = toJoints(states[v], dof_);
+    const JointVector q = jointsOf(states[v], dof_);
     if (holding && !stateFree(space, q)) continue;
     space.of_milestone[v] = space.addVertex(q);
     fresh.push_back(space.of_milestone[v]);

@@ -1,9 +1,7 @@
 #include "engine/motion/lazy_roadmap.h"
 
-#include <ompl/base/MotionValidator.h>
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/SpaceInformation.h>
-#include <ompl/base/StateValidityChecker.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/geometric/PathGeometric.h>
 #include <ompl/geometric/PathSimplifier.h>
@@ -17,6 +15,7 @@
 
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/segment_queries.h"
+#include "engine/motion/ompl_validity.h"
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
@@ -25,18 +24,6 @@ namespace dash {
 
 namespace {
 constexpr double kPi = 3.141592653589793;
-
-JointVector toJoints(const ob::State* s, int dof) {
-  const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
-  JointVector q(dof);
-  for (int i = 0; i < dof; ++i) q[i] = v->values[i];
-  return q;
-}
-
-void fromJoints(const JointVector& q, ob::State* s) {
-  auto* v = s->as<ob::RealVectorStateSpace::StateType>();
-  for (int i = 0; i < q.size(); ++i) v->values[i] = q[i];
-}
 }  // namespace
 
 // Validity of states and straight motions for one robot in the current MotionContext.
@@ -63,40 +50,6 @@ struct LazyRoadmap::Checker {
   }
 };
 
-namespace {
-
-class StateChecker final : public ob::StateValidityChecker {
- public:
-  StateChecker(const ob::SpaceInformationPtr& si, const LazyRoadmap::Checker* c)
-      : ob::StateValidityChecker(si), c_(c) {}
-  bool isValid(const ob::State* s) const override { return c_->stateValid(toJoints(s, c_->dof)); }
-
- private:
-  const LazyRoadmap::Checker* c_;
-};
-
-class SegmentValidator final : public ob::MotionValidator {
- public:
-  SegmentValidator(const ob::SpaceInformationPtr& si, const LazyRoadmap::Checker* c) : ob::MotionValidator(si), c_(c) {}
-  bool checkMotion(const ob::State* s1, const ob::State* s2) const override {
-    const bool ok = c_->motionValid(toJoints(s1, c_->dof), toJoints(s2, c_->dof));
-    ok ? ++valid_ : ++invalid_;
-    return ok;
-  }
-  // Only the end result is needed by Lazy-PRM; report the start as the last valid state.
-  bool checkMotion(const ob::State* s1, const ob::State* s2, std::pair<ob::State*, double>& last) const override {
-    if (checkMotion(s1, s2)) return true;
-    if (last.first != nullptr) si_->copyState(last.first, s1);
-    last.second = 0.0;
-    return false;
-  }
-
- private:
-  const LazyRoadmap::Checker* c_;
-};
-
-}  // namespace
-
 void seedOmplOnce(std::uint64_t seed) {
   static std::atomic<bool> seeded{false};  // OMPL's generator is process-global; so is this guard
   if (!seeded.exchange(true)) {
@@ -119,8 +72,10 @@ LazyRoadmap::LazyRoadmap(const CollisionWorld& world, CollisionContext& context,
   }
   space->setBounds(bounds);
   si_ = std::make_shared<ob::SpaceInformation>(space);
-  si_->setStateValidityChecker(std::make_shared<StateChecker>(si_, checker_.get()));
-  si_->setMotionValidator(std::make_shared<SegmentValidator>(si_, checker_.get()));
+  const Checker* c = checker_.get();
+  installValidity(
+      si_, [c](const ob::State* s) { return c->stateValid(jointsOf(s, c->dof)); },
+      [c](const ob::State* a, const ob::State* b) { return c->motionValid(jointsOf(a, c->dof), jointsOf(b, c->dof)); });
   si_->setup();
   planner_ = std::make_shared<og::LazyPRM>(si_, false);
   const double range = model.kinematics == KinematicsKind::kUrDh ? params_.max_edge_length : 0.3;
@@ -140,8 +95,8 @@ std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_
   }
   auto pdef = std::make_shared<ob::ProblemDefinition>(si_);
   ob::ScopedState<> start(si_), goal(si_);
-  fromJoints(q_start, start.get());
-  fromJoints(q_goal, goal.get());
+  setJoints(q_start, start.get());
+  setJoints(q_goal, goal.get());
   pdef->setStartAndGoalStates(start, goal);
   planner_->clearQuery();
   planner_->setProblemDefinition(pdef);
@@ -159,7 +114,7 @@ std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_
     simplifier.shortcutPath(*path);
   }
   std::vector<JointVector> out;
-  for (std::size_t i = 0; i < path->getStateCount(); ++i) out.push_back(toJoints(path->getState(i), checker_->dof));
+  for (std::size_t i = 0; i < path->getStateCount(); ++i) out.push_back(jointsOf(path->getState(i), checker_->dof));
   // The end points are exactly the requested configurations (OMPL copies them).
   out.front() = q_start;
   out.back() = q_goal;
