@@ -122,9 +122,11 @@ std::optional<CompositePath> planComposite(const CollisionWorld& world, Collisio
   planner->setProblemDefinition(pdef);
   planner->setup();
   const double budget = std::min(params.seconds, std::max(0.0, deadline.secondsLeft()));
+  // RRTConnect::solve evaluates the condition once per iteration (a fixed goal state is never resampled).
+  std::size_t evaluations = 0;
   const ob::PlannerTerminationCondition ptc(
-      [&deadline, end = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget)] {
-        return deadline.expired() || std::chrono::steady_clock::now() >= end;
+      [&, end = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget)] {
+        return ++evaluations > params.iterations || deadline.expired() || std::chrono::steady_clock::now() >= end;
       });
   if (planner->solve(ptc) != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
   auto path = std::static_pointer_cast<og::PathGeometric>(pdef->getSolutionPath());

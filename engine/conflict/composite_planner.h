@@ -26,7 +26,9 @@ struct CompositeProblem {
 };
 
 struct CompositeParams {
-  double seconds = 1.5;   ///< planning budget, within the deadline
+  /// Work budget: RRT-Connect iterations (work, not time: the same on a loaded machine).
+  std::size_t iterations = 5000;
+  double seconds = 10.0;  ///< a ceiling on top of the work budget, within the deadline
   double range = 1.5;     ///< RRT-Connect step in the stacked joint space (radians)
   bool simplify = true;
 };

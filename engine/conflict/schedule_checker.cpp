@@ -53,14 +53,14 @@ std::optional<ScheduleConflict> ScheduleChecker::check(const RobotTimeline& time
     CollisionReport report;
     if (segmentInCollision(*world_, *context_, self, self_end, layout, &report, {CheckScope::kObjectsOnly})) {
       const int j = report.b.kind == CollisionElement::Kind::kObject ? report.b.index : -1;
-      return ScheduleConflict{u, -1, j};
+      return ScheduleConflict{u, -1, j, r};
     }
     const ObjectLayout none = ObjectLayout::empty(world_->scene());
     for (const RobotTimeline& o : others) {
       if (o.robot() == r || !mayInteract(r, o.robot())) continue;
       const RobotMotion motions[2] = {{self, self_end}, {{o.robot(), o.at(u), o.heldAt(mid)}, o.at(v)}};
       if (motionsInCollision(*world_, *context_, motions, none, nullptr, {CheckScope::kStaticOnly}))
-        return ScheduleConflict{u, o.robot(), -1};
+        return ScheduleConflict{u, o.robot(), -1, r};
     }
   }
   return std::nullopt;

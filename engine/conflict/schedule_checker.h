@@ -16,6 +16,7 @@ struct ScheduleConflict {
   double t = 0.0;   ///< start of the sub-interval where it was found
   int other = -1;   ///< the other robot, or -1 for a resting object / obstacle
   int object = -1;  ///< the resting object, if that was it
+  int robot = -1;   ///< the robot whose motion was checked (-1: a resting object was checked)
 };
 
 class ScheduleChecker {

@@ -176,7 +176,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
       for (const RobotState& st : parkedAt(-1, depart))
         if (std::find(movers.begin(), movers.end(), st.robot) == movers.end()) problem.parked.push_back(st);
       CompositeParams cp;
-      cp.seconds = params_.composite_seconds;
+      cp.iterations = params_.composite_iterations;
       composite = planComposite(*world_, *context_, problem, cp, deadline);
       if (!composite) return false;
       composite_steps = compositeDurations(movers, *composite);
@@ -378,13 +378,16 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
       T += params_.delay_step;
     }
     if (!scheduled) {
-      std::string with = "?";
-      if (last_conflict && last_conflict->other >= 0) with = "robot " + scene.robots[last_conflict->other].id;
-      if (last_conflict && last_conflict->object >= 0) with = "object " + scene.objects[last_conflict->object].id;
-      if (last_conflict && last_conflict->other < 0 && last_conflict->object < 0) with = "an obstacle";
+      std::string what = "?";
+      if (last_conflict) {
+        const ScheduleConflict& c = *last_conflict;
+        what = c.object >= 0 ? "object " + scene.objects[c.object].id
+                             : (c.other >= 0 ? "robot " + scene.robots[c.other].id : std::string("an obstacle"));
+        if (c.robot >= 0) what = scene.robots[c.robot].id + " against " + what;
+      }
       return fail(k, "could not schedule step " + std::to_string(k) + " (" + describeStep(plan.steps[k], space) +
                          ") within " + std::to_string(static_cast<int>(params_.max_delay)) +
-                         " s of delay; last conflict with " + with);
+                         " s of delay; last conflict: " + what);
     }
 
     // Events: the receiver grasps at T and the giver lets go at the same instant (formats.md allows it).

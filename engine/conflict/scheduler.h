@@ -31,7 +31,7 @@ struct SchedulerParams {
   double min_segment = 0.02;      ///< shortest segment duration, seconds
   int max_composite_robots = 4;   ///< ARC's robot set stops growing here
   int composite_attempts = 3;     ///< composite replans per step
-  double composite_seconds = 1.5; ///< planning budget of one composite replan
+  std::size_t composite_iterations = 5000; ///< work budget of one composite replan (RRT-Connect iterations)
 };
 
 struct ScheduleStats {

@@ -93,6 +93,9 @@ std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_
     planner_->clearValidity();
     last_context_ = motion;
   }
+  // An invalid end is answered at once: given one, OMPL keeps resampling the goal (sleeping between
+  // tries) until the termination condition, which is the whole budget.
+  if (!checker_->stateValid(q_start) || !checker_->stateValid(q_goal)) return std::nullopt;
   auto pdef = std::make_shared<ob::ProblemDefinition>(si_);
   ob::ScopedState<> start(si_), goal(si_);
   setJoints(q_start, start.get());
@@ -101,9 +104,11 @@ std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_
   planner_->clearQuery();
   planner_->setProblemDefinition(pdef);
   const double budget = std::min(params_.query_seconds, std::max(0.0, deadline.secondsLeft()));
+  // LazyPRM::solve evaluates the condition once per sample it draws.
+  std::size_t evaluations = 0;
   const ob::PlannerTerminationCondition ptc(
-      [&deadline, end = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget)] {
-        return deadline.expired() || std::chrono::steady_clock::now() >= end;
+      [&, end = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget)] {
+        return ++evaluations > params_.query_samples || deadline.expired() || std::chrono::steady_clock::now() >= end;
       });
   const ob::PlannerStatus status = planner_->solve(ptc);
   if (status != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
@@ -119,6 +124,11 @@ std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_
   out.front() = q_start;
   out.back() = q_goal;
   return out;
+}
+
+void LazyRoadmap::scaleBudget(double factor) {
+  params_.query_samples = static_cast<std::size_t>(static_cast<double>(params_.query_samples) * factor);
+  params_.query_seconds *= factor;
 }
 
 std::size_t LazyRoadmap::vertexCount() const { return planner_->milestoneCount(); }

@@ -25,7 +25,10 @@ namespace dash {
 struct RoadmapParams {
   double max_edge_length = 1.5;         ///< radians (joint space) or metres (gantry), OMPL setRange
   unsigned int neighbours = 10;         ///< k nearest neighbours
-  double query_seconds = 2.0;           ///< per query, within the deadline
+  /// Work budget of one query: samples (Lazy-PRM adds one milestone per iteration). Work, not time,
+  /// so that a run does the same on a loaded machine as on an idle one (same seed, same plan).
+  std::size_t query_samples = 5000;
+  double query_seconds = 10.0;          ///< a ceiling per query on top of the work budget
   bool simplify = true;                 ///< shortcut the found path
 };
 
@@ -38,6 +41,8 @@ class LazyRoadmap {
   /// resolution), or nullopt. Grows the roadmap as needed.
   std::optional<std::vector<JointVector>> query(const JointVector& q_start, const JointVector& q_goal,
                                                 const MotionContext& motion, const Deadline& deadline);
+  /// Multiplies the per-query budgets (after a motion failure was found to have no alternative).
+  void scaleBudget(double factor);
   std::size_t vertexCount() const;
   std::size_t edgeCount() const;
   int robot() const { return robot_; }

@@ -76,6 +76,13 @@ LazyRoadmap& MotionLayer::roadmap(int robot, bool holding) {
   return *slot;
 }
 
+void MotionLayer::scaleBudget(double factor) {
+  params_.roadmap.query_samples = static_cast<std::size_t>(static_cast<double>(params_.roadmap.query_samples) * factor);
+  params_.roadmap.query_seconds *= factor;
+  for (auto& r : roadmaps_)
+    if (r) r->scaleBudget(factor);
+}
+
 std::size_t MotionLayer::roadmapVertices() const {
   std::size_t n = 0;
   for (const auto& r : roadmaps_) n += r ? r->vertexCount() : 0;

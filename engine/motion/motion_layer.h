@@ -60,6 +60,8 @@ class MotionLayer {
   MotionLayerResult plan(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
                          const TaskSpace& space, const Deadline& deadline);
 
+  /// Multiplies the roadmap query budgets (existing roadmaps and those created later).
+  void scaleBudget(double factor);
   std::size_t roadmapVertices() const;
   std::size_t roadmapEdges() const;
   std::size_t motionVertices() const { return motion_vertices_; }

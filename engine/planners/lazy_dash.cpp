@@ -46,6 +46,7 @@ void fillTaskStats(const TaskLayer& task, PlanStats& stats) {
 namespace {
 
 constexpr int kMaxMotionRounds = 200;
+constexpr double kBudgetGrowthAfterLift = 4.0;
 
 double pathLength(const Plan& plan) {
   double total = 0.0;
@@ -74,7 +75,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   const CollisionWorld world(scene);
   CollisionContext context(world);
   TaskLayer task(scene, world, context, emitter, settings.seed);
-  MotionLayer motion(world, context, emitter);
+  MotionLayer motion(world, context, emitter, params_.motion);
   Scheduler scheduler(world, context);
   PlanResult result;
   auto finish = [&](PlanOutcome outcome, std::string message) {
@@ -98,6 +99,8 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
     if (layer.status != TaskLayerStatus::kFeasible)
       return finish(outcomeOf(layer.status, deadline),
                     "task layer: " + std::string(toString(layer.status)) + (layer.reason.empty() ? "" : " (" + layer.reason + ")"));
+    // No schedule avoids the hyperarcs the motion layer failed on: search harder on the same ones.
+    if (layer.motion_bans_lifted) motion.scaleBudget(kBudgetGrowthAfterLift);
     if (settings.task_only) {
       result.task_plan_json = layer.plan.toJson(task.space());
       return finish(PlanOutcome::kSolved, layer.plan.describe(task.space()));

@@ -4,15 +4,26 @@
 // feasibility to the motion layer; the motion hypergraph is built over edge-unvalidated roadmaps and
 // validated in the motion query; conflict resolution replans lazily with motion constraints.
 // Task conflict detection (Algorithm 2) and task space expansion happen before any motion is planned.
+#include <utility>
+
+#include "engine/motion/motion_layer.h"
 #include "engine/planners/planner.h"
 
 namespace dash {
 
+struct LazyDashParams {
+  MotionLayerParams motion;
+};
+
 class LazyDash final : public Planner {
  public:
+  explicit LazyDash(LazyDashParams params = {}) : params_(std::move(params)) {}
   std::string name() const override { return "lazy-dash"; }
   PlanResult solve(const Scene& scene, const PlannerSettings& settings, const Deadline& deadline,
                    log::EventSink* sink) override;
+
+ private:
+  LazyDashParams params_;
 };
 
 }  // namespace dash

@@ -92,6 +92,14 @@ bool TaskLayer::addConstraint(const TaskConstraint& c) {
   return true;
 }
 
+bool TaskLayer::liftTemporaryConstraints(const std::string& why) {
+  const std::vector<TaskConstraint> lifted = constraints_.removeTemporary();
+  for (const TaskConstraint& c : lifted)
+    emitter_->constraint(c.kind == TaskConstraint::Kind::kInteraction ? log::ConstraintKind::Motion : toLogKind(c.kind),
+                         log::ConstraintAction::Lifted, 0, why, {}, c.cause);
+  return !lifted.empty();
+}
+
 // Task space expansion: an extra stable pose ("move-out" state) for `object`, on a support surface
 // near a robot that can take it from its start, clear of every other known object location.
 bool TaskLayer::expand(int object, const std::string& reason) {
@@ -201,6 +209,13 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
         rebuild();
         continue;
       }
+      // A motion failure bans its hyperarc for one query, not for ever (paper: the failed hyperarc is
+      // not removed): with no schedule around it, the same hyperarcs go back to the motion layer.
+      if (ban_lifts_ < params_.max_ban_lifts && liftTemporaryConstraints("no schedule avoids the motion failures")) {
+        ++ban_lifts_;
+        result.motion_bans_lifted = true;
+        continue;
+      }
       result.status = TaskLayerStatus::kInfeasible;
       result.reason = std::string("task query ") + std::string(toString(query.status)) + " with " +
                       std::to_string(constraints_.size()) + " task constraints";
@@ -217,10 +232,7 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
     }
     emitter_->counter("collision_checks_task", static_cast<std::int64_t>(sampler_.context().counters().configuration_checks));
     if (conflicts.feasible()) {
-      for (const TaskConstraint& c : constraints_.removeTemporary())
-        emitter_->constraint(c.kind == TaskConstraint::Kind::kInteraction ? log::ConstraintKind::Motion
-                                                                           : toLogKind(c.kind),
-                             log::ConstraintAction::Lifted, 0, "lifted after one task query", {}, c.cause);
+      liftTemporaryConstraints("lifted after one task query");
       result.status = TaskLayerStatus::kFeasible;
       result.plan = std::move(query.plan);
       result.transitions = std::move(conflicts.transitions);

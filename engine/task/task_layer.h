@@ -21,6 +21,9 @@ struct TaskLayerParams {
   TaskConflictParams conflicts;
   int max_iterations = 1000;
   int max_extra_locations_per_object = 2;
+  /// Times a run may lift the motion layer's temporary hyperarc bans when no schedule avoids them
+  /// (the motion budget is then raised, so the same schedule is tried harder, not forever).
+  int max_ban_lifts = 3;
 };
 
 enum class TaskLayerStatus { kFeasible, kInfeasible, kTimeout };
@@ -31,6 +34,9 @@ struct TaskLayerResult {
   TaskPlan plan;
   std::vector<TransitionConfig> transitions;  ///< per plan step
   std::string reason;                         ///< why not feasible
+  /// The query had no schedule without the hyperarcs the motion layer failed on, so those bans were
+  /// lifted: the motion layer should search harder on the same hyperarcs.
+  bool motion_bans_lifted = false;
 };
 
 /// Sizes of the task-level representations: H_T as built, H_TE summed over all queries.
@@ -60,6 +66,8 @@ class TaskLayer {
 
  private:
   void rebuild();
+  /// Removes the temporary constraints (motion failures), logging each as lifted; false if none.
+  bool liftTemporaryConstraints(const std::string& why);
   bool expand(int object, const std::string& reason);
   std::vector<int> objectsToExpandAfterFailure() const;
 
@@ -72,6 +80,7 @@ class TaskLayer {
   GeometricReachability reachability_;
   TaskHypergraph graph_;
   TaskConstraintSet constraints_;
+  int ban_lifts_ = 0;
   std::size_t extended_vertices_ = 0;
   std::size_t extended_hyperarcs_ = 0;
   int queries_ = 0;

@@ -4,6 +4,7 @@
 
 #include "engine/log/memory_sink.h"
 #include "engine/plan/plan_validator.h"
+#include "engine/planners/lazy_dash.h"
 #include "engine/planners/planner.h"
 #include "engine/scenarios/scenario_registry.h"
 
@@ -60,6 +61,21 @@ TEST(LazyDashEndToEnd, TaskOnlyGivesATaskLevelFeasibleSchedule) {
   ASSERT_EQ(result.outcome, PlanOutcome::kSolved) << result.message;
   EXPECT_FALSE(result.plan.has_value());
   EXPECT_NE(result.task_plan_json.find("\"handover\""), std::string::npos);
+}
+
+// A motion query that runs out of budget bans its hyperarc for one task query. When no schedule avoids
+// the banned hyperarcs (sorting 2x2 has no alternative handover), the bans are lifted and the same
+// hyperarcs go back to the motion layer with a larger budget: starved roadmaps end solved, not infeasible.
+TEST(LazyDashEndToEnd, StarvedRoadmapsGetMoreBudgetInsteadOfInfeasible) {
+  const Scene scene = generateScenario("sorting", {{"robots", "2"}, {"objects", "2"}}, 1, RobotLibrary::loadDefault());
+  LazyDashParams params;
+  params.motion.roadmap.query_samples = 400;
+  log::MemorySink sink;
+  const PlanResult result = LazyDash(params).solve(scene, {}, Deadline(240), &sink);
+  ASSERT_EQ(result.outcome, PlanOutcome::kSolved) << result.message;
+  EXPECT_TRUE(validatePlan(scene, *result.plan).valid());
+  EXPECT_GT(sink.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created), 0);
+  EXPECT_GT(sink.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Lifted), 0);
 }
 
 TEST(LazyDashEndToEnd, StopFlagEndsTheRunPromptly) {
