@@ -116,19 +116,23 @@ bool TaskLayer::expand(int object, const std::string& reason) {
   std::vector<PlacementRegion> regions;
   for (const SceneSurface& s : scene.surfaces) regions.emplace_back(s);
   const ObjectLayout none = ObjectLayout::empty(scene);
-  for (int attempt = 0; attempt < kMoveOutAttempts; ++attempt) {
+  // First clear of every known location, so that moved-out objects can rest side by side; only if
+  // there is no room, clear of the anchored ones (starts and goals) alone.
+  for (int attempt = 0; attempt < 2 * kMoveOutAttempts; ++attempt) {
+    const bool clear_of_extras = attempt < kMoveOutAttempts;
     for (int r : robots) {
       const int s = static_cast<int>(rng_.integer(0, static_cast<std::int64_t>(regions.size()) - 1));
       const bool arm = scene.robots[r].model->kinematics == KinematicsKind::kUrDh;
       const auto pose = arm ? regions[s].sampleNear(obj.shape, scene.robots[r].X_WB.translation(), kMoveOutRadius, rng_, 4)
                             : regions[s].sample(obj.shape, rng_, 4);
       if (!pose) continue;
-      // Clear of every anchored location (starts and goals). Other extra poses may overlap: they are
-      // resampleable, and task conflict detection resamples them if both are ever occupied at once.
+      // Overlapping extra poses are allowed in the second pass: they are resampleable, and task
+      // conflict detection resamples them if both are ever occupied at once.
       bool clear = true;
       for (int o = 0; o < space_.objectCount() && clear; ++o)
         for (const ObjectLocation& l : space_.locations(o))
-          if (!l.resampleable && (l.X_WO.translation() - pose->translation()).norm() < kMoveOutSpacing) clear = false;
+          if ((clear_of_extras || !l.resampleable) && (l.X_WO.translation() - pose->translation()).norm() < kMoveOutSpacing)
+            clear = false;
       if (!clear || objectInCollision(sampler_.world(), sampler_.context(), object, *pose, none)) continue;
       if (!reachability_.canGrasp(r, object, *pose, GraspClass::kTop) &&
           !reachability_.canGrasp(r, object, *pose, GraspClass::kSide))

@@ -86,5 +86,25 @@ TEST(TaskConflictDetection, StockingNeedsATaskSpaceExpansion) {
   }
 }
 
+// Stocking with three layers: front and middle items of every cubby move out and back in reverse
+// order (non-monotone), twelve moved-out items at once in the worst case. The extra poses must leave
+// room for each other, else the query drowns in pairwise frontier constraints among them.
+TEST(TaskConflictDetection, ThreeLayerStockingIsTaskLevelFeasible) {
+  LayerRun run("stocking", {{"layers", "3"}, {"objects", "18"}}, 1);
+  ASSERT_EQ(run.result.status, TaskLayerStatus::kFeasible) << run.result.reason;
+  EXPECT_GE(run.sink.countTaskSpaceExpansions(), 12);
+  EXPECT_TRUE(run.visitsExtraLocation());
+  // Each new item ends at its rear goal: the schedule places every object at its goal last.
+  const TaskSpace& space = run.layer->space();
+  std::vector<int> last_location(run.scene.objects.size(), -1);
+  for (const TaskStep& s : run.result.plan.steps)
+    if (s.action.type == TaskArcType::kPlace) last_location[s.action.object] = s.action.location;
+  for (int o = 0; o < space.objectCount(); ++o) {
+    if (last_location[o] >= 0) {
+      EXPECT_EQ(last_location[o], space.goalLocation(o)) << run.scene.objects[o].id;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dash
