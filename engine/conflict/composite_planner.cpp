@@ -67,7 +67,10 @@ struct CompositeChecker {
     std::vector<RobotMotion> motions;
     for (std::size_t i = 0; i < qa.size(); ++i) motions.push_back({{problem->robots[i], qa[i], problem->held[i]}, qb[i]});
     for (const RobotState& p : problem->parked) motions.push_back({p, p.q});
-    return !motionsInCollision(*world, *context, motions, problem->layout);
+    // Finer than the schedule checker, which samples the same motion at other instants (its time is
+    // cut wherever any robot's timeline bends): a graze one sampling misses, the other may find.
+    return !motionsInCollision(*world, *context, motions, problem->layout, nullptr,
+                               {CheckScope::kAll, true, kSegmentResolution / 2});
   }
 };
 

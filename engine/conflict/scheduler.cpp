@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/conflict/parking.h"
+
 namespace dash {
 
 namespace {
@@ -165,13 +167,21 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
       CompositeProblem problem;
       problem.robots = movers;
       problem.layout = objects.layoutAt(depart);
+      // A robot in the way waits where it is clear of the participants' approach, transition and
+      // retreat: its home if that is clear, else a parking configuration (parking.h).
+      std::vector<RobotState> work;
+      for (const Participant& p : parts) {
+        work.push_back({p.robot, p.visit->q_pre, p.visit->held_before});
+        work.push_back({p.robot, p.visit->q, p.visit->held_before});
+        work.push_back({p.robot, p.visit->q_post, p.visit->held_after});
+      }
       for (std::size_t i = 0; i < movers.size(); ++i) {
         const int r = movers[i];
+        const HeldObject held = timelines[r].heldAt(kForever / 2);
         problem.start.push_back(timelines[r].last());
-        // A robot in the way steps aside to its home configuration (it must stay clear until the
-        // step is done); one already home can only dodge and come back.
-        problem.goal.push_back(i < parts.size() ? parts[i].visit->q_pre : scene.robots[r].home);
-        problem.held.push_back(timelines[r].heldAt(kForever / 2));
+        problem.goal.push_back(i < parts.size() ? parts[i].visit->q_pre
+                                                : parkingConfiguration(*world_, *context_, r, held, work, problem.layout));
+        problem.held.push_back(held);
       }
       for (const RobotState& st : parkedAt(-1, depart))
         if (std::find(movers.begin(), movers.end(), st.robot) == movers.end()) problem.parked.push_back(st);
@@ -341,6 +351,12 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
             --mode;
             continue;
           }
+        }
+        // The composite path itself in conflict among its movers: the checker's time cuts sample the
+        // motion at other instants than the planner did and found a graze. Plan it again.
+        if (conflict && mode == 3 && internal && composite_tries < params_.composite_attempts && replanComposite()) {
+          mode = 2;
+          continue;
         }
         // Still in conflict with the partner or with a robot standing still: plan the robots involved
         // together (ARC), adding the robot in the way to the subproblem.
