@@ -170,6 +170,10 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
         result.status = MotionStatus::kTimeout;
         return result;
       }
+      // H_M's anchors for this visit (approach start and retreat end around the transition
+      // configuration) are its construction; finding and validating the moves between them, roadmap
+      // growth included (Lazy-PRM grows while it queries), is the motion query.
+      log::PhaseTimer construction(*emitter_, log::Phase::MotionConstruction);
       const bool receiver = role == 1;
       const int r = receiver ? a.robot2 : a.robot;
       const Roles held = heldAround(a, tc, receiver);
@@ -196,6 +200,8 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
         const SceneRobot& sr = scene.robots[r];
         giver_approach_W = forwardKinematics(*sr.model, sr.X_WB, visit.q).X_WT.linear().col(2);
       }
+      construction.stop();
+      log::PhaseTimer query(*emitter_, log::Phase::MotionQuery);
       const MotionContext context{held.before, layouts[k], {}};
       auto transit = connect(r, at[r], visit.q_pre, context, deadline);
       // Local refinement: deep in a shelf cubby the short approach and retreat leave the arm where a
@@ -243,6 +249,7 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
     }
   }
   if (scene.end_at_home) {
+    log::PhaseTimer query(*emitter_, log::Phase::MotionQuery);
     for (int r = 0; r < robots; ++r) {
       const auto home = connect(r, at[r], scene.robots[r].home, MotionContext{{}, layouts.back(), {}}, deadline);
       if (!home) {

@@ -105,13 +105,8 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
       result.task_plan_json = layer.plan.toJson(task.space());
       return finish(PlanOutcome::kSolved, layer.plan.describe(task.space()));
     }
-    // The lazy motion layer builds H_M as it queries (anchors, then lazily validated moves), so its
-    // whole time is reported as the motion query; roadmap growth happens inside those queries.
-    MotionLayerResult motions;
-    {
-      log::PhaseTimer timer(emitter, log::Phase::MotionQuery);
-      motions = motion.plan(layer.plan, layer.transitions, task.space(), deadline);
-    }
+    // The motion layer times its own construction (H_M's anchors) and query (moves, roadmap growth).
+    MotionLayerResult motions = motion.plan(layer.plan, layer.transitions, task.space(), deadline);
     if (motions.status == MotionStatus::kTimeout) return finish(outcomeOf(TaskLayerStatus::kTimeout, deadline), "motion layer: timeout");
     if (motions.status == MotionStatus::kFailed) {
       if (motions.failed_step < 0) return finish(PlanOutcome::kInfeasible, "motion layer: " + motions.reason);
