@@ -57,9 +57,9 @@ for spec in "${SCENES[@]}"; do
     [ "$rc" -eq 0 ] && ok=$((ok + 1))
     steps=$(grep -c '^ *[0-9]*\. ' "$WORK/out" || true)
     phase() { grep '^time:' "$WORK/err" | grep -o "$1 [0-9.]*" | awk '{print $2}' | head -1; }
-    sizes=$(grep '^sizes:' "$WORK/err" | awk '{print $3, $5}')
-    cons=$(grep '^collision checks:' "$WORK/err" | grep -o 'constraints: [0-9]*' | awk '{print $2}')
-    exps=$(grep '^collision checks:' "$WORK/err" | grep -o 'expansions: [0-9]*' | awk '{print $2}')
+    sizes=$(grep '^sizes:' "$WORK/err" | awk '{print $3, $5}' || true)
+    cons=$(grep '^collision checks:' "$WORK/err" | grep -o 'constraints: [0-9]*' | awk '{print $2}' || true)
+    exps=$(grep '^collision checks:' "$WORK/err" | grep -o 'expansions: [0-9]*' | awk '{print $2}' || true)
     echo "$rc $steps $wall $cpu $(phase task_construction) $(phase task_query) $(phase task_conflict_detection) $sizes $cons $exps" >>"$WORK/rows"
   done
   col() { awk -v c="$1" '$1 == 0 {print $c}' "$WORK/rows" | median; }
