@@ -116,6 +116,14 @@ constexpr const char* kProgressView =
     "task_extended_vertices, task_extended_hyperarcs, motion_vertices, motion_hyperarcs, motion_extended_vertices, "
     "motion_extended_hyperarcs, roadmap_vertices, roadmap_edges, constraints, collision_checks FROM dash_progress";
 
+// Representation events with their names (dash_repr_events stores the codes of events.h).
+constexpr const char* kEventsView =
+    "CREATE VIEW dash_events AS SELECT run_id, seq, t, iteration,"
+    " CASE layer WHEN 0 THEN 'task' WHEN 1 THEN 'task_extended' WHEN 2 THEN 'motion' WHEN 3 THEN 'motion_extended'"
+    " END AS layer, CASE kind WHEN 0 THEN 'vertex' WHEN 1 THEN 'hyperarc' END AS kind,"
+    " CASE change WHEN 0 THEN 'added' WHEN 1 THEN 'removed' END AS change, arc_type, element_id, head, tail, label"
+    " FROM dash_repr_events";
+
 constexpr const char* kTimelineView =
     "CREATE VIEW dash_timeline AS"
     " SELECT run_id, seq, t, iteration, 'representation' AS type, layer || ' ' || kind ||"
@@ -161,6 +169,7 @@ void refreshArenaViews(sqlite3* db) {
   ensureView(db, "experiments", experimentsView(db));
   ensureView(db, "plannerConfigs", kPlannerConfigsView);
   ensureView(db, "progress", kProgressView);
+  ensureView(db, "dash_events", kEventsView);
   ensureView(db, "dash_timeline", kTimelineView);
 }
 

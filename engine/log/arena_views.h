@@ -21,6 +21,7 @@
 // - `progress` is (runid, time, then representation sizes, roadmap sizes, active constraints,
 //   collision checks) from the recorder's snapshots.
 // - `enums` is a real table (schema version 1), since its rows are fixed.
+// - `dash_events` shows dash_repr_events (schema version 4) with layer, kind and change by name.
 // - `dash_timeline` is every event of every run in one ordered list (run_id, seq), for drill-down.
 #include <string>
 #include <vector>

@@ -94,6 +94,9 @@ MergeReport mergeDatabases(const std::string& out_path, const std::vector<std::s
     total.added += r.added;
     total.replaced += r.replaced;
     total.skipped += r.skipped;
+    total.dispatches_added += r.dispatches_added;
+    total.dispatches_replaced += r.dispatches_replaced;
+    total.dispatches_skipped += r.dispatches_skipped;
   }
   return total;
 }

@@ -1,5 +1,6 @@
 // The writer thread of a ResultsDb: drains recorders' batches into SQLite, one transaction per
-// drain, and keeps each run's running sizes for the progress snapshots.
+// drain, and keeps each run's running figures (sizes for the progress snapshots, everything
+// finishRun would otherwise derive from the stored events).
 #include <charconv>
 #include <cstdio>
 
@@ -9,16 +10,34 @@ namespace dash::log {
 namespace {
 
 // "[1,2,3]": JSON, so SQL can read it with json_each.
-void writeIds(const std::vector<std::uint32_t>& ids, std::string& out) {
+void writeIds(const IdView& ids, std::string& out) {
   out.clear();
   out.push_back('[');
   char buffer[16];
-  for (std::size_t i = 0; i < ids.size(); ++i) {
+  for (std::uint32_t i = 0; i < ids.size(); ++i) {
     if (i != 0) out.push_back(',');
     const auto end = std::to_chars(buffer, buffer + sizeof(buffer), ids[i]).ptr;
     out.append(buffer, end);
   }
   out.push_back(']');
+}
+
+constexpr int kEventColumns = 12;  // run_id, seq, t, iteration, layer, kind, change, arc_type, element_id, head, tail, label
+
+void bindEventRow(sql::Statement& st, int first, const ResultsDb::Impl::EventRow& r) {
+  st.bind(first, r.run_id).bind(first + 1, r.seq).bind(first + 2, r.t).bind(first + 3, r.iteration);
+  st.bind(first + 4, r.layer).bind(first + 5, r.kind).bind(first + 6, r.change);
+  if (r.kind == static_cast<int>(ElementKind::Hyperarc)) {
+    st.bindStatic(first + 7, r.arc_type).bindStatic(first + 9, r.head).bindStatic(first + 10, r.tail);
+  } else {
+    st.bindNull(first + 7).bindNull(first + 9).bindNull(first + 10);
+  }
+  st.bind(first + 8, static_cast<std::int64_t>(r.id));
+  if (r.label.empty()) {
+    st.bindNull(first + 11);
+  } else {
+    st.bindStatic(first + 11, r.label);
+  }
 }
 
 }  // namespace
@@ -29,7 +48,7 @@ void ResultsDb::Impl::enqueue(Batch batch) {
   if (stopping) return;  // the database is closing; its recorders were closed first
   if (!writer.joinable()) writer = std::thread([this] { writerLoop(); });
   queue_changed.wait(lock, [&] { return queued_events < options.max_queued_events || stopping; });
-  queued_events += batch.events.size();
+  queued_events += batch.events.events();
   batch.ticket = ++enqueued;
   queue.push_back(std::move(batch));
   queue_changed.notify_all();
@@ -64,13 +83,17 @@ void ResultsDb::Impl::writerLoop() {
       std::lock_guard db_lock(mutex);
       try {
         beginWriteLocked();
+        EventView event;
         for (const Batch& batch : work) {
           RunState& state = run_states[batch.run_id];
           if (!state.error.empty()) continue;
-          for (const Event& e : batch.events) writeEventLocked(batch.run_id, state, e);
+          EventBatch::Reader reader(batch.events);
+          while (reader.next(event)) writeEventLocked(batch.run_id, state, event);
         }
+        flushEventRowsLocked();  // before the batches they point into go
         commitLocked();
       } catch (const std::exception& e) {
+        pending_rows = 0;
         rollbackLocked();
         for (const Batch& batch : work) {
           if (run_states[batch.run_id].error.empty()) run_states[batch.run_id].error = e.what();
@@ -83,66 +106,103 @@ void ResultsDb::Impl::writerLoop() {
   }
 }
 
-void ResultsDb::Impl::writeEventLocked(std::int64_t run_id, RunState& s, const Event& e) {
+void ResultsDb::Impl::writeEventLocked(std::int64_t run_id, RunState& s, const EventView& e) {
   const std::int64_t seq = s.seq++;
-  if (const auto* r = std::get_if<RepresentationEvent>(&e.payload)) {
-    const int layer = static_cast<int>(r->layer);
-    auto& count = r->kind == ElementKind::Vertex ? s.sizes.vertices[layer] : s.sizes.hyperarcs[layer];
-    count += r->change == ElementChange::Added ? 1 : -1;
-    sql::Statement& st = insert_event;
-    st.bind(1, run_id).bind(2, seq).bind(3, e.t).bind(4, e.iteration);
-    st.bindStatic(5, toString(r->layer)).bindStatic(6, toString(r->kind)).bindStatic(7, toString(r->change));
-    if (r->kind == ElementKind::Hyperarc) {
-      writeIds(r->head, s.head_buffer);
-      writeIds(r->tail, s.tail_buffer);
-      st.bindStatic(8, r->arc_type).bindStatic(10, s.head_buffer).bindStatic(11, s.tail_buffer);
-    } else {
-      st.bindNull(8).bindNull(10).bindNull(11);
+  RunFigures& f = s.figures;
+  ++f.events;
+  f.max_iteration = std::max<std::int64_t>(f.max_iteration, e.iteration);
+  f.last_t = std::max(f.last_t, e.t);
+  switch (e.type) {
+    case 0: {  // representation: buffered for insert_events
+      const int layer = static_cast<int>(e.layer);
+      auto& count = e.kind == ElementKind::Vertex ? f.sizes.vertices[layer] : f.sizes.hyperarcs[layer];
+      count += e.change == ElementChange::Added ? 1 : -1;
+      EventRow& row = event_rows[static_cast<std::size_t>(pending_rows++)];
+      row.run_id = run_id;
+      row.seq = seq;
+      row.t = e.t;
+      row.iteration = e.iteration;
+      row.layer = layer;
+      row.kind = static_cast<int>(e.kind);
+      row.change = static_cast<int>(e.change);
+      row.id = e.id;
+      row.arc_type = e.arc_type;
+      row.label = e.label;
+      if (e.kind == ElementKind::Hyperarc) {
+        writeIds(e.head, row.head);
+        writeIds(e.tail, row.tail);
+      }
+      if (pending_rows == kRowsPerInsert) flushEventRowsLocked();
+      break;
     }
-    st.bind(9, static_cast<std::int64_t>(r->id));
-    if (r->label.empty()) {
-      st.bindNull(12);
-    } else {
-      st.bindStatic(12, r->label);
+    case 1: {
+      f.active_constraints += e.action == ConstraintAction::Created ? 1 : -1;
+      if (e.action == ConstraintAction::Created) ++f.constraints[static_cast<int>(e.constraint_kind)];
+      writeIds(e.vertices, s.ids_buffer);
+      sql::Statement& st = insert_constraint;
+      st.bind(1, run_id).bind(2, seq).bind(3, e.t).bind(4, e.iteration);
+      st.bindStatic(5, toString(e.constraint_kind)).bindStatic(6, toString(e.action));
+      st.bind(7, static_cast<std::int64_t>(e.id)).bindStatic(8, e.content).bindStatic(9, s.ids_buffer);
+      st.bindOrNull(10, e.conflict);
+      st.runKeepingBindings();
+      break;
     }
-    st.run();
-  } else if (const auto* c = std::get_if<ConstraintEvent>(&e.payload)) {
-    s.active_constraints += c->action == ConstraintAction::Created ? 1 : -1;
-    writeIds(c->vertices, s.head_buffer);
-    sql::Statement& st = insert_constraint;
-    st.bind(1, run_id).bind(2, seq).bind(3, e.t).bind(4, e.iteration);
-    st.bindStatic(5, toString(c->kind)).bindStatic(6, toString(c->action)).bind(7, static_cast<std::int64_t>(c->id));
-    st.bindStatic(8, c->content).bindStatic(9, s.head_buffer).bindOrNull(10, c->conflict);
-    st.run();
-  } else if (const auto* x = std::get_if<TaskSpaceExpansionEvent>(&e.payload)) {
-    sql::Statement& st = insert_expansion;
-    st.bind(1, run_id).bind(2, seq).bind(3, e.t).bind(4, e.iteration).bind(5, static_cast<std::int64_t>(x->object_id));
-    st.bindStatic(6, x->object_label).bindStatic(7, x->added).bindStatic(8, x->reason);
-    st.run();
-  } else if (const auto* p = std::get_if<PhaseEvent>(&e.payload)) {
-    sql::Statement& st = insert_phase;
-    st.bind(1, run_id).bind(2, seq).bind(3, e.iteration).bindStatic(4, toString(p->phase));
-    st.bind(5, e.t - p->duration).bind(6, e.t).bind(7, p->duration);
-    st.run();
-    if (e.t - s.last_progress_t >= s.progress_interval) writeProgressLocked(run_id, s, e.t, e.iteration);
-  } else if (const auto* k = std::get_if<CounterEvent>(&e.payload)) {
-    if (k->name == "roadmap_vertices") s.roadmap_vertices = k->value;
-    if (k->name == "roadmap_edges") s.roadmap_edges = k->value;
-    if (k->name == "collision_checks_eager") s.checks_eager = k->value;
-    if (k->name == "collision_checks_lazy") s.checks_lazy = k->value;
-    if (k->name == "collision_checks") s.checks_total = k->value;
-    sql::Statement& st = insert_counter;
-    st.bind(1, run_id).bind(2, seq).bind(3, e.t).bind(4, e.iteration).bindStatic(5, k->name).bind(6, k->value);
-    st.run();
+    case 2: {
+      ++f.expansions;
+      sql::Statement& st = insert_expansion;
+      st.bind(1, run_id).bind(2, seq).bind(3, e.t).bind(4, e.iteration).bind(5, static_cast<std::int64_t>(e.id));
+      st.bindStatic(6, e.object_label).bindStatic(7, e.added).bindStatic(8, e.reason);
+      st.runKeepingBindings();
+      break;
+    }
+    case 3: {
+      f.phases[static_cast<int>(e.phase)] += e.duration;
+      sql::Statement& st = insert_phase;
+      st.bind(1, run_id).bind(2, seq).bind(3, e.iteration).bindStatic(4, toString(e.phase));
+      st.bind(5, e.t - e.duration).bind(6, e.t).bind(7, e.duration);
+      st.runKeepingBindings();
+      if (e.t - s.last_progress_t >= s.progress_interval) writeProgressLocked(run_id, s, e.t, e.iteration);
+      break;
+    }
+    default: {
+      if (e.name == "roadmap_vertices") s.roadmap_vertices = e.value;
+      if (e.name == "roadmap_edges") s.roadmap_edges = e.value;
+      if (e.name == "collision_checks_eager") s.checks_eager = e.value;
+      if (e.name == "collision_checks_lazy") s.checks_lazy = e.value;
+      if (e.name == "collision_checks") s.checks_total = e.value;
+      if (auto it = f.counters.find(e.name); it != f.counters.end()) {
+        it->second = e.value;
+      } else {
+        f.counters.emplace(std::string(e.name), e.value);
+      }
+      sql::Statement& st = insert_counter;
+      st.bind(1, run_id).bind(2, seq).bind(3, e.t).bind(4, e.iteration).bindStatic(5, e.name).bind(6, e.value);
+      st.runKeepingBindings();
+      break;
+    }
   }
+}
+
+void ResultsDb::Impl::flushEventRowsLocked() {
+  if (pending_rows == kRowsPerInsert) {
+    for (int r = 0; r < kRowsPerInsert; ++r) bindEventRow(insert_events, 1 + r * kEventColumns, event_rows[static_cast<std::size_t>(r)]);
+    insert_events.runKeepingBindings();
+  } else {
+    for (int r = 0; r < pending_rows; ++r) {
+      bindEventRow(insert_event, 1, event_rows[static_cast<std::size_t>(r)]);
+      insert_event.runKeepingBindings();
+    }
+  }
+  pending_rows = 0;
 }
 
 void ResultsDb::Impl::writeProgressLocked(std::int64_t run_id, RunState& s, double t, int iteration) {
   s.last_progress_t = t;
   sql::Statement& st = insert_progress;
   st.bind(1, run_id).bind(2, t).bind(3, iteration);
-  for (int l = 0; l < kLayerCount; ++l) st.bind(4 + 2 * l, s.sizes.vertices[l]).bind(5 + 2 * l, s.sizes.hyperarcs[l]);
-  st.bind(12, s.roadmap_vertices).bind(13, s.roadmap_edges).bind(14, s.active_constraints);
+  const RepresentationSizes& sizes = s.figures.sizes;
+  for (int l = 0; l < kLayerCount; ++l) st.bind(4 + 2 * l, sizes.vertices[l]).bind(5 + 2 * l, sizes.hyperarcs[l]);
+  st.bind(12, s.roadmap_vertices).bind(13, s.roadmap_edges).bind(14, s.figures.active_constraints);
   st.bind(15, s.checks_total >= 0 ? s.checks_total : s.checks_eager + s.checks_lazy);
   st.run();
 }

@@ -170,8 +170,13 @@ ResultsDb::ResultsDb(const std::string& path, OpenMode mode, DbOptions options) 
   while (names.step()) m.parameter_names.insert(names.columnText(0));
   refreshArenaViews();
   sqlite3* db = m.db.get();
-  m.insert_event = sql::Statement(db, "INSERT INTO dash_events (run_id, seq, t, iteration, layer, kind, change, "
-                                      "arc_type, element_id, head, tail, label) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)");
+  const std::string insert_events = "INSERT INTO dash_repr_events (run_id, seq, t, iteration, layer, kind, change, "
+                                    "arc_type, element_id, head, tail, label) VALUES ";
+  const std::string one_event = "(?,?,?,?,?,?,?,?,?,?,?,?)";
+  std::string many_events = insert_events + one_event;
+  for (int r = 1; r < Impl::kRowsPerInsert; ++r) many_events += "," + one_event;
+  m.insert_event = sql::Statement(db, insert_events + one_event);
+  m.insert_events = sql::Statement(db, many_events);
   m.insert_constraint = sql::Statement(db, "INSERT INTO dash_constraints (run_id, seq, t, iteration, kind, action, "
                                            "constraint_id, content, vertices, conflict) VALUES (?,?,?,?,?,?,?,?,?,?)");
   m.insert_expansion = sql::Statement(db, "INSERT INTO dash_expansions (run_id, seq, t, iteration, object_id, "
@@ -305,9 +310,13 @@ void ResultsDb::finishRun(const std::string& uuid, const RunSummary& summary) {
   auto it = m.active.find(uuid);
   if (it != m.active.end()) elapsed = std::chrono::duration<double>(Clock::now() - it->second.start).count();
   std::string recorder_error;
-  if (auto state = m.run_states.find(run_id); state != m.run_states.end()) recorder_error = state->second.error;
+  const RunFigures* tally = nullptr;  // stands for the stored events only if the writer stored every one
+  if (auto state = m.run_states.find(run_id); state != m.run_states.end()) {
+    recorder_error = state->second.error;
+    if (recorder_error.empty()) tally = &state->second.figures;
+  }
   try {
-    finishRunLocked(m, run_id, summary, elapsed, recorder_error);
+    finishRunLocked(m, run_id, summary, elapsed, recorder_error, tally);
   } catch (...) {
     m.rollbackLocked();
     throw;

@@ -131,6 +131,13 @@ struct MergeReport {
   std::int64_t added = 0;     ///< runs new to the output
   std::int64_t replaced = 0;  ///< runs the output had as 'running' and the input had finished
   std::int64_t skipped = 0;   ///< runs the output already had
+  /// Dispatch records (keyed by their id, which carries a random per-server tag): new to the output,
+  /// finished in the input but still active in the output (the input's copy wins), already present.
+  /// An id the output holds for a different dispatch (other created time, client, scene, ...) is
+  /// imported under that id plus a random suffix, counted as added.
+  std::int64_t dispatches_added = 0;
+  std::int64_t dispatches_replaced = 0;
+  std::int64_t dispatches_skipped = 0;
 };
 
 enum class OpenMode { ReadWrite, ReadOnly };

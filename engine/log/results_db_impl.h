@@ -5,20 +5,38 @@
 // batches to `queue` (queue_mutex). One writer thread drains the queue into SQLite under `mutex`,
 // which also guards every other use of the connection. Lock order: a recorder's mutex, then
 // queue_mutex; `mutex` is never held while waiting for the queue, so nothing waits in a circle.
+#include <array>
 #include <condition_variable>
 #include <deque>
 #include <map>
 #include <mutex>
 #include <set>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
 #include "engine/core/stopwatch.h"
+#include "engine/log/event_batch.h"
+#include "engine/log/event_emitter.h"
 #include "engine/log/results_db.h"
 #include "engine/log/sqlite_util.h"
 
 namespace dash::log {
+
+/// What a run's stored events add up to: the figures finishRun fills in when a summary leaves them
+/// unset.
+struct RunFigures {
+  RepresentationSizes sizes;
+  PhaseTotals phases{};
+  std::array<std::int64_t, kConstraintKindCount> constraints{};  ///< created, per kind
+  std::int64_t active_constraints = 0;                          ///< created minus lifted
+  std::int64_t expansions = 0;
+  std::map<std::string, std::int64_t, std::less<>> counters;  ///< the latest value of each counter
+  std::int64_t max_iteration = 0;
+  double last_t = 0.0;
+  std::int64_t events = 0;  ///< rows in the event tables (a phase counts once, at its end)
+};
 
 struct ResultsDb::Impl {
   std::string path;
@@ -30,7 +48,11 @@ struct ResultsDb::Impl {
   bool in_transaction = false;
 
   // Prepared once, used by the writer thread (and finishRun for the last progress row).
-  sql::Statement insert_event, insert_constraint, insert_expansion, insert_phase, insert_counter, insert_progress;
+  // insert_events inserts kRowsPerInsert representation events at once: most of a row's cost in
+  // SQLite is per statement run, and representation events are the bulk of every stream.
+  static constexpr int kRowsPerInsert = 64;
+  sql::Statement insert_event, insert_events, insert_constraint, insert_expansion, insert_phase, insert_counter,
+      insert_progress;
 
   std::set<std::string> parameter_names;  ///< every scenario parameter name in dash_experiments
 
@@ -41,24 +63,38 @@ struct ResultsDb::Impl {
   };
   std::map<std::string, ActiveRun> active;  ///< runs begun by this object and not yet finished
 
-  /// What the writer keeps per recorded run (derived sizes for progress snapshots, the next seq).
+  /// What the writer keeps per recorded run: the figures of the events written so far (for progress
+  /// snapshots, and for finishRun, which would otherwise derive them with SQL), and the next seq.
   struct RunState {
     std::int64_t seq = 0;
-    RepresentationSizes sizes;
-    std::int64_t active_constraints = 0;
+    RunFigures figures;
     std::int64_t roadmap_vertices = 0, roadmap_edges = 0;
     std::int64_t checks_eager = 0, checks_lazy = 0, checks_total = -1;
     double progress_interval = 0.05;
     double last_progress_t = -1e300;
-    std::string error;  ///< the first write failure; events after it are dropped
-    std::string head_buffer, tail_buffer;
+    std::string error;  ///< the first write failure; events after it are dropped (figures no longer match)
+    std::string ids_buffer;
   };
   std::map<std::int64_t, RunState> run_states;  ///< by run id
+
+  /// Representation events waiting for a full insert_events (they point into batches of the
+  /// current drain, which outlive them: the writer flushes them before it commits).
+  struct EventRow {
+    std::int64_t run_id = 0, seq = 0;
+    double t = 0.0;
+    int iteration = 0;
+    int layer = 0, kind = 0, change = 0;
+    std::uint32_t id = 0;
+    std::string_view arc_type, label;
+    std::string head, tail;  ///< JSON arrays (hyperarcs); kept between rows so their buffers are reused
+  };
+  std::vector<EventRow> event_rows = std::vector<EventRow>(kRowsPerInsert);
+  int pending_rows = 0;
 
   // The writer thread and its queue.
   struct Batch {
     std::int64_t run_id = 0;
-    std::vector<Event> events;
+    EventBatch events;
     std::uint64_t ticket = 0;  ///< enqueue order
   };
   std::mutex queue_mutex;
@@ -84,7 +120,9 @@ struct ResultsDb::Impl {
   void waitDrained();
   void stopWriter();
   void writerLoop();
-  void writeEventLocked(std::int64_t run_id, RunState& state, const Event& event);
+  void writeEventLocked(std::int64_t run_id, RunState& state, const EventView& event);
+  /// Inserts the representation events still waiting in event_rows.
+  void flushEventRowsLocked();
   void writeProgressLocked(std::int64_t run_id, RunState& state, double t, int iteration);
 };
 

@@ -89,7 +89,7 @@ DbInfo ResultsDb::info() const {
   info.planner_configs = sql::selectInt(db, "SELECT COUNT(*) FROM dash_planner_configs");
   info.batches = sql::selectInt(db, "SELECT COUNT(*) FROM dash_batches");
   info.events = sql::selectInt(db,
-                               "SELECT (SELECT COUNT(*) FROM dash_events) + (SELECT COUNT(*) FROM dash_constraints) + "
+                               "SELECT (SELECT COUNT(*) FROM dash_repr_events) + (SELECT COUNT(*) FROM dash_constraints) + "
                                "(SELECT COUNT(*) FROM dash_expansions) + (SELECT COUNT(*) FROM dash_phases) + "
                                "(SELECT COUNT(*) FROM dash_counters)");
   return info;

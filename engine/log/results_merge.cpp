@@ -1,4 +1,5 @@
-// ResultsDb::mergeFrom: runs from another results file, keyed by their global uuid.
+// ResultsDb::mergeFrom: runs from another results file, keyed by their global uuid, and its dispatch
+// records, keyed by their id.
 #include <sqlite3.h>
 #include <unistd.h>
 
@@ -16,7 +17,7 @@ namespace dash::log {
 namespace {
 
 // Tables keyed by run_id whose rows follow their run.
-constexpr const char* kRunChildTables[] = {"dash_events",   "dash_constraints", "dash_expansions", "dash_phases",
+constexpr const char* kRunChildTables[] = {"dash_repr_events", "dash_constraints", "dash_expansions", "dash_phases",
                                            "dash_counters", "dash_progress",    "dash_run_tags"};
 
 std::vector<std::string> columnsOf(sqlite3* db, const std::string& schema, const std::string& table) {
@@ -98,6 +99,60 @@ class MigratedCopy {
   std::string temporary_;
 };
 
+// Dispatch records follow their id (see MergeReport). A record of the output is the same dispatch
+// when what was asked is the same (created, client, who, scene, planner, time scale) and its id is
+// the input's, or the input's plus the suffix an earlier merge gave it: a later state of it (ended)
+// replaces an active one, else the output's copy stays. Runs are referred to by uuid, so run_uuid
+// needs no mapping.
+void mergeDispatches(sqlite3* db, MergeReport& report) {
+  const std::string same_request =
+      "m.created IS s.created AND m.client IS s.client AND m.requested_by IS s.requested_by AND m.scene IS s.scene "
+      "AND m.planner IS s.planner AND m.time_scale IS s.time_scale";
+  sql::exec(db, "CREATE TEMP TABLE merge_dispatch AS SELECT s.id AS old_id, s.ended IS NOT NULL AS finished, "
+                "COALESCE((SELECT m.id FROM main.dash_dispatches m WHERE m.id = s.id AND " + same_request + "), "
+                "(SELECT m.id FROM main.dash_dispatches m WHERE length(m.id) = length(s.id) + 9 AND "
+                "substr(m.id, 1, length(s.id) + 1) = s.id || '-' AND " + same_request + " LIMIT 1)) AS same_id, "
+                "NULL AS action, NULL AS new_id FROM src.dash_dispatches s");
+  sql::exec(db,
+            "UPDATE temp.merge_dispatch SET action = CASE "
+            "WHEN same_id IS NOT NULL THEN CASE WHEN finished AND (SELECT ended FROM main.dash_dispatches "
+            "WHERE id = same_id) IS NULL THEN 'replace' ELSE 'skip' END "
+            "WHEN old_id IN (SELECT id FROM main.dash_dispatches) THEN 'other' ELSE 'new' END");
+  sql::exec(db, "UPDATE temp.merge_dispatch SET new_id = CASE action WHEN 'replace' THEN same_id ELSE old_id END "
+                "WHERE action <> 'other'");
+  // An id the output holds for another dispatch (two servers, before ids carried a random tag): a
+  // fresh suffix until it is free.
+  while (sql::selectInt(db, "SELECT COUNT(*) FROM temp.merge_dispatch WHERE new_id IS NULL AND action = 'other'") > 0) {
+    sql::exec(db,
+              "UPDATE temp.merge_dispatch SET new_id = old_id || '-' || lower(hex(randomblob(4))) "
+              "WHERE new_id IS NULL AND action = 'other'");
+    sql::exec(db,
+              "UPDATE temp.merge_dispatch SET new_id = NULL WHERE action = 'other' AND new_id IN "
+              "(SELECT id FROM main.dash_dispatches UNION ALL SELECT old_id FROM temp.merge_dispatch)");
+  }
+  auto count = [&](const char* actions) {
+    return sql::selectInt(db, std::string("SELECT COUNT(*) FROM temp.merge_dispatch WHERE action IN (") + actions + ")");
+  };
+  report.dispatches_added = count("'new', 'other'");
+  report.dispatches_replaced = count("'replace'");
+  report.dispatches_skipped = count("'skip'");
+  sql::exec(db, "DELETE FROM main.dash_dispatch_arms WHERE dispatch_id IN "
+                "(SELECT new_id FROM temp.merge_dispatch WHERE action = 'replace')");
+  sql::exec(db, "DELETE FROM main.dash_dispatches WHERE id IN "
+                "(SELECT new_id FROM temp.merge_dispatch WHERE action = 'replace')");
+  const std::string copied = " JOIN temp.merge_dispatch md ON md.old_id = s.";
+  const std::string wanted = " WHERE md.action IN ('new', 'other', 'replace')";
+  const auto dispatch_columns = without(columnsOf(db, "main", "dash_dispatches"), {"id"});
+  sql::exec(db, "INSERT INTO main.dash_dispatches (id, " + joined(dispatch_columns, "") + ") SELECT md.new_id, " +
+                    joined(dispatch_columns, "s.") + " FROM src.dash_dispatches s" + copied + "id" + wanted +
+                    " ORDER BY s.created, s.id");
+  const auto arm_columns = without(columnsOf(db, "main", "dash_dispatch_arms"), {"dispatch_id"});
+  sql::exec(db, "INSERT INTO main.dash_dispatch_arms (dispatch_id, " + joined(arm_columns, "") +
+                    ") SELECT md.new_id, " + joined(arm_columns, "s.") + " FROM src.dash_dispatch_arms s" + copied +
+                    "dispatch_id" + wanted);
+  sql::exec(db, "DROP TABLE temp.merge_dispatch");
+}
+
 }  // namespace
 
 MergeReport ResultsDb::mergeFrom(const std::string& other_path) {
@@ -162,6 +217,7 @@ MergeReport ResultsDb::mergeFrom(const std::string& other_path) {
                         " s JOIN temp.merge_map mm ON s.run_id = mm.old_id");
     }
     sql::exec(db, "DROP TABLE temp.merge_replace; DROP TABLE temp.merge_new; DROP TABLE temp.merge_map");
+    mergeDispatches(db, report);
 
     sql::Statement names(db, "SELECT DISTINCT j.key FROM main.dash_experiments e, json_each(e.params) j");
     while (names.step()) m.parameter_names.insert(names.columnText(0));

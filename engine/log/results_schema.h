@@ -3,7 +3,7 @@
 // older file up to date, and the checks that refuse a newer file or a file that is not ours.
 //
 // Tables are versioned; views are not: every view (Planner Arena's `experiments`, `plannerConfigs`,
-// `runs`, `progress`, and `dash_timeline`) is derived and recreated by refreshArenaViews()
+// `runs`, `progress`, `dash_events` and `dash_timeline`) is derived and recreated by refreshArenaViews()
 // (arena_views.h), so a migration only ever touches dash_* tables and `enums`.
 //
 // Version history:
@@ -11,6 +11,7 @@
 //      dash_constraints, dash_expansions, dash_phases, dash_counters, dash_progress, enums
 //   2  dash_runs.exit_signal, dash_runs.note, dash_run_tags (tags and notes per run)
 //   3  dash_dispatches, dash_dispatch_arms (plans dispatched to arm controllers: dispatch_store.h)
+//   4  dash_events becomes a view over dash_repr_events (layer, kind and change as integer codes)
 #include <string>
 
 #include "engine/core/check.h"
@@ -19,7 +20,7 @@ struct sqlite3;
 
 namespace dash::log {
 
-inline constexpr int kSchemaVersion = 3;
+inline constexpr int kSchemaVersion = 4;
 /// PRAGMA application_id of a dashbench results file ("DaSH").
 inline constexpr int kApplicationId = 0x44615348;
 

@@ -9,6 +9,8 @@
 
 namespace dash::log {
 
+struct RunFigures;
+
 /// `SET` list of finishRun's UPDATE, in the order finishLocked binds it.
 extern const char* const kFinishAssignments;
 
@@ -27,8 +29,11 @@ std::int64_t runIdOf(sqlite3* db, const std::string& uuid);
 
 /// Writes a run's outcome (status 'running' no more): `summary`, with every unset figure derived
 /// from the run's stored events, plus a last progress row. `elapsed`: wall time since beginRun,
-/// if this process began it. Caller holds the database mutex.
+/// if this process began it. `figures`: the writer's tally of the events it stored for the run
+/// (exactly what SQL over them would give, without reading them back), if it recorded every one;
+/// nullptr: derive them with SQL. Caller holds the database mutex.
 void finishRunLocked(ResultsDb::Impl& m, std::int64_t run_id, const RunSummary& summary,
-                     std::optional<double> elapsed, const std::string& recorder_error);
+                     std::optional<double> elapsed, const std::string& recorder_error,
+                     const RunFigures* figures = nullptr);
 
 }  // namespace dash::log

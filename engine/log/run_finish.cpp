@@ -13,13 +13,6 @@
 namespace dash::log {
 namespace {
 
-int layerIndex(const std::string& name) {
-  for (int i = 0; i < kLayerCount; ++i) {
-    if (name == kLayerNames[i]) return i;
-  }
-  return -1;
-}
-
 template <std::size_t N>
 int nameIndex(const std::array<const char*, N>& names, const std::string& name) {
   for (std::size_t i = 0; i < N; ++i) {
@@ -28,42 +21,34 @@ int nameIndex(const std::array<const char*, N>& names, const std::string& name) 
   return -1;
 }
 
-// What a run's stored events say, for the figures a summary leaves unset.
-struct Derived {
-  RepresentationSizes sizes;
-  PhaseTotals phases{};
-  std::array<std::int64_t, kConstraintKindCount> constraints{};
-  std::int64_t active_constraints = 0;
-  std::int64_t expansions = 0;
-  std::map<std::string, std::int64_t> counters;
-  std::int64_t max_iteration = 0;
-  double last_t = 0.0;
-  std::int64_t events = 0;
+void see(RunFigures& f, const sql::Statement& st, int count_col, int iteration_col, int t_col) {
+  f.events += st.columnInt(count_col);
+  f.max_iteration = std::max(f.max_iteration, st.columnInt(iteration_col));
+  f.last_t = std::max(f.last_t, st.columnDouble(t_col));
+}
 
-  void see(const sql::Statement& st, int count_col, int iteration_col, int t_col) {
-    events += st.columnInt(count_col);
-    max_iteration = std::max(max_iteration, st.columnInt(iteration_col));
-    last_t = std::max(last_t, st.columnDouble(t_col));
-  }
-};
-
-Derived deriveFromTables(sqlite3* db, std::int64_t run_id) {
-  Derived d;
+// What a run's stored events say, for the figures a summary leaves unset (when the writer has no
+// tally of them: a run recorded by another process, or one whose recording failed).
+RunFigures deriveFromTables(sqlite3* db, std::int64_t run_id) {
+  RunFigures d;
   sql::Statement ev(db,
-                    "SELECT layer, kind, SUM(CASE change WHEN 'added' THEN 1 ELSE -1 END), COUNT(*), MAX(iteration), "
-                    "MAX(t) FROM dash_events WHERE run_id = ? GROUP BY layer, kind");
+                    "SELECT layer, kind, SUM(CASE change WHEN 0 THEN 1 ELSE -1 END), COUNT(*), MAX(iteration), "
+                    "MAX(t) FROM dash_repr_events WHERE run_id = ? GROUP BY layer, kind");
   ev.bind(1, run_id);
   while (ev.step()) {
-    const int layer = layerIndex(ev.columnText(0));
-    if (layer >= 0) (ev.columnText(1) == "vertex" ? d.sizes.vertices : d.sizes.hyperarcs)[layer] = ev.columnInt(2);
-    d.see(ev, 3, 4, 5);
+    const std::int64_t layer = ev.columnInt(0);
+    if (layer >= 0 && layer < kLayerCount) {
+      (ev.columnInt(1) == static_cast<int>(ElementKind::Vertex) ? d.sizes.vertices : d.sizes.hyperarcs)[layer] =
+          ev.columnInt(2);
+    }
+    see(d, ev, 3, 4, 5);
   }
   sql::Statement ph(db, "SELECT phase, SUM(duration), COUNT(*), MAX(iteration), MAX(t_end) FROM dash_phases "
                         "WHERE run_id = ? GROUP BY phase");
   ph.bind(1, run_id);
   while (ph.step()) {
     if (const int p = nameIndex(kPhaseNames, ph.columnText(0)); p >= 0) d.phases[p] = ph.columnDouble(1);
-    d.see(ph, 2, 3, 4);
+    see(d, ph, 2, 3, 4);
   }
   sql::Statement co(db, "SELECT kind, SUM(action = 'created'), SUM(CASE action WHEN 'created' THEN 1 ELSE -1 END), "
                         "COUNT(*), MAX(iteration), MAX(t) FROM dash_constraints WHERE run_id = ? GROUP BY kind");
@@ -71,13 +56,13 @@ Derived deriveFromTables(sqlite3* db, std::int64_t run_id) {
   while (co.step()) {
     if (const int k = nameIndex(kConstraintKindNames, co.columnText(0)); k >= 0) d.constraints[k] = co.columnInt(1);
     d.active_constraints += co.columnInt(2);
-    d.see(co, 3, 4, 5);
+    see(d, co, 3, 4, 5);
   }
   sql::Statement ex(db, "SELECT COUNT(*), MAX(iteration), MAX(t) FROM dash_expansions WHERE run_id = ?");
   ex.bind(1, run_id);
   if (ex.step()) {
     d.expansions = ex.columnInt(0);
-    d.see(ex, 0, 1, 2);
+    see(d, ex, 0, 1, 2);
   }
   // SQLite takes the bare column `value` from the row holding MAX(seq): the latest value.
   sql::Statement cn(db, "SELECT name, value, MAX(seq) FROM dash_counters WHERE run_id = ? GROUP BY name");
@@ -85,11 +70,11 @@ Derived deriveFromTables(sqlite3* db, std::int64_t run_id) {
   while (cn.step()) d.counters[cn.columnText(0)] = cn.columnInt(1);
   sql::Statement cs(db, "SELECT COUNT(*), MAX(iteration), MAX(t) FROM dash_counters WHERE run_id = ?");
   cs.bind(1, run_id);
-  if (cs.step()) d.see(cs, 0, 1, 2);
+  if (cs.step()) see(d, cs, 0, 1, 2);
   return d;
 }
 
-std::optional<std::int64_t> counterOf(const Derived& d, const char* name) {
+std::optional<std::int64_t> counterOf(const RunFigures& d, const char* name) {
   auto it = d.counters.find(name);
   if (it == d.counters.end()) return std::nullopt;
   return it->second;
@@ -98,8 +83,8 @@ std::optional<std::int64_t> counterOf(const Derived& d, const char* name) {
 }  // namespace
 
 void finishRunLocked(ResultsDb::Impl& m, std::int64_t run_id, const RunSummary& s, std::optional<double> elapsed,
-                     const std::string& recorder_error) {
-  const Derived d = deriveFromTables(m.db.get(), run_id);
+                     const std::string& recorder_error, const RunFigures* figures) {
+  const RunFigures d = figures != nullptr ? *figures : deriveFromTables(m.db.get(), run_id);
   const PhaseTotals phases = s.phase_seconds.value_or(d.phases);
   const RepresentationSizes sizes = s.sizes.value_or(d.sizes);
   const auto constraints = s.constraints.value_or(d.constraints);

@@ -4,8 +4,9 @@
 // snapshot of the representation sizes to dash_progress (Planner Arena's `progress`) at phase
 // ends, at most every `progress_interval` seconds of run time, plus a last one at finishRun.
 //
-// The planner's thread only copies each event into a batch; the ResultsDb's writer thread turns
-// full batches (DbOptions::batch_events, or batch_seconds of run time) into one transaction each.
+// The planner's thread only copies each event's fields into a flat batch buffer (event_batch.h: no
+// allocation per event); the ResultsDb's writer thread turns full batches (DbOptions::batch_events,
+// or batch_seconds of run time) into rows, a drain of the queue per transaction.
 // finishRun hands over what is left and waits until it is committed. onEvent never throws into
 // the planner: a database failure stops the recording, and finishRun reports it in the run's
 // error text. Several threads may emit into one recorder.
@@ -14,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/log/event_batch.h"
 #include "engine/log/events.h"
 #include "engine/log/results_db.h"
 
@@ -48,7 +50,7 @@ class SqliteRecorder final : public EventSink {
   const std::string uuid_;
   const std::int64_t run_id_;
   mutable std::mutex mutex_;
-  std::vector<Event> pending_;
+  EventBatch pending_;
   double last_handover_t_ = 0.0;
   std::int64_t accepted_ = 0;
   bool closed_ = false;

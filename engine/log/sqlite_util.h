@@ -81,6 +81,9 @@ class Statement {
   bool step();
   /// Steps to the end, then resets (for INSERT/UPDATE).
   void run();
+  /// run() without clearing the bindings: for hot statements whose every parameter is bound again
+  /// before the next run.
+  void runKeepingBindings();
   void reset();
 
   int columnCount() const;

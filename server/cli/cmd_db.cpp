@@ -23,12 +23,14 @@ const char* const kDbHelp =
     "  db export FILE --format csv|json [--runs UUID,UUID,...] [--events] [--out PATH]\n"
     "      Runs (all, or the listed ones) as CSV or JSON; --events adds each run's events (JSON).\n"
     "  db merge OUT IN...\n"
-    "      Adds the runs of each IN to OUT (created if missing), by run uuid: never twice.\n"
+    "      Adds the runs of each IN to OUT (created if missing), by run uuid, and the dispatch\n"
+    "      records, by dispatch id: never twice.\n"
     "  db info FILE\n"
     "      Schema version, runs by status, table sizes (migrates an older file).\n\n"
-    "Tables: dash_runs, dash_events, dash_constraints, dash_expansions, dash_phases, dash_counters,\n"
-    "dash_progress, dash_batches, dash_run_tags; views: dash_timeline and Planner Arena's experiments,\n"
-    "plannerConfigs, runs, progress (and the enums table).\n";
+    "Tables: dash_runs, dash_repr_events, dash_constraints, dash_expansions, dash_phases, dash_counters,\n"
+    "dash_progress, dash_batches, dash_run_tags, dash_dispatches, dash_dispatch_arms; views: dash_events\n"
+    "(dash_repr_events with names), dash_timeline and Planner Arena's experiments, plannerConfigs, runs,\n"
+    "progress (and the enums table).\n";
 
 namespace {
 
@@ -88,6 +90,9 @@ int runMerge(const std::vector<std::string>& words) {
   const log::MergeReport r = log::mergeDatabases(pos[0], {pos.begin() + 1, pos.end()});
   std::printf("%s: %lld runs added, %lld replaced (were running), %lld already present\n", pos[0].c_str(),
               static_cast<long long>(r.added), static_cast<long long>(r.replaced), static_cast<long long>(r.skipped));
+  std::printf("%s: %lld dispatches added, %lld replaced (were active), %lld already present\n", pos[0].c_str(),
+              static_cast<long long>(r.dispatches_added), static_cast<long long>(r.dispatches_replaced),
+              static_cast<long long>(r.dispatches_skipped));
   return kExitOk;
 }
 

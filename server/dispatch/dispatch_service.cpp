@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "engine/core/check.h"
 
@@ -29,7 +30,8 @@ std::string resultText(ResultCode code, const std::string& message) {
   return std::string(resultCodeName(code)) + (message.empty() ? "" : ": " + message);
 }
 
-/// Wall-clock milliseconds, for dispatch ids that stay unique across server restarts.
+/// Wall-clock milliseconds, for dispatch ids that stay unique across server restarts (and a random
+/// tag per service across servers).
 long long wallMillis() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
@@ -51,6 +53,10 @@ const char* dispatchStateName(DispatchState state) {
 
 DispatchService::DispatchService(DispatchConfig config) : config_(std::move(config)) {
   if (!config_.library) config_.library = RobotLibrary::loadDefault();
+  std::random_device device;
+  char tag[16];
+  std::snprintf(tag, sizeof tag, "%08x", static_cast<unsigned>(device()));
+  id_tag_ = tag;
   monitor_ = std::thread([this] { monitorLoop(); });
 }
 
@@ -396,7 +402,7 @@ std::optional<DispatchStatus> DispatchService::status(bool with_trace) const {
 }
 
 std::string DispatchService::newIdLocked() {
-  return "d" + std::to_string(wallMillis()) + "-" + std::to_string(next_dispatch_++);
+  return "d" + std::to_string(wallMillis()) + "-" + id_tag_ + "-" + std::to_string(next_dispatch_++);
 }
 
 void DispatchService::noteRefusedLocked(const Plan& plan, const DispatchOptions& options, const DispatchOrigin& origin,

@@ -67,7 +67,11 @@ struct DispatchOptions {
   std::optional<double> start_tolerance;
   std::optional<double> path_tolerance;
   std::optional<double> goal_tolerance;
-  double time_scale = 1.0;  ///< > 1 slows every arm down alike (keeps them coordinated)
+  /// Multiplies every time of the plan (and its gripper events), for every arm alike so they stay
+  /// coordinated: > 1 slower, < 1 faster. The pre-flight speed check runs on the scaled times, so a
+  /// scale that would take any joint past its velocity limit is refused (the reason names the
+  /// smallest scale that passes).
+  double time_scale = 1.0;
   std::optional<bool> validate_geometry;
 };
 
@@ -184,6 +188,8 @@ class DispatchService {
   bool preflight_in_progress_ = false;
   std::uint64_t next_session_ = 1;
   std::uint64_t next_dispatch_ = 1;
+  /// Random per service: dispatch ids stay unique across servers, so `db merge` can key on them.
+  std::string id_tag_;
   bool stopping_ = false;
   std::thread monitor_;
 };

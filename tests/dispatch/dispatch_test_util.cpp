@@ -277,4 +277,53 @@ std::string writeTokenFile(const std::string& name, const std::string& token) {
   return path;
 }
 
+std::string csv(const JointVector& q) {
+  std::ostringstream out;
+  out.precision(17);
+  for (Eigen::Index i = 0; i < q.size(); ++i) out << (i ? "," : "") << q[i];
+  return out.str();
+}
+
+CliUrArm startCliUrArm(const std::string& url, const std::string& robot, const JointVector& initial,
+                       const std::string& token_file, const std::string& log_name) {
+  CliUrArm arm;
+  arm.gripper = std::make_unique<SimGripper>();
+  const std::vector<int> ports = freePorts(4);  // reverse, script, trajectory, script command
+  SimUrRobotOptions options;
+  options.initial = initial;
+  options.reverse_port = ports[0];
+  options.script_port = ports[1];
+  options.trajectory_port = ports[2];
+  options.script_command_port = ports[3];
+  arm.robot = std::make_unique<SimUrRobot>(options);
+  arm.robot->start();
+  const std::vector<std::string> args = {"controller",
+                                         "--server", url,
+                                         "--token-file", token_file,
+                                         "--robot", robot,
+                                         "--driver", "ur",
+                                         "--robot-ip", "127.0.0.1",
+                                         "--host-ip", "127.0.0.1",
+                                         "--listen-host", "127.0.0.1",
+                                         "--reverse-port", std::to_string(ports[0]),
+                                         "--script-port", std::to_string(ports[1]),
+                                         "--trajectory-port", std::to_string(ports[2]),
+                                         "--script-command-port", std::to_string(ports[3]),
+                                         "--rtde-port", std::to_string(arm.robot->rtdePort()),
+                                         "--gripper", "robotiq",
+                                         "--gripper-host", "127.0.0.1",
+                                         "--gripper-port", std::to_string(arm.gripper->port())};
+  arm.agent = std::make_unique<ChildProcess>(args, ::testing::TempDir() + log_name);
+  return arm;
+}
+
+std::unique_ptr<ChildProcess> startCliSimArm(const std::string& url, const std::string& robot,
+                                             const JointVector& initial, const std::string& token_file,
+                                             const std::string& log_name, const std::vector<std::string>& extra) {
+  std::vector<std::string> args = {"controller", "--server",   url,   "--token-file", token_file, "--robot",
+                                   robot,        "--driver",   "sim", "--sim-start",  csv(initial)};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return std::make_unique<ChildProcess>(args, ::testing::TempDir() + log_name);
+}
+
 }  // namespace dash::dispatch::test

@@ -161,4 +161,26 @@ class ChildProcess {
 
 std::string writeTokenFile(const std::string& name, const std::string& token = kToken);
 
+/// `dashbench controller --driver ur` as a child process, with the simulated UR robot and its gripper
+/// in this process on free ports. Members are destroyed agent first (it talks to the robot).
+struct CliUrArm {
+  std::unique_ptr<SimGripper> gripper;
+  std::unique_ptr<SimUrRobot> robot;
+  std::unique_ptr<ChildProcess> agent;
+
+  void reset() {  // the agent first, as the destructor does
+    agent.reset();
+    robot.reset();
+    gripper.reset();
+  }
+};
+CliUrArm startCliUrArm(const std::string& url, const std::string& robot, const JointVector& initial,
+                       const std::string& token_file, const std::string& log_name);
+/// `dashbench controller --driver sim --sim-start INITIAL [extra...]` as a child process.
+std::unique_ptr<ChildProcess> startCliSimArm(const std::string& url, const std::string& robot,
+                                             const JointVector& initial, const std::string& token_file,
+                                             const std::string& log_name, const std::vector<std::string>& extra = {});
+/// Joint values as the agents' command line takes them ("0,-1.5708,..."), full precision.
+std::string csv(const JointVector& q);
+
 }  // namespace dash::dispatch::test

@@ -73,6 +73,8 @@ TEST(CliDb, QueryInfoExportAndMerge) {
   EXPECT_NE(r.output.find("2 runs added"), std::string::npos) << r.output;
   r = dashbench("db merge " + quoted(out) + " " + quoted(path) + " " + quoted(other));
   EXPECT_NE(r.output.find("0 runs added, 0 replaced (were running), 2 already present"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("0 dispatches added, 0 replaced (were active), 0 already present"), std::string::npos)
+      << r.output;
 
   r = dashbench("db frobnicate x");
   EXPECT_EQ(r.exit_code, 2);

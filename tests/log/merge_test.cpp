@@ -2,6 +2,7 @@
 #include <sqlite3.h>
 
 #include "engine/log/db_tools.h"
+#include "engine/log/dispatch_store.h"
 #include "engine/log/results_db.h"
 #include "tests/log/log_test_util.h"
 
@@ -130,6 +131,110 @@ TEST(Merge, AnOlderInputIsMigratedInACopyAndLeftUntouched) {
   EXPECT_EQ(sqlite3_column_int(st, 0), 1);
   sqlite3_finalize(st);
   sqlite3_close(raw);
+}
+
+DispatchRecord dispatchRecord(const std::string& id, const std::string& created, const std::string& state,
+                              std::vector<std::string> robots) {
+  DispatchRecord r{.id = id,
+                   .created = created,
+                   .started = state == "refused" ? "" : created,
+                   .ended = state == "running" ? "" : created,
+                   .state = state,
+                   .reason = state == "aborted" ? "operator pressed stop" : "",
+                   .scene = "sorting_r2_o2_s1",
+                   .planner = "lazy-dash",
+                   .requested_by = "alice",
+                   .client = "127.0.0.1",
+                   .time_scale = 0.765};
+  for (const std::string& robot : robots) {
+    r.arms.push_back(DispatchArmRecord{.robot = robot,
+                                       .driver = robot == "ur5e_0" ? "ur" : "sim",
+                                       .status = state == "running" ? "executing" : state,
+                                       .result = state == "running" ? "" : (state == "aborted" ? "CANCELLED" : "SUCCESSFUL"),
+                                       .samples = state == "running" ? 10 : 1200});
+  }
+  return r;
+}
+
+// (id, state, number of arms) of every dispatch in a file, by id.
+std::map<std::string, std::pair<std::string, std::size_t>> dispatchesOf(const std::string& path) {
+  const DispatchStore store(path, OpenMode::ReadOnly);
+  std::map<std::string, std::pair<std::string, std::size_t>> out;
+  for (const DispatchRecord& r : store.list(1000)) out[r.id] = {r.state, r.arms.size()};
+  return out;
+}
+
+TEST(Merge, DispatchRecordsArriveOnceAndAFinishedOneReplacesItsActiveCopy) {
+  testing::TempDir dir;
+  const std::string a = dir.file("a.db"), b = dir.file("b.db"), out = dir.file("out.db");
+  RunMetadata meta = testing::sampleMeta();
+  meta.uuid = "5b0c7a52-0000-4000-8000-00000000000d";
+  {
+    ResultsDb db(a);
+    testing::recordRun(db, meta, 3);
+  }
+  {
+    DispatchStore store(a);
+    DispatchRecord done = dispatchRecord("d1-0000aaaa-1", "2026-11-21T10:00:00.000Z", "succeeded", {"ur5e_0", "ur5e_1"});
+    done.run_uuid = meta.uuid;
+    store.save(done);
+    store.save(dispatchRecord("d1-0000aaaa-2", "2026-11-21T10:01:00.000Z", "running", {"ur5e_0", "ur5e_1"}));
+  }
+  {
+    DispatchStore store(b);
+    // The same dispatch, copied from the same server after it ended: it replaces a's running copy.
+    store.save(dispatchRecord("d1-0000aaaa-2", "2026-11-21T10:01:00.000Z", "aborted", {"ur5e_0", "ur5e_1"}));
+    store.save(dispatchRecord("d2-0000bbbb-1", "2026-11-21T11:00:00.000Z", "refused", {"ur5e_0"}));
+    // Another dispatch under a's first id (the old id format, two servers in the same millisecond).
+    DispatchRecord other = dispatchRecord("d1-0000aaaa-1", "2026-11-21T10:00:00.000Z", "succeeded", {"ur5e_3"});
+    other.client = "10.0.0.7";
+    store.save(other);
+  }
+
+  const MergeReport first = mergeDatabases(out, {a, b});
+  EXPECT_EQ(first.added, 1);
+  EXPECT_EQ(first.dispatches_added, 4);  // a's two, b's refused one, b's other d1-0000aaaa-1
+  EXPECT_EQ(first.dispatches_replaced, 1);
+  EXPECT_EQ(first.dispatches_skipped, 0);
+  auto merged = dispatchesOf(out);
+  ASSERT_EQ(merged.size(), 4u);
+  EXPECT_EQ(merged.at("d1-0000aaaa-1"), std::make_pair(std::string("succeeded"), std::size_t{2}));
+  EXPECT_EQ(merged.at("d1-0000aaaa-2"), std::make_pair(std::string("aborted"), std::size_t{2}));
+  EXPECT_EQ(merged.at("d2-0000bbbb-1"), std::make_pair(std::string("refused"), std::size_t{1}));
+  std::string renamed;
+  for (const auto& [id, _] : merged) {
+    if (id.rfind("d1-0000aaaa-1-", 0) == 0) renamed = id;
+  }
+  ASSERT_EQ(renamed.size(), std::string("d1-0000aaaa-1-").size() + 8) << "the colliding id gets a suffix";
+  const DispatchStore store(out, OpenMode::ReadOnly);
+  const auto other = store.get(renamed);
+  ASSERT_TRUE(other.has_value());
+  EXPECT_EQ(other->client, "10.0.0.7");
+  ASSERT_EQ(other->arms.size(), 1u);
+  EXPECT_EQ(other->arms[0].robot, "ur5e_3");
+  const auto aborted = store.get("d1-0000aaaa-2");
+  EXPECT_EQ(aborted->reason, "operator pressed stop");
+  EXPECT_EQ(aborted->arms[0].result, "CANCELLED");
+  EXPECT_EQ(aborted->arms[1].samples, 1200);
+  EXPECT_EQ(store.get("d1-0000aaaa-1")->run_uuid, meta.uuid);
+  EXPECT_TRUE(ResultsDb(out, OpenMode::ReadOnly).getRun(meta.uuid).has_value());
+
+  // Merging the same files again (in either order) adds nothing, and the finished copy stays.
+  const MergeReport second = mergeDatabases(out, {b, a});
+  EXPECT_EQ(second.dispatches_added, 0);
+  EXPECT_EQ(second.dispatches_replaced, 0);
+  EXPECT_EQ(second.dispatches_skipped, 5);
+  EXPECT_EQ(dispatchesOf(out), merged);
+  const DispatchStore again(out, OpenMode::ReadOnly);
+  EXPECT_EQ(again.count(), 4);
+  EXPECT_EQ(testing::integrityCheck(out), "ok");
+
+  // Merged into a file that already holds a's running copy: replaced there too.
+  const MergeReport into_a = mergeDatabases(a, {b});
+  EXPECT_EQ(into_a.dispatches_replaced, 1);
+  EXPECT_EQ(into_a.dispatches_added, 2);
+  EXPECT_EQ(dispatchesOf(a).size(), 4u);
+  EXPECT_EQ(dispatchesOf(a).at("d1-0000aaaa-2").first, "aborted");
 }
 
 }  // namespace

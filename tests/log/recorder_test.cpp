@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <atomic>
 #include <thread>
@@ -221,6 +222,101 @@ TEST(Recorder, MarkInterruptedClosesRunsOfDeadProcessesOnly) {
   EXPECT_GT(closed->summary.sizes->vertices[0], 0);  // derived from the events it left
   EXPECT_EQ(db.getRun(mine)->status, RunStatus::Running);
   EXPECT_EQ(db.markInterrupted(), 0);
+}
+
+// Representation events go in by kRowsPerInsert (64) at a time, the rest one by one: 200 of them
+// exercise both. Every field comes back as emitted, through the dash_events view.
+TEST(Recorder, EveryRepresentationFieldIsStoredAsEmitted) {
+  testing::TempDir dir;
+  ResultsDb db(dir.file("r.db"));
+  const std::string uuid = db.beginRun(testing::sampleMeta());
+  MemorySink mirror;
+  {
+    auto recorder = db.recorder(uuid);
+    TeeSink tee({recorder.get(), &mirror});
+    EventEmitter em(&tee);
+    const char* types[] = {"pick", "place", "handover", "transition"};
+    for (std::uint32_t i = 0; i < 200; ++i) {
+      em.setIteration(static_cast<int>(i / 7));
+      const Layer layer = static_cast<Layer>(i % kLayerCount);
+      if (i % 3 == 0) {
+        em.vertex(layer, i, i % 2 ? "R" + std::to_string(i) + "+O\xc3\xa9 \"q\"" : "");
+      } else if (i % 3 == 1) {
+        std::vector<std::uint32_t> tail(i % 5);
+        for (std::uint32_t k = 0; k < tail.size(); ++k) tail[k] = 4'000'000'000u + k;
+        em.hyperarc(layer, types[i % 4], i, {i, i + 1}, tail, i % 2 ? "" : "arc " + std::to_string(i));
+      } else {
+        em.removed(layer, i % 2 ? ElementKind::Vertex : ElementKind::Hyperarc, i - 1);
+      }
+    }
+    db.finishRun(uuid, {});
+  }
+  const SqlRows rows = db.select("SELECT seq, t, iteration, layer, kind, change, arc_type, element_id, head, tail, label "
+                                 "FROM dash_events WHERE run_id = ? ORDER BY seq",
+                                 {db.getRun(uuid)->id});
+  ASSERT_EQ(rows.rows.size(), mirror.size());
+  auto ids = [](const std::vector<std::uint32_t>& v) {
+    std::string out = "[";
+    for (std::size_t k = 0; k < v.size(); ++k) out += (k ? "," : "") + std::to_string(v[k]);
+    return out + "]";
+  };
+  auto text = [](const std::string& s) { return s.empty() ? SqlValue() : SqlValue(s); };
+  const std::vector<Event> emitted = mirror.events();
+  for (std::size_t i = 0; i < rows.rows.size(); ++i) {
+    const Event& e = emitted[i];
+    const auto& r = std::get<RepresentationEvent>(e.payload);
+    const bool arc = r.kind == ElementKind::Hyperarc;
+    const std::vector<SqlValue> expected = {static_cast<std::int64_t>(i), e.t, std::int64_t{e.iteration},
+                                            std::string(toString(r.layer)), std::string(toString(r.kind)),
+                                            std::string(toString(r.change)), arc ? SqlValue(r.arc_type) : SqlValue(),
+                                            static_cast<std::int64_t>(r.id), arc ? SqlValue(ids(r.head)) : SqlValue(),
+                                            arc ? SqlValue(ids(r.tail)) : SqlValue(), text(r.label)};
+    EXPECT_EQ(rows.rows[i], expected) << "event " << i;
+  }
+}
+
+// finishRun takes the unset figures from the writer's tally of the run; a run finished by another
+// process (markInterrupted) gets them from SQL over its stored events. Both must agree: the same
+// events finished both ways, in two copies of one file.
+TEST(Recorder, TheWritersTallyEqualsWhatSqlDerivesFromTheStoredEvents) {
+  testing::TempDir dir;
+  const std::string path = dir.file("r.db"), copy = dir.file("copy.db");
+  ResultsDb db(path);
+  const std::string uuid = db.beginRun(testing::sampleMeta());
+  auto recorder = db.recorder(uuid);
+  {
+    EventEmitter em(recorder.get());
+    testing::emitScriptedRun(em, 40);
+  }
+  db.flush();
+  sqlite3* raw = nullptr;
+  ASSERT_EQ(sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(raw, ("VACUUM INTO '" + copy + "'").c_str(), nullptr, nullptr, nullptr), SQLITE_OK)
+      << sqlite3_errmsg(raw);
+  sqlite3_close(raw);
+  db.finishRun(uuid, {});
+  ResultsDb other(copy);
+  ASSERT_EQ(other.markInterrupted(), 1);
+
+  const RunRecord tallied = *db.getRun(uuid);
+  const RunRecord derived = *other.getRun(uuid);
+  EXPECT_GT(tallied.event_count, 500);
+  EXPECT_EQ(tallied.event_count, derived.event_count);
+  EXPECT_EQ(tallied.summary.iterations, derived.summary.iterations);
+  EXPECT_EQ(tallied.summary.sizes->vertices, derived.summary.sizes->vertices);
+  EXPECT_EQ(tallied.summary.sizes->hyperarcs, derived.summary.sizes->hyperarcs);
+  EXPECT_EQ(*tallied.summary.phase_seconds, *derived.summary.phase_seconds);
+  EXPECT_EQ(*tallied.summary.constraints, *derived.summary.constraints);
+  EXPECT_EQ(tallied.summary.task_space_expansions, derived.summary.task_space_expansions);
+  EXPECT_EQ(tallied.summary.collision_checks_eager, derived.summary.collision_checks_eager);
+  EXPECT_EQ(tallied.summary.collision_checks_lazy, derived.summary.collision_checks_lazy);
+  EXPECT_EQ(tallied.collision_checks, derived.collision_checks);
+  EXPECT_EQ(tallied.summary.roadmap_vertices, derived.summary.roadmap_vertices);
+  EXPECT_EQ(tallied.summary.roadmap_edges, derived.summary.roadmap_edges);
+  // The last progress row (written by finishRun) holds the same sizes and active constraints.
+  const std::string last = "SELECT task_vertices, motion_hyperarcs, constraints FROM dash_progress WHERE run_id = ? "
+                           "ORDER BY t DESC LIMIT 1";
+  EXPECT_EQ(db.select(last, {tallied.id}).rows, other.select(last, {derived.id}).rows);
 }
 
 TEST(Recorder, BatchesTagsAndFilters) {

@@ -241,6 +241,22 @@ TEST(Schema, AVersion1FileIsMigratedAndKeepsItsRuns) {
   EXPECT_EQ(old->meta.seed, 7u);
   EXPECT_EQ(old->event_count, 3);
   EXPECT_EQ(old->summary.sizes->vertices[0], 2);
+  // Version 4 moved the events into dash_repr_events (codes); the view shows them as they were.
+  const SqlRows events = db.select("SELECT seq, t, iteration, layer, kind, change, arc_type, element_id, head, tail, "
+                                   "label FROM dash_events WHERE run_id = 1 ORDER BY seq");
+  ASSERT_EQ(events.rows.size(), 3u);
+  EXPECT_EQ(events.rows[2], (std::vector<SqlValue>{std::int64_t{2}, 0.3, std::int64_t{1}, std::string("task"),
+                                                   std::string("hyperarc"), std::string("added"), std::string("pick"),
+                                                   std::int64_t{0}, std::string("[2]"), std::string("[0,1]"),
+                                                   std::string("pick")}));
+  EXPECT_EQ(events.rows[0][10], SqlValue(std::string("R1")));
+  EXPECT_EQ(events.rows[0][6], SqlValue());  // a vertex has no arc type
+  EXPECT_EQ(db.select("SELECT layer, kind, change FROM dash_repr_events WHERE run_id = 1 AND seq = 2").rows.at(0),
+            (std::vector<SqlValue>{std::int64_t{0}, std::int64_t{1}, std::int64_t{0}}));
+  EXPECT_EQ(db.select("SELECT type FROM sqlite_schema WHERE name = 'dash_events'").rows.at(0).at(0),
+            SqlValue(std::string("view")));
+  EXPECT_EQ(db.select("SELECT COUNT(*) FROM dash_timeline WHERE run_id = 1").rows.at(0).at(0),
+            SqlValue(std::int64_t{3}));
   EXPECT_FALSE(old->summary.exit_signal.has_value());
   // Version 2's additions work on the migrated file.
   db.addTag("old-run-0001", "baseline");
@@ -272,7 +288,7 @@ TEST(Schema, AVersion2FileGetsTheDispatchHistory) {
   DispatchStore store(path);
   {
     const ResultsDb db(path, OpenMode::ReadOnly);
-    EXPECT_EQ(db.schemaVersion(), 3);
+    EXPECT_EQ(db.schemaVersion(), kSchemaVersion);
     EXPECT_EQ(db.getRun(uuid)->status, RunStatus::Solved);
   }
   DispatchRecord r;
