@@ -64,7 +64,8 @@ tables() {
            time_motion_construction, time_motion_query, time_conflict_resolution,
            task_vertices, task_hyperarcs, task_extended_vertices, task_extended_hyperarcs,
            motion_vertices, motion_hyperarcs, motion_extended_vertices, motion_extended_hyperarcs,
-           collision_checks_eager, collision_checks_lazy
+           collision_checks_eager, collision_checks_lazy, iterations, constraints_motion,
+           roadmap_vertices, roadmap_edges
     FROM dash_runs WHERE batch_id = '$id' AND status NOT IN ('running', 'cancelled', 'pending')),
   long(scene, planner, m, v) AS (
               SELECT scene, planner, 'total', total_time FROM r WHERE status = 'solved'
@@ -83,7 +84,9 @@ tables() {
     UNION ALL SELECT scene, planner, 'mev', motion_extended_vertices FROM r WHERE status = 'solved'
     UNION ALL SELECT scene, planner, 'mea', motion_extended_hyperarcs FROM r WHERE status = 'solved'
     UNION ALL SELECT scene, planner, 'ce', collision_checks_eager FROM r WHERE status = 'solved'
-    UNION ALL SELECT scene, planner, 'cl', collision_checks_lazy FROM r WHERE status = 'solved'),
+    UNION ALL SELECT scene, planner, 'cl', collision_checks_lazy FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 'rv', roadmap_vertices FROM r WHERE status = 'solved'
+    UNION ALL SELECT scene, planner, 're', roadmap_edges FROM r WHERE status = 'solved'),
   ranked AS (SELECT scene, planner, m, v, ROW_NUMBER() OVER (PARTITION BY scene, planner, m ORDER BY v) AS i,
                     COUNT(*) OVER (PARTITION BY scene, planner, m) AS n FROM long),
   med AS (SELECT scene, planner, m, AVG(v) AS v FROM ranked WHERE i IN ((n + 1) / 2, (n + 2) / 2)
@@ -97,18 +100,24 @@ tables() {
           MAX(CASE m WHEN 'tea' THEN v END) AS tea, MAX(CASE m WHEN 'mv' THEN v END) AS mv,
           MAX(CASE m WHEN 'ma' THEN v END) AS ma, MAX(CASE m WHEN 'mev' THEN v END) AS mev,
           MAX(CASE m WHEN 'mea' THEN v END) AS mea, MAX(CASE m WHEN 'ce' THEN v END) AS ce,
-          MAX(CASE m WHEN 'cl' THEN v END) AS cl
+          MAX(CASE m WHEN 'cl' THEN v END) AS cl, MAX(CASE m WHEN 'rv' THEN v END) AS rv,
+          MAX(CASE m WHEN 're' THEN v END) AS re
         FROM med GROUP BY scene, planner),
   c AS (SELECT scene, planner, MIN(family) AS family, MIN(objects) AS objects, COUNT(*) AS runs,
-               SUM(status = 'solved') AS solved, SUM(status = 'timeout') AS timeouts
+               SUM(status = 'solved') AS solved, SUM(status = 'timeout') AS timeouts,
+               SUM(status = 'infeasible') AS infeasible,
+               SUM(status NOT IN ('solved', 'timeout', 'infeasible')) AS crashed
         FROM r GROUP BY scene, planner),
   s AS (SELECT DISTINCT scene, family, objects FROM c),
   j AS (SELECT s.scene, s.family, s.objects,
                lc.runs AS l_runs, lc.solved AS l_solved, dc.runs AS d_runs, dc.solved AS d_solved,
+               lc.timeouts AS l_timeouts, lc.infeasible AS l_infeasible, lc.crashed AS l_crashed,
+               dc.timeouts AS d_timeouts, dc.infeasible AS d_infeasible, dc.crashed AS d_crashed,
                l.total AS l_total, d.total AS d_total, l.tv AS l_tv, l.ta AS l_ta, d.tv AS d_tv, d.ta AS d_ta,
                l.tev AS l_tev, l.tea AS l_tea, l.mv AS l_mv, l.ma AS l_ma, d.mv AS d_mv, d.ma AS d_ma,
                l.mev AS l_mev, l.mea AS l_mea, d.mev AS d_mev, d.mea AS d_mea,
-               l.ce AS l_ce, l.cl AS l_cl, d.ce AS d_ce, d.cl AS d_cl
+               l.ce AS l_ce, l.cl AS l_cl, d.ce AS d_ce, d.cl AS d_cl,
+               l.rv AS l_rv, l.re AS l_re, d.rv AS d_rv, d.re AS d_re
         FROM s LEFT JOIN c lc ON lc.scene = s.scene AND lc.planner = 'lazy-dash'
                LEFT JOIN c dc ON dc.scene = s.scene AND dc.planner = 'dash'
                LEFT JOIN w l ON l.scene = s.scene AND l.planner = 'lazy-dash'
@@ -117,6 +126,14 @@ tables() {
   # shellcheck disable=SC2059
   num() { printf "$f2" "$1" "$1"; }
   pair() { echo "CASE WHEN $1 IS NULL THEN '-' ELSE printf('%d/%d', $1, $2) END"; }
+  # solved/runs and why the others failed, e.g. "3/5 (1 timeout; 1 infeasible)" (no commas: CSV).
+  outcome() {
+    echo "printf('%d/%d', IFNULL(${1}_solved, 0), IFNULL(${1}_runs, 0)) ||
+      CASE WHEN IFNULL(${1}_runs, 0) > IFNULL(${1}_solved, 0) THEN ' (' || SUBSTR(
+        CASE WHEN ${1}_timeouts > 0 THEN printf('; %d timeout', ${1}_timeouts) ELSE '' END ||
+        CASE WHEN ${1}_infeasible > 0 THEN printf('; %d infeasible', ${1}_infeasible) ELSE '' END ||
+        CASE WHEN ${1}_crashed > 0 THEN printf('; %d crashed', ${1}_crashed) ELSE '' END, 3) || ')' ELSE '' END"
+  }
   ratio() { echo "CASE WHEN $1 > 0 AND $2 IS NOT NULL THEN printf('%.1fx', 1.0 * $2 / $1) ELSE '-' END"; }
 
   echo "Batch $id (medians over the solved runs; x = DaSH / Lazy-DaSH)"
@@ -124,20 +141,21 @@ tables() {
   echo "Total time and motion representation"
   echo
   query "$with SELECT scene AS Scene,
-      printf('%d/%d', IFNULL(l_solved, 0), IFNULL(l_runs, 0)) AS \"Lazy solved\",
-      printf('%d/%d', IFNULL(d_solved, 0), IFNULL(d_runs, 0)) AS \"DaSH solved\",
+      $(outcome l) AS \"Lazy solved\", $(outcome d) AS \"DaSH solved\",
       $(num l_total) AS \"Lazy total (s)\", $(num d_total) AS \"DaSH total (s)\",
       $(ratio l_total d_total) AS \"total x\",
       $(pair l_mv l_ma) AS \"Lazy H_M V/A\", $(pair d_mv d_ma) AS \"DaSH H_M V/A\",
       $(ratio l_ma d_ma) AS \"H_M A x\", $(ratio l_mv d_mv) AS \"H_M V x\"
     FROM j ORDER BY family DESC, objects" | markdown
   echo
-  echo "Representation sizes (V/A) and collision checks (eager / lazy)"
+  echo "Representation sizes (V/A), the roadmaps under H_M (vertices/edges: Lazy-PRM's, unvalidated;"
+  echo "DaSH's og::PRM, validated in every planning space) and collision checks (eager / lazy)"
   echo
   query "$with SELECT scene AS Scene,
       $(pair l_tv l_ta) AS \"Lazy H_T\", $(pair d_tv d_ta) AS \"DaSH H_T\", $(pair l_tev l_tea) AS \"Lazy H_TE\",
       $(pair l_mv l_ma) AS \"Lazy H_M\", $(pair d_mv d_ma) AS \"DaSH H_M\",
       $(pair l_mev l_mea) AS \"Lazy H_ME\", $(pair d_mev d_mea) AS \"DaSH H_ME\",
+      $(pair l_rv l_re) AS \"Lazy roadmaps\", $(pair d_rv d_re) AS \"DaSH roadmaps\",
       $(pair l_ce l_cl) AS \"Lazy checks\", $(pair d_ce d_cl) AS \"DaSH checks\"
     FROM j ORDER BY family DESC, objects" | markdown
   echo
@@ -149,6 +167,51 @@ tables() {
       $(num mc) AS \"motion constr\", $(num mq) AS \"motion query\", $(num cr) AS \"conflict res\",
       $(num total) AS total
     FROM w JOIN s ON s.scene = w.scene ORDER BY s.family DESC, s.objects, w.planner DESC" | markdown
+  echo
+  echo "Unsolved runs (timeout: the limit was spent; medians over them): time per phase (s), constraint tree"
+  echo "nodes or Lazy-DaSH iterations, motion constraints"
+  echo
+  query "WITH r AS (
+    SELECT family, json_extract(params, '\$.objects') AS objects, planner, status,
+           CASE family WHEN 'wall' THEN printf('wall r=%d w=%d o=%d', json_extract(params, '\$.robots'),
+                json_extract(params, '\$.walls'), json_extract(params, '\$.objects'))
+             ELSE printf('%s r=%d o=%d', family, json_extract(params, '\$.robots'), json_extract(params, '\$.objects'))
+           END AS scene,
+           time_task_construction, time_task_query, time_task_conflict_detection, time_motion_construction,
+           time_motion_query, time_conflict_resolution, total_time, iterations, constraints_motion
+    FROM dash_runs WHERE batch_id = '$id' AND status NOT IN ('solved', 'running', 'cancelled', 'pending')),
+  long(scene, planner, m, v) AS (
+              SELECT scene, planner, 'tc', time_task_construction FROM r
+    UNION ALL SELECT scene, planner, 'tq', time_task_query FROM r
+    UNION ALL SELECT scene, planner, 'td', time_task_conflict_detection FROM r
+    UNION ALL SELECT scene, planner, 'mc', time_motion_construction FROM r
+    UNION ALL SELECT scene, planner, 'mq', time_motion_query FROM r
+    UNION ALL SELECT scene, planner, 'cr', time_conflict_resolution FROM r
+    UNION ALL SELECT scene, planner, 'total', total_time FROM r
+    UNION ALL SELECT scene, planner, 'it', iterations FROM r
+    UNION ALL SELECT scene, planner, 'mcn', constraints_motion FROM r),
+  ranked AS (SELECT scene, planner, m, v, ROW_NUMBER() OVER (PARTITION BY scene, planner, m ORDER BY v) AS i,
+                    COUNT(*) OVER (PARTITION BY scene, planner, m) AS n FROM long WHERE v IS NOT NULL),
+  med AS (SELECT scene, planner, m, AVG(v) AS v FROM ranked WHERE i IN ((n + 1) / 2, (n + 2) / 2)
+          GROUP BY scene, planner, m),
+  w AS (SELECT scene, planner,
+          MAX(CASE m WHEN 'tc' THEN v END) AS tc, MAX(CASE m WHEN 'tq' THEN v END) AS tq,
+          MAX(CASE m WHEN 'td' THEN v END) AS td, MAX(CASE m WHEN 'mc' THEN v END) AS mc,
+          MAX(CASE m WHEN 'mq' THEN v END) AS mq, MAX(CASE m WHEN 'cr' THEN v END) AS cr,
+          MAX(CASE m WHEN 'total' THEN v END) AS total, MAX(CASE m WHEN 'it' THEN v END) AS it,
+          MAX(CASE m WHEN 'mcn' THEN v END) AS mcn
+        FROM med GROUP BY scene, planner),
+  c AS (SELECT scene, planner, MIN(family) AS family, MIN(objects) AS objects,
+               group_concat(status, ' ') AS statuses FROM r GROUP BY scene, planner)
+  SELECT c.scene AS Scene, CASE c.planner WHEN 'dash' THEN 'DaSH' ELSE 'Lazy-DaSH' END AS Planner,
+      (SELECT group_concat(k, '; ') FROM (SELECT printf('%d %s', COUNT(*), status) AS k FROM r
+         WHERE r.scene = c.scene AND r.planner = c.planner GROUP BY status)) AS runs,
+      $(num tc) AS \"task constr\", $(num tq) AS \"task query\", $(num td) AS \"task conflicts\",
+      $(num mc) AS \"motion constr\", $(num mq) AS \"motion query\", $(num cr) AS \"conflict res\",
+      $(num total) AS total, CASE WHEN it IS NULL THEN '-' ELSE printf('%d', it) END AS \"nodes/iterations\",
+      CASE WHEN mcn IS NULL THEN '-' ELSE printf('%d', mcn) END AS \"motion constraints\"
+    FROM c LEFT JOIN w ON w.scene = c.scene AND w.planner = c.planner
+    ORDER BY c.family DESC, c.objects, c.planner DESC" | markdown
   echo
   query "$with SELECT
       CASE WHEN COUNT(*) = 0 THEN 'no scene solved by both planners' ELSE
