@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include "engine/conflict/parking.h"
 
@@ -90,7 +92,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
   auto parkedAt = [&](int self, double t) {
     std::vector<RobotState> parked;
     for (const RobotTimeline& tl : timelines)
-      if (tl.robot() != self && tl.end() <= t) parked.push_back({tl.robot(), tl.last(), tl.heldAt(kForever / 2)});
+      if (tl.robot() != self && tl.end() <= t) parked.push_back({tl.robot(), tl.last(), tl.heldAtEnd()});
     return parked;
   };
 
@@ -101,7 +103,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
     if (next_visit[r] >= visits.size()) return true;
     StepVisit& next = visits[next_visit[r]];
     if ((next.transit.front() - timelines[r].last()).cwiseAbs().maxCoeff() <= 1e-12) return true;
-    const MotionContext ctx{timelines[r].heldAt(kForever / 2), objects.layoutAt(timelines[r].end()), {}};
+    const MotionContext ctx{timelines[r].heldAtEnd(), objects.layoutAt(timelines[r].end()), {}};
     auto path = replan(r, timelines[r].last(), next.transit.back(), ctx);
     if (!path) return false;
     next.transit = *path;
@@ -112,7 +114,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
     const JointVector& home = scene.robots[r].home;
     if ((timelines[r].last() - home).cwiseAbs().maxCoeff() <= 1e-12) return false;
     const double start = timelines[r].end();
-    const MotionContext ctx{timelines[r].heldAt(kForever / 2), objects.layoutAt(start), parkedAt(r, start)};
+    const MotionContext ctx{timelines[r].heldAtEnd(), objects.layoutAt(start), parkedAt(r, start)};
     auto path = replan(r, timelines[r].last(), home, ctx);
     if (!path) return false;
     for (double t = start; t <= start + params_.max_delay; t += params_.delay_step) {
@@ -177,7 +179,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
       }
       for (std::size_t i = 0; i < movers.size(); ++i) {
         const int r = movers[i];
-        const HeldObject held = timelines[r].heldAt(kForever / 2);
+        const HeldObject held = timelines[r].heldAtEnd();
         problem.start.push_back(timelines[r].last());
         problem.goal.push_back(i < parts.size() ? parts[i].visit->q_pre
                                                 : parkingConfiguration(*world_, *context_, r, held, work, problem.layout));
@@ -212,11 +214,11 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
         });
         for (int b : blockers)
           if (std::none_of(parked.begin(), parked.end(), [&](const RobotState& st) { return st.robot == b; }))
-            parked.push_back({b, timelines[b].last(), timelines[b].heldAt(kForever / 2)});
+            parked.push_back({b, timelines[b].last(), timelines[b].heldAtEnd()});
         if (parts.size() == 2 && (mode > 0 || parts[0].staggered_tried[0])) {
           const Participant& other = parts[1 - i];
           if (i == first || mode == 0) {
-            parked.push_back({other.robot, timelines[other.robot].last(), timelines[other.robot].heldAt(kForever / 2)});
+            parked.push_back({other.robot, timelines[other.robot].last(), timelines[other.robot].heldAtEnd()});
           } else {
             const bool other_is_giver = i == 1;
             parked.push_back({other.robot, other_is_giver ? other.visit->q : other.visit->q_pre,
@@ -319,6 +321,11 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
           conflict = checker_.check(trial[p.robot], timelines[p.robot].end(), kForever, trial, objects);
         }
         if (!conflict && a.type == TaskArcType::kPlace) conflict = checker_.checkResting(o, tc.X_WO, T, trial, a.robot);
+        if (std::getenv("DASH_DEBUG") && conflict) {
+          std::fprintf(stderr, "DBG0 step %d T=%.2f mode %d t=%.3f robot=%d other=%d object=%d movers=%zu tries=%d;", k, T, mode, conflict->t, conflict->robot, conflict->other, conflict->object, movers.size(), composite_tries);
+          for (const Participant& p : parts) std::fprintf(stderr, " r%d end %.3f transit %zu time %.3f appr %.3f;", p.robot, timelines[p.robot].end(), p.transit.size(), p.transit_time, p.approach_time);
+          std::fprintf(stderr, "\n");
+        }
         const bool with_partner =
             conflict && parts.size() == 2 && (conflict->other == parts[0].robot || conflict->other == parts[1].robot);
         // A conflict among the robots of this step (participants, and the movers of its composite

@@ -24,6 +24,11 @@ HeldObject RobotTimeline::heldAt(double t) const {
   return {};
 }
 
+HeldObject RobotTimeline::heldAtEnd() const {
+  if (!holds_.empty() && holds_.back().to == kForever) return holds_.back().held;
+  return {};
+}
+
 void RobotTimeline::breakpoints(double a, double b, std::vector<double>& out) const {
   for (const TimedPoint& p : points_)
     if (p.t > a && p.t < b) out.push_back(p.t);

@@ -33,6 +33,8 @@ class RobotTimeline {
   JointVector at(double t) const;
   /// What the robot holds over [t, t'): the interval containing t (empty hand if none).
   HeldObject heldAt(double t) const;
+  /// What the robot holds from its last point on (a grasp with no release yet).
+  HeldObject heldAtEnd() const;
   /// Point times strictly inside (a, b).
   void breakpoints(double a, double b, std::vector<double>& out) const;
 

@@ -45,6 +45,24 @@ std::vector<ObjectLayout> layoutsAlong(const TaskPlan& plan, const TaskSpace& sp
 
 double jointDistance(const JointVector& a, const JointVector& b) { return (a - b).cwiseAbs().sum(); }
 
+/// Whether the joint-space segment q -> q_pre keeps the TCP near the straight line between their TCP
+/// positions: a back-off is a Cartesian approach only then. An IK branch far from q in joint space
+/// (a wrist flip near a singularity) passes the end-point checks but swings the arm through whatever
+/// is next to the gripper, such as the partner of a handover.
+bool staysOnApproachLine(const SceneRobot& r, const JointVector& q, const JointVector& q_pre) {
+  const Vec3 a = forwardKinematics(*r.model, r.X_WB, q).X_WT.translation();
+  const Vec3 b = forwardKinematics(*r.model, r.X_WB, q_pre).X_WT.translation();
+  const double length = (b - a).norm();
+  const double tolerance = 0.01 + 0.25 * length;
+  constexpr int kSamples = 8;
+  for (int i = 1; i < kSamples; ++i) {
+    const double s = static_cast<double>(i) / kSamples;
+    const Vec3 p = forwardKinematics(*r.model, r.X_WB, q + s * (q_pre - q)).X_WT.translation();
+    if ((p - (a + s * (b - a))).norm() > tolerance) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 /// For people reading a failure: whether an end of the missing path is itself in collision.
@@ -123,25 +141,38 @@ std::optional<std::vector<JointVector>> MotionLayer::connect(int robot, const Jo
 
 std::optional<JointVector> MotionLayer::backedOff(int robot, const JointVector& q, const HeldObject& held,
                                                   const ObjectLayout& layout, const std::optional<Vec3>& direction_W,
-                                                  double distance) {
+                                                  double distance, const std::optional<RobotState>& partner) {
   const SceneRobot& r = world_->scene().robots[robot];
   const Pose X_WT = forwardKinematics(*r.model, r.X_WB, q).X_WT;
   const double d = distance > 0.0 ? distance : params_.approach_distance;
   Pose X_WTpre = X_WT * makePose(Vec3(0, 0, -d));
   if (direction_W) X_WTpre = makePose(d * direction_W->normalized()) * X_WT;
   // Sideways approaches also rise a little: an object resting on a pedestal or board touches it, and
-  // the joint-space segment would graze it on the way out.
+  // the joint-space segment would graze it on the way out. With a handover partner's hand next to the
+  // object the rise may sweep through it; then the straight line is tried too.
   const Vec3 axis_W = direction_W ? direction_W->normalized() : Vec3(X_WT.linear().col(2));
-  if (std::abs(axis_W.z()) < 0.7) X_WTpre = makePose(Vec3(0, 0, params_.side_lift)) * X_WTpre;
-  std::optional<JointVector> best;
-  for (const JointVector& cand : inverseKinematics(*r.model, r.X_WB, X_WTpre)) {
-    if (best && jointDistance(cand, q) >= jointDistance(*best, q)) continue;
-    const RobotState state{robot, cand, held};
-    if (robotInCollision(*world_, *context_, state, layout)) continue;
-    if (segmentInCollision(*world_, *context_, state, q, layout)) continue;
-    best = cand;
+  std::vector<Pose> targets;
+  if (std::abs(axis_W.z()) < 0.7) targets.push_back(makePose(Vec3(0, 0, params_.side_lift)) * X_WTpre);
+  if (targets.empty() || partner) targets.push_back(X_WTpre);
+  for (const Pose& target : targets) {
+    std::optional<JointVector> best;
+    for (const JointVector& cand : inverseKinematics(*r.model, r.X_WB, target)) {
+      if (best && jointDistance(cand, q) >= jointDistance(*best, q)) continue;
+      if (!staysOnApproachLine(r, q, cand)) continue;
+      const RobotState state{robot, cand, held};
+      if (robotInCollision(*world_, *context_, state, layout)) continue;
+      if (segmentInCollision(*world_, *context_, state, q, layout)) continue;
+      if (partner) {
+        const RobotMotion motions[2] = {{state, q}, {*partner, partner->q}};
+        if (motionsInCollision(*world_, *context_, motions, ObjectLayout::empty(world_->scene()), nullptr,
+                               {CheckScope::kStaticOnly}))
+          continue;
+      }
+      best = cand;
+    }
+    if (best) return best;
   }
-  return best;
+  return std::nullopt;
 }
 
 MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
@@ -164,6 +195,7 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
     const TaskArc& a = plan.steps[k].action;
     const TransitionConfig& tc = transitions[k];
     bool giver_backs_off = true;
+    JointVector giver_q_post = tc.q;
     Vec3 giver_approach_W = Vec3::UnitZ();
     for (int role = 0; role < (a.type == TaskArcType::kHandover ? 2 : 1); ++role) {
       if (deadline.expired()) {
@@ -184,18 +216,32 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
       visit.held_before = held.before;
       visit.held_after = held.after;
       const bool giver = a.type == TaskArcType::kHandover && !receiver;
+      // In a handover the partner stands at its transition configuration while this robot approaches
+      // (the giver, holding the object) and while this robot retreats (giver first: the receiver holding
+      // the object; then the receiver: the giver where its retreat ended, empty-handed).
+      std::optional<RobotState> partner_before, partner_after;
+      if (a.type == TaskArcType::kHandover) {
+        if (receiver) {
+          partner_before = RobotState{a.robot, tc.q, HeldObject{a.object, tc.X_TO}};
+          partner_after = RobotState{a.robot, giver_q_post, HeldObject{}};
+        } else {
+          partner_after = RobotState{a.robot2, tc.q2, HeldObject{a.object, tc.X_TO2}};
+        }
+      }
       // The giver brings the object straight to the handover pose; everyone else approaches along the
       // TCP axis so that fingers slide around the object instead of sweeping through it.
-      visit.q_pre = giver ? visit.q : backedOff(r, visit.q, held.before, layouts[k]).value_or(visit.q);
+      visit.q_pre = giver ? visit.q : backedOff(r, visit.q, held.before, layouts[k], {}, 0.0, partner_before).value_or(visit.q);
       const bool own_axis = !(receiver && !giver_backs_off);
       if (!own_axis) {
         // The giver cannot back off (its approach axis leads out of reach): the receiver pulls the
         // object out of the giver's open fingers along the giver's approach axis instead.
-        visit.q_post = backedOff(r, visit.q, held.after, layouts[k + 1], giver_approach_W).value_or(visit.q);
+        visit.q_post =
+            backedOff(r, visit.q, held.after, layouts[k + 1], giver_approach_W, 0.0, partner_after).value_or(visit.q);
       } else {
-        visit.q_post = backedOff(r, visit.q, held.after, layouts[k + 1]).value_or(visit.q);
+        visit.q_post = backedOff(r, visit.q, held.after, layouts[k + 1], {}, 0.0, partner_after).value_or(visit.q);
       }
       if (giver) {
+        giver_q_post = visit.q_post;
         giver_backs_off = (visit.q_post - visit.q).cwiseAbs().maxCoeff() > 1e-12;
         const SceneRobot& sr = scene.robots[r];
         giver_approach_W = forwardKinematics(*sr.model, sr.X_WB, visit.q).X_WT.linear().col(2);

@@ -78,9 +78,11 @@ class MotionLayer {
   /// direction, when given) by the approach distance: free, and the straight segment to q free.
   std::string whyNoPath(int robot, const JointVector& from, const JointVector& q_pre, const JointVector& q,
                         const HeldObject& held, const ObjectLayout& layout) const;
+  /// A handover partner standing still at its transition configuration must also stay clear of the
+  /// segment; when it is in the way of the sideways rise, the straight back-off is tried.
   std::optional<JointVector> backedOff(int robot, const JointVector& q, const HeldObject& held,
                                        const ObjectLayout& layout, const std::optional<Vec3>& direction_W = {},
-                                       double distance = 0.0);
+                                       double distance = 0.0, const std::optional<RobotState>& partner = {});
   LazyRoadmap& roadmap(int robot, bool holding);
   std::uint32_t motionVertex(const std::string& label);
   void motionArc(const char* type, std::uint32_t from, std::uint32_t to);
