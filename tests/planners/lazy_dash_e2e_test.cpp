@@ -51,6 +51,11 @@ TEST(LazyDashEndToEnd, SortingFourRobotsEightObjects) {
   expectSolvedAndValid({"sorting", {{"robots", "4"}, {"objects", "8"}}});
 }
 
+// Handovers over the walls: the receiver approaches and both retreat clear of the partner's hand.
+TEST(LazyDashEndToEnd, WallEightRobotsTwoWallsSixteenObjects) {
+  expectSolvedAndValid({"wall", {{"robots", "8"}, {"walls", "2"}, {"objects", "16"}}});
+}
+
 TEST(LazyDashEndToEnd, LabTwoContainers) { expectSolvedAndValid({"lab", {{"containers", "2"}}}); }
 
 TEST(LazyDashEndToEnd, TaskOnlyGivesATaskLevelFeasibleSchedule) {
