@@ -20,7 +20,10 @@ using layout::Vec2;
 
 inline std::size_t at(int i) { return static_cast<std::size_t>(i); }
 
-constexpr double kRobotToShelf = 0.45;     ///< base axis to the shelf front edge
+constexpr double kRobotToShelf = 0.60;     ///< base axis to the shelf front edge (nearer, the arm folds
+                                           ///< so far to reach in that it cannot back out)
+constexpr double kFeederToPanel = 0.45;    ///< stocking: the feeder base axis to the back panel (it
+                                           ///< reaches no cubby; nearer, it meets the stocker round the end)
 constexpr double kRowSpacing = 1.2;        ///< robots side by side along a shelf
 constexpr double kDivider = 0.02;          ///< thickness of the panel behind the cubbies
 constexpr double kDividerHeight = 1.5;     ///< out of reach over the top
@@ -180,7 +183,7 @@ GeneratedLayout generateStocking(const FamilyInput& in) {
   const double divider_half = 0.5 * width + kDividerEndMargin;
   const double pi = std::numbers::pi;
   const layout::WorkFrame stocker{.origin = Vec2(0.0, -(depth + kRobotToShelf)), .yaw = -0.5 * pi};
-  const layout::WorkFrame feeder{.origin = Vec2(0.0, kDivider + kRobotToShelf + 0.15), .yaw = 0.5 * pi};
+  const layout::WorkFrame feeder{.origin = Vec2(0.0, kDivider + kFeederToPanel), .yaw = 0.5 * pi};
   const double table_half_x = divider_half + 1.0;
   const double table_y_min = stocker.origin.y() - layout::AreaSpec{}.max_reach - kTableMargin;
   const double table_y_max = feeder.origin.y() + layout::AreaSpec{}.max_reach + kTableMargin;

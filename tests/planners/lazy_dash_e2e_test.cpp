@@ -56,6 +56,16 @@ TEST(LazyDashEndToEnd, WallEightRobotsTwoWallsSixteenObjects) {
   expectSolvedAndValid({"wall", {{"robots", "8"}, {"walls", "2"}, {"objects", "16"}}});
 }
 
+// Cubbies: placements deep in a shelf, approached and left along the gripper's axis.
+TEST(LazyDashEndToEnd, ShelfWallTwoRobotsEightObjects) {
+  expectSolvedAndValid({"shelf-wall", {{"robots", "2"}, {"objects", "8"}}});
+}
+
+// Items in front must be moved out to staging posts and put back; new items come by a handover.
+TEST(LazyDashEndToEnd, StockingTwoLayersEightObjects) {
+  expectSolvedAndValid({"stocking", {{"layers", "2"}, {"objects", "8"}}});
+}
+
 TEST(LazyDashEndToEnd, LabTwoContainers) { expectSolvedAndValid({"lab", {{"containers", "2"}}}); }
 
 TEST(LazyDashEndToEnd, TaskOnlyGivesATaskLevelFeasibleSchedule) {
