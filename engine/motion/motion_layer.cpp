@@ -297,10 +297,21 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
   if (scene.end_at_home) {
     log::PhaseTimer query(*emitter_, log::Phase::MotionQuery);
     for (int r = 0; r < robots; ++r) {
-      const auto home = connect(r, at[r], scene.robots[r].home, MotionContext{{}, layouts.back(), {}}, deadline);
+      const MotionContext context{{}, layouts.back(), {}};
+      auto home = connect(r, at[r], scene.robots[r].home, context, deadline);
+      // As for a transit: out of a cubby, the last retreat backs off farther along its axis.
+      for (const double d : params_.deep_approach_distances) {
+        if (home || deadline.expired() || !own_retreat[r] || result.robots[r].visits.empty()) break;
+        StepVisit& last = result.robots[r].visits.back();
+        if (auto post = backedOff(r, last.q, last.held_after, layouts[last.step + 1], {}, d)) {
+          last.q_post = at[r] = *post;
+          home = connect(r, at[r], scene.robots[r].home, context, deadline);
+        }
+      }
       if (!home) {
         result.status = deadline.expired() ? MotionStatus::kTimeout : MotionStatus::kFailed;
-        result.reason = "no path home for " + scene.robots[r].id;
+        result.reason = "no path home for " + scene.robots[r].id +
+                        whyNoPath(r, at[r], scene.robots[r].home, scene.robots[r].home, {}, layouts.back());
         return result;
       }
       result.robots[r].home_path = *home;

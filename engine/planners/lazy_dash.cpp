@@ -47,6 +47,7 @@ namespace {
 
 constexpr int kMaxMotionRounds = 200;
 constexpr double kBudgetGrowthAfterLift = 4.0;
+constexpr int kMaxHomeBudgetGrowths = 3;
 
 double pathLength(const Plan& plan) {
   double total = 0.0;
@@ -94,6 +95,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
     return result;
   };
 
+  int home_budget_growths = 0;
   for (int round = 0; round < kMaxMotionRounds; ++round) {
     const TaskLayerResult layer = task.plan(deadline);
     if (layer.status != TaskLayerStatus::kFeasible)
@@ -109,7 +111,15 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
     MotionLayerResult motions = motion.plan(layer.plan, layer.transitions, task.space(), deadline);
     if (motions.status == MotionStatus::kTimeout) return finish(outcomeOf(TaskLayerStatus::kTimeout, deadline), "motion layer: timeout");
     if (motions.status == MotionStatus::kFailed) {
-      if (motions.failed_step < 0) return finish(PlanOutcome::kInfeasible, "motion layer: " + motions.reason);
+      if (motions.failed_step < 0) {
+        // No way home: no task hyperarc to blame; the roadmaps search harder (a bounded number of times).
+        if (home_budget_growths++ < kMaxHomeBudgetGrowths) {
+          motion.scaleBudget(kBudgetGrowthAfterLift);
+          emitter.setIteration(emitter.iteration() + 1);
+          continue;
+        }
+        return finish(PlanOutcome::kInfeasible, "motion layer: " + motions.reason);
+      }
       task.addConstraint(motionFeedback(layer.plan, motions.failed_step, "motion query: " + motions.reason));
       emitter.setIteration(emitter.iteration() + 1);
       continue;

@@ -45,6 +45,20 @@ std::vector<TaskConstraint> TaskConstraintSet::removeTemporary() {
   return removed;
 }
 
+std::vector<TaskConstraint> TaskConstraintSet::expireTemporary() {
+  for (TaskConstraint& c : constraints_)
+    if (c.temporary) --c.queries;
+  std::vector<TaskConstraint> expired, kept;
+  for (const TaskConstraint& c : constraints_) (c.temporary && c.queries <= 0 ? expired : kept).push_back(c);
+  if (expired.empty()) return expired;
+  constraints_.clear();
+  by_post_.clear();
+  by_pre_.clear();
+  interactions_.clear();
+  for (const TaskConstraint& c : kept) add(c);
+  return expired;
+}
+
 bool TaskConstraintSet::forbidsInteraction(HyperarcId id, const TaskArc& arc) const {
   for (int i : interactions_) {
     const TaskConstraint& c = constraints_[i];

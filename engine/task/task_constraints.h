@@ -26,9 +26,10 @@ struct TaskConstraint {
   GraspClass giver_grasp = GraspClass::kTop;
   GraspClass receiver_grasp = GraspClass::kTop;
   std::string cause;  ///< the conflict that produced it, for logs
-  /// Fed back from the motion layer: holds for the next task query only (the paper does not remove a
-  /// hyperarc for ever because one motion failed).
+  /// Fed back from the motion layer: holds for `queries` task queries only (the paper does not remove
+  /// a hyperarc for ever because one motion failed).
   bool temporary = false;
+  int queries = 1;
   /// History: v_post must be in every complete plan (an object at its final goal). Then v_pre may
   /// not appear before v_post either: afterwards v_post could never be reached (a dead end pruned
   /// early instead of found by backtracking).
@@ -45,6 +46,9 @@ class TaskConstraintSet {
   const std::vector<TaskConstraint>& all() const { return constraints_; }
   /// Removes the temporary constraints; returns them.
   std::vector<TaskConstraint> removeTemporary();
+  /// One task query has been answered: temporary constraints count it down; those that reach zero
+  /// are removed and returned.
+  std::vector<TaskConstraint> expireTemporary();
   bool empty() const { return constraints_.empty(); }
   std::size_t size() const { return constraints_.size(); }
 

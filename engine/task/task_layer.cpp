@@ -69,7 +69,10 @@ void TaskLayer::rebuild() {
   graph_.build(space_, reachability_.oracle(), observer);
 }
 
-bool TaskLayer::addConstraint(const TaskConstraint& c) {
+bool TaskLayer::addConstraint(const TaskConstraint& given) {
+  TaskConstraint c = given;
+  if (c.temporary && c.arc.valid())
+    c.queries = std::min(++motion_failures_[c.arc.value()], params_.max_ban_queries);
   if (!constraints_.add(c)) return false;
   std::string content;
   std::vector<std::uint32_t> vertices;
@@ -98,6 +101,13 @@ bool TaskLayer::liftTemporaryConstraints(const std::string& why) {
     emitter_->constraint(c.kind == TaskConstraint::Kind::kInteraction ? log::ConstraintKind::Motion : toLogKind(c.kind),
                          log::ConstraintAction::Lifted, 0, why, {}, c.cause);
   return !lifted.empty();
+}
+
+void TaskLayer::expireTemporaryConstraints() {
+  for (const TaskConstraint& c : constraints_.expireTemporary())
+    emitter_->constraint(log::ConstraintKind::Motion, log::ConstraintAction::Lifted, 0,
+                         "lifted after " + std::to_string(motion_failures_[c.arc.value()]) + " task queries", {},
+                         c.cause);
 }
 
 // Task space expansion: an extra stable pose ("move-out" state) for `object`, on a support surface
@@ -236,7 +246,7 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
     }
     emitter_->counter("collision_checks_task", static_cast<std::int64_t>(sampler_.context().counters().configuration_checks));
     if (conflicts.feasible()) {
-      liftTemporaryConstraints("lifted after one task query");
+      expireTemporaryConstraints();
       result.status = TaskLayerStatus::kFeasible;
       result.plan = std::move(query.plan);
       result.transitions = std::move(conflicts.transitions);

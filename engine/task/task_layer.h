@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <unordered_map>
 
 #include "engine/core/deadline.h"
 #include "engine/core/rng.h"
@@ -24,6 +25,9 @@ struct TaskLayerParams {
   /// Times a run may lift the motion layer's temporary hyperarc bans when no schedule avoids them
   /// (the motion budget is then raised, so the same schedule is tried harder, not forever).
   int max_ban_lifts = 3;
+  /// A hyperarc the motion layer fails on again is banned for as many task queries as it has failed
+  /// (at most this many), so that alternatives get tried instead of two failing ones alternating.
+  int max_ban_queries = 8;
 };
 
 enum class TaskLayerStatus { kFeasible, kInfeasible, kTimeout };
@@ -68,6 +72,8 @@ class TaskLayer {
   void rebuild();
   /// Removes the temporary constraints (motion failures), logging each as lifted; false if none.
   bool liftTemporaryConstraints(const std::string& why);
+  /// Counts one answered task query down on the temporary constraints, logging those that expire.
+  void expireTemporaryConstraints();
   bool expand(int object, const std::string& reason);
   std::vector<int> objectsToExpandAfterFailure() const;
 
@@ -81,6 +87,7 @@ class TaskLayer {
   TaskHypergraph graph_;
   TaskConstraintSet constraints_;
   int ban_lifts_ = 0;
+  std::unordered_map<std::uint32_t, int> motion_failures_;  ///< per task hyperarc
   std::size_t extended_vertices_ = 0;
   std::size_t extended_hyperarcs_ = 0;
   int queries_ = 0;

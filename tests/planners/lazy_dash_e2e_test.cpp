@@ -78,13 +78,15 @@ TEST(LazyDashEndToEnd, TaskOnlyGivesATaskLevelFeasibleSchedule) {
   EXPECT_NE(result.task_plan_json.find("\"handover\""), std::string::npos);
 }
 
-// A motion query that runs out of budget bans its hyperarc for one task query. When no schedule avoids
-// the banned hyperarcs (sorting 2x2 has no alternative handover), the bans are lifted and the same
-// hyperarcs go back to the motion layer with a larger budget: starved roadmaps end solved, not infeasible.
+// A motion query that runs out of budget bans its hyperarc for as many task queries as it has failed
+// (TaskLayerParams::max_ban_queries at most). When no schedule avoids
+// the banned hyperarcs, the bans are lifted and the same hyperarcs go back to the motion layer with a
+// larger budget: starved roadmaps end solved, not infeasible. (Wall: the way round a wall needs the
+// roadmap; the straight segment never gets there.)
 TEST(LazyDashEndToEnd, StarvedRoadmapsGetMoreBudgetInsteadOfInfeasible) {
-  const Scene scene = generateScenario("sorting", {{"robots", "2"}, {"objects", "2"}}, 1, RobotLibrary::loadDefault());
+  const Scene scene = generateScenario("wall", {{"walls", "2"}, {"objects", "4"}}, 1, RobotLibrary::loadDefault());
   LazyDashParams params;
-  params.motion.roadmap.query_samples = 400;
+  params.motion.roadmap.query_samples = 3;
   log::MemorySink sink;
   const PlanResult result = LazyDash(params).solve(scene, {}, Deadline(240), &sink);
   ASSERT_EQ(result.outcome, PlanOutcome::kSolved) << result.message;

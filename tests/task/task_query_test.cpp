@@ -131,5 +131,25 @@ TEST(TaskQuery, InteractionConstraintsRemoveARoute) {
   EXPECT_EQ(queryTaskPlan(toy.hg, toy.space, constraints, {}, Deadline()).status, HyperpathStatus::kExhausted);
 }
 
+// Motion failures ban a hyperarc for a number of task queries, then the ban expires.
+TEST(TaskConstraints, TemporaryBansExpireAfterTheirQueries) {
+  TaskConstraintSet constraints;
+  TaskConstraint once, thrice;
+  once.kind = thrice.kind = TaskConstraint::Kind::kInteraction;
+  once.temporary = thrice.temporary = true;
+  once.arc = HyperarcId(1);
+  thrice.arc = HyperarcId(2);
+  thrice.queries = 3;
+  constraints.add(once);
+  constraints.add(thrice);
+  EXPECT_EQ(constraints.expireTemporary().size(), 1u);  // `once` expires after one query
+  EXPECT_EQ(constraints.size(), 1u);
+  EXPECT_TRUE(constraints.expireTemporary().empty());
+  const std::vector<TaskConstraint> last = constraints.expireTemporary();
+  ASSERT_EQ(last.size(), 1u);
+  EXPECT_EQ(last.front().arc, HyperarcId(2));
+  EXPECT_TRUE(constraints.empty());
+}
+
 }  // namespace
 }  // namespace dash
