@@ -62,6 +62,7 @@ TaskConstraint motionFeedback(const TaskPlan& plan, int step, const std::string&
   c.kind = TaskConstraint::Kind::kInteraction;
   c.arc = plan.steps[step].arc;
   c.temporary = true;
+  c.from_motion = true;
   c.cause = why;
   return c;
 }

@@ -344,7 +344,14 @@ void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& 
     const TaskStep& step = plan.steps[k];
     TaskConstraint c;
     c.kind = TaskConstraint::Kind::kInteraction;
-    if (step.action.type == TaskArcType::kHandover) {
+    if (at > 0) {
+      // The search got past the chain's first transitions: no grasp serves them and this one together
+      // (a pick from one pose and a place at another with the same grasp), though each may be
+      // feasible alone. Banning this hyperarc for ever could remove the object's only way to its
+      // goal; it is banned for some task queries, as a motion failure is (TaskLayer::addConstraint).
+      c.arc = step.arc;
+      c.temporary = true;
+    } else if (step.action.type == TaskArcType::kHandover) {
       c.giver = step.action.robot;
       c.receiver = step.action.robot2;
       c.giver_grasp = step.action.grasp;

@@ -30,6 +30,8 @@ struct TaskConstraint {
   /// a hyperarc for ever because one motion failed).
   bool temporary = false;
   int queries = 1;
+  /// Fed back from the motion layer or conflict resolution (a motion constraint in the event stream).
+  bool from_motion = false;
   /// History: v_post must be in every complete plan (an object at its final goal). Then v_pre may
   /// not appear before v_post either: afterwards v_post could never be reached (a dead end pruned
   /// early instead of found by backtracking).

@@ -88,7 +88,7 @@ bool TaskLayer::addConstraint(const TaskConstraint& given) {
     vertices = {c.pre.value(), c.post.value()};
   }
   // Motion failures fed back as temporary hyperarc bans are the paper's motion constraints.
-  const log::ConstraintKind kind = c.temporary ? log::ConstraintKind::Motion : toLogKind(c.kind);
+  const log::ConstraintKind kind = c.from_motion ? log::ConstraintKind::Motion : toLogKind(c.kind);
   emitter_->constraint(kind, log::ConstraintAction::Created,
                        static_cast<std::uint32_t>(constraints_.size() - 1), std::move(content), std::move(vertices),
                        c.cause);
@@ -98,14 +98,14 @@ bool TaskLayer::addConstraint(const TaskConstraint& given) {
 bool TaskLayer::liftTemporaryConstraints(const std::string& why) {
   const std::vector<TaskConstraint> lifted = constraints_.removeTemporary();
   for (const TaskConstraint& c : lifted)
-    emitter_->constraint(c.kind == TaskConstraint::Kind::kInteraction ? log::ConstraintKind::Motion : toLogKind(c.kind),
+    emitter_->constraint(c.from_motion ? log::ConstraintKind::Motion : toLogKind(c.kind),
                          log::ConstraintAction::Lifted, 0, why, {}, c.cause);
   return !lifted.empty();
 }
 
 void TaskLayer::expireTemporaryConstraints() {
   for (const TaskConstraint& c : constraints_.expireTemporary())
-    emitter_->constraint(log::ConstraintKind::Motion, log::ConstraintAction::Lifted, 0,
+    emitter_->constraint(c.from_motion ? log::ConstraintKind::Motion : toLogKind(c.kind), log::ConstraintAction::Lifted, 0,
                          "lifted after " + std::to_string(motion_failures_[c.arc.value()]) + " task queries", {},
                          c.cause);
 }

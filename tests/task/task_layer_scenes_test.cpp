@@ -106,5 +106,18 @@ TEST(TaskConflictDetection, ThreeLayerStockingIsTaskLevelFeasible) {
   }
 }
 
+// Seed 2: no single grasp serves an item's pick from its move-out pose and its place back at its
+// goal. That combination is banned for some task queries, never the goal placement for ever (which
+// left the item no way home: infeasible).
+TEST(TaskConflictDetection, GraspChainFailureDoesNotForbidAGoalForEver) {
+  LayerRun run("stocking", {{"layers", "3"}, {"objects", "18"}}, 2);
+  ASSERT_EQ(run.result.status, TaskLayerStatus::kFeasible) << run.result.reason;
+  for (const TaskConstraint& c : run.layer->constraints().all()) {
+    if (c.kind == TaskConstraint::Kind::kInteraction && c.arc.valid() && !c.temporary) {
+      EXPECT_EQ(c.cause.find("@start=goal"), std::string::npos) << c.cause;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dash
