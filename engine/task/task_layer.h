@@ -21,7 +21,7 @@ struct TaskLayerParams {
   TaskQueryParams query;
   TaskConflictParams conflicts;
   int max_iterations = 1000;
-  int max_extra_locations_per_object = 2;
+  int max_extra_locations_per_object = 3;
   /// Times a run may lift the motion layer's temporary hyperarc bans when no schedule avoids them
   /// (the motion budget is then raised, so the same schedule is tried harder, not forever).
   int max_ban_lifts = 3;

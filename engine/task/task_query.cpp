@@ -2,6 +2,8 @@
 
 #include <limits>
 
+#include "engine/task/plan_shortcut.h"
+
 namespace dash {
 
 namespace {
@@ -125,7 +127,7 @@ TaskQueryResult queryTaskPlan(const TaskHypergraph& graph, const TaskSpace& spac
   TaskQueryResult out;
   out.status = result.status;
   out.stats = result.stats;
-  if (result.found()) out.plan = planFromHyperpath(graph, result);
+  if (result.found()) out.plan = removeRoundTrips(planFromHyperpath(graph, result), graph, constraints, &out.round_trip_steps_removed);
   return out;
 }
 
