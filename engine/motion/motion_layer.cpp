@@ -175,6 +175,13 @@ std::optional<JointVector> MotionLayer::backedOff(int robot, const JointVector& 
   return std::nullopt;
 }
 
+std::optional<JointVector> MotionLayer::farthestBackOff(int robot, const JointVector& q, const HeldObject& held,
+                                                        const ObjectLayout& layout) {
+  for (auto d = params_.deep_approach_distances.rbegin(); d != params_.deep_approach_distances.rend(); ++d)
+    if (auto q_back = backedOff(robot, q, held, layout, {}, *d)) return q_back;
+  return std::nullopt;
+}
+
 MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
                                     const TaskSpace& space, const Deadline& deadline) {
   const Scene& scene = space.scene();
@@ -253,17 +260,18 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
       // Local refinement: deep in a shelf cubby the short approach and retreat leave the arm where a
       // roadmap hardly reaches. Back off farther along the same axes (the straight segment to the
       // transition is checked) and connect again.
-      for (const double d : params_.deep_approach_distances) {
-        if (transit || deadline.expired()) break;
+      // The farthest valid back-off is tried (the farther out, the easier the roadmap's part), with a
+      // single roadmap query: a failing query costs its whole budget.
+      if (!transit && !deadline.expired()) {
         bool changed = false;
         if (!giver)
-          if (auto pre = backedOff(r, visit.q, held.before, layouts[k], {}, d)) {
+          if (auto pre = farthestBackOff(r, visit.q, held.before, layouts[k])) {
             visit.q_pre = *pre;
             changed = true;
           }
         if (own_retreat[r] && !result.robots[r].visits.empty()) {
           StepVisit& prev = result.robots[r].visits.back();
-          if (auto post = backedOff(r, prev.q, prev.held_after, layouts[prev.step + 1], {}, d)) {
+          if (auto post = farthestBackOff(r, prev.q, prev.held_after, layouts[prev.step + 1])) {
             prev.q_post = *post;
             at[r] = *post;
             changed = true;
@@ -300,10 +308,9 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
       const MotionContext context{{}, layouts.back(), {}};
       auto home = connect(r, at[r], scene.robots[r].home, context, deadline);
       // As for a transit: out of a cubby, the last retreat backs off farther along its axis.
-      for (const double d : params_.deep_approach_distances) {
-        if (home || deadline.expired() || !own_retreat[r] || result.robots[r].visits.empty()) break;
+      if (!home && !deadline.expired() && own_retreat[r] && !result.robots[r].visits.empty()) {
         StepVisit& last = result.robots[r].visits.back();
-        if (auto post = backedOff(r, last.q, last.held_after, layouts[last.step + 1], {}, d)) {
+        if (auto post = farthestBackOff(r, last.q, last.held_after, layouts[last.step + 1])) {
           last.q_post = at[r] = *post;
           home = connect(r, at[r], scene.robots[r].home, context, deadline);
         }

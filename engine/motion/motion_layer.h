@@ -38,8 +38,9 @@ struct RobotMotionPlan {
 struct MotionLayerParams {
   double approach_distance = 0.06;  ///< metres the TCP backs off along its approach axis
   double side_lift = 0.015;         ///< metres a sideways back-off also rises
-  /// Farther back-offs tried, in order, when no transit reaches the short ones (a shelf cubby).
-  std::vector<double> deep_approach_distances = {0.15, 0.25, 0.35};
+  /// Farther back-offs, when no transit reaches the short ones (a shelf cubby): the farthest valid
+  /// one is used (ascending list).
+  std::vector<double> deep_approach_distances = {0.15, 0.2, 0.25, 0.3, 0.35};
   RoadmapParams roadmap;
 };
 
@@ -83,6 +84,9 @@ class MotionLayer {
   std::optional<JointVector> backedOff(int robot, const JointVector& q, const HeldObject& held,
                                        const ObjectLayout& layout, const std::optional<Vec3>& direction_W = {},
                                        double distance = 0.0, const std::optional<RobotState>& partner = {});
+  /// The farthest of the deep approach distances q can back off by (backedOff), if any.
+  std::optional<JointVector> farthestBackOff(int robot, const JointVector& q, const HeldObject& held,
+                                             const ObjectLayout& layout);
   LazyRoadmap& roadmap(int robot, bool holding);
   std::uint32_t motionVertex(const std::string& label);
   void motionArc(const char* type, std::uint32_t from, std::uint32_t to);

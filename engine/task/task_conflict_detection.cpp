@@ -39,6 +39,8 @@ class ChainSearch {
   const std::vector<int>& steps() const { return steps_; }
   /// The position in steps() the search got stuck at most deeply.
   std::size_t deepest() const { return deepest_; }
+  /// The search ran out of its budget (so its failure proves nothing).
+  bool exhausted() const { return budget_ < 0; }
 
  private:
   const ObjectLayout& layoutAt(int step) const { return use_objects_ ? before_[step] : empty_; }
@@ -47,6 +49,20 @@ class ChainSearch {
     if (!use_objects_) return true;
     return !robotInCollision(sampler_.world(), sampler_.context(), state, before_[step], nullptr,
                              CheckScope::kObjectsOnly);
+  }
+
+  /// Look-ahead: when the chain's next step places the object with the grasp X_TO taken at step i,
+  /// some configuration must hold it there (statically); otherwise every choice after this one fails
+  /// at that place and the search would spend its budget proving it (a side grasp taken in a
+  /// handover that does not fit into a shelf cubby).
+  bool placeableNext(std::size_t i, const Pose& X_TO) {
+    if (i + 1 >= steps_.size()) return true;
+    const TaskArc& next = plan_.steps[steps_[i + 1]].action;
+    if (next.type != TaskArcType::kPlace) return true;
+    if (!sampler_.holdConfigs(next.robot, object_, space_.location(object_, next.location).X_WO, X_TO, 1).empty())
+      return true;
+    deepest_ = std::max(deepest_, i + 1);  // it is the place that fails with this grasp
+    return false;
   }
 
   bool solve(std::size_t i, const Pose& X_TO) {
@@ -62,8 +78,9 @@ class ChainSearch {
     switch (a.type) {
       case TaskArcType::kPick: {
         const Pose X_WO = space_.location(o, a.location).X_WO;
-        for (const GraspConfig& gc : sampler_.graspConfigs(a.robot, o, X_WO, a.grasp, params_.grasp_candidates)) {
+        for (const GraspConfig& gc : sampler_.graspConfigs(a.robot, o, X_WO, a.grasp, params_.grasp_candidates, true)) {
           if (!free({a.robot, gc.q, HeldObject{o, gc.X_TO}}, k)) continue;
+          if (!placeableNext(i, gc.X_TO)) continue;
           assignment_[i] = {true, gc.q, {}, X_WO, gc.X_TO, Pose::Identity()};
           if (solve(i + 1, gc.X_TO)) return true;
           if (budget_ < 0) return false;
@@ -72,7 +89,7 @@ class ChainSearch {
       }
       case TaskArcType::kPlace: {
         const Pose X_WO = space_.location(o, a.location).X_WO;
-        for (const JointVector& q : sampler_.holdConfigs(a.robot, o, X_WO, X_TO, 3)) {
+        for (const JointVector& q : sampler_.holdConfigs(a.robot, o, X_WO, X_TO, 3, true)) {
           if (!free({a.robot, q, HeldObject{o, X_TO}}, k)) continue;
           assignment_[i] = {true, q, {}, X_WO, X_TO, Pose::Identity()};
           return solve(i + 1, Pose::Identity());  // the next step starts a new grasp: no reason to retry
@@ -93,6 +110,7 @@ class ChainSearch {
               if (robotsInCollision(sampler_.world(), sampler_.context(), states, layoutAt(k), nullptr,
                                     use_objects_ ? CheckScope::kAll : CheckScope::kStaticOnly))
                 continue;
+              if (!placeableNext(i, gc2.X_TO)) continue;
               assignment_[i] = {true, q1, gc2.q, X_WO, X_TO, gc2.X_TO};
               if (solve(i + 1, gc2.X_TO)) return true;
               if (budget_ < 0) return false;
@@ -344,11 +362,12 @@ void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& 
     const TaskStep& step = plan.steps[k];
     TaskConstraint c;
     c.kind = TaskConstraint::Kind::kInteraction;
-    if (at > 0) {
+    if (at > 0 || alone.exhausted()) {
       // The search got past the chain's first transitions: no grasp serves them and this one together
       // (a pick from one pose and a place at another with the same grasp), though each may be
-      // feasible alone. Banning this hyperarc for ever could remove the object's only way to its
-      // goal; it is banned for some task queries, as a motion failure is (TaskLayer::addConstraint).
+      // feasible alone; or it ran out of budget. Banning this hyperarc for ever could remove the
+      // object's only way to its goal; it is banned for some task queries, as a motion failure is
+      // (TaskLayer::addConstraint).
       c.arc = step.arc;
       c.temporary = true;
     } else if (step.action.type == TaskArcType::kHandover) {

@@ -95,12 +95,15 @@ bool TaskLayer::addConstraint(const TaskConstraint& given) {
   return true;
 }
 
-bool TaskLayer::liftTemporaryConstraints(const std::string& why) {
-  const std::vector<TaskConstraint> lifted = constraints_.removeTemporary();
-  for (const TaskConstraint& c : lifted)
+TaskLayer::Lifted TaskLayer::liftTemporaryConstraints(const std::string& why) {
+  Lifted out;
+  for (const TaskConstraint& c : constraints_.removeTemporary()) {
     emitter_->constraint(c.from_motion ? log::ConstraintKind::Motion : toLogKind(c.kind),
                          log::ConstraintAction::Lifted, 0, why, {}, c.cause);
-  return !lifted.empty();
+    out.any = true;
+    out.motion = out.motion || c.from_motion;
+  }
+  return out;
 }
 
 void TaskLayer::expireTemporaryConstraints() {
@@ -223,12 +226,16 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
         rebuild();
         continue;
       }
-      // A motion failure bans its hyperarc for one query, not for ever (paper: the failed hyperarc is
-      // not removed): with no schedule around it, the same hyperarcs go back to the motion layer.
-      if (ban_lifts_ < params_.max_ban_lifts && liftTemporaryConstraints("no schedule avoids the motion failures")) {
-        ++ban_lifts_;
-        result.motion_bans_lifted = true;
-        continue;
+      // A motion failure bans its hyperarc for some queries, not for ever (paper: the failed hyperarc
+      // is not removed): with no schedule around it, the same hyperarcs go back to the motion layer
+      // (which then searches harder: motion_bans_lifted), or to task conflict detection.
+      if (ban_lifts_ < params_.max_ban_lifts) {
+        const Lifted lifted = liftTemporaryConstraints("no schedule avoids the temporary bans");
+        if (lifted.any) {
+          ++ban_lifts_;
+          result.motion_bans_lifted = result.motion_bans_lifted || lifted.motion;
+          continue;
+        }
       }
       result.status = TaskLayerStatus::kInfeasible;
       result.reason = std::string("task query ") + std::string(toString(query.status)) + " with " +

@@ -70,8 +70,12 @@ class TaskLayer {
 
  private:
   void rebuild();
-  /// Removes the temporary constraints (motion failures), logging each as lifted; false if none.
-  bool liftTemporaryConstraints(const std::string& why);
+  struct Lifted {
+    bool any = false;     ///< some temporary constraint was lifted
+    bool motion = false;  ///< among them, one fed back from the motion layer or conflict resolution
+  };
+  /// Removes the temporary constraints (motion failures, grasp chain failures), logging each as lifted.
+  Lifted liftTemporaryConstraints(const std::string& why);
   /// Counts one answered task query down on the temporary constraints, logging those that expire.
   void expireTemporaryConstraints();
   bool expand(int object, const std::string& reason);

@@ -2,14 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "engine/collision/collision_queries.h"
+#include "engine/collision/segment_queries.h"
 #include "engine/robots/kinematics.h"
 
 namespace dash {
 
 namespace {
 constexpr double kTopBottomCosine = 0.7;      // |cos| of the approach against vertical
+constexpr double kApproachLine = 0.2;         // metres a side grasp at a pick or place should back off straight
 constexpr double kUrReachMetres = 1.05;       // TCP from the base axis, generous (0.85 flange + TCP offset)
 // Handover search grid (as the scenario generators' handover graph): heights above the higher base,
 // offsets along the base-to-base line and across it (round the end of a panel or shelf).
@@ -57,34 +60,69 @@ bool TransitionSampler::staticFree(const RobotState& state) {
 }
 
 std::vector<GraspConfig> TransitionSampler::graspConfigs(int robot, int object, const Pose& X_WO, GraspClass g,
-                                                         int limit) {
+                                                         int limit, bool approach) {
   std::vector<GraspConfig> out;
   if (!inRange(robot, X_WO.translation())) return out;
   const SceneRobot& r = world_->scene().robots[robot];
   const BoxShape& box = world_->scene().objects[object].shape;
   for (const GraspCandidate& c : graspCandidates(*r.model, r.X_WB, box, X_WO)) {
     if (classifyGrasp(c.X_WT) != g) continue;
+    // One configuration per candidate: the one closest to home (with a free approach line if asked).
+    const HeldObject held{object, c.X_TO};
+    const bool check_line = approach && g == GraspClass::kSide;
+    std::optional<JointVector> chosen, fallback;
     for (const JointVector& q : ikSolutions(robot, c.X_WT)) {
-      RobotState state{robot, q, HeldObject{object, c.X_TO}};
-      if (!staticFree(state)) continue;
-      out.push_back({q, c.X_TO, c.face});
-      break;  // one configuration per candidate: the one closest to home
+      if (!staticFree({robot, q, held})) continue;
+      if (!fallback) fallback = q;
+      if (!check_line || approachLineFree(robot, q, held, kApproachLine)) {
+        chosen = q;
+        break;
+      }
     }
+    if (chosen || fallback) out.push_back({chosen ? *chosen : *fallback, c.X_TO, c.face});
     if (static_cast<int>(out.size()) >= limit) break;
   }
   return out;
 }
 
 std::vector<JointVector> TransitionSampler::holdConfigs(int robot, int object, const Pose& X_WO, const Pose& X_TO,
-                                                        int limit) {
-  std::vector<JointVector> out;
+                                                        int limit, bool approach) {
+  std::vector<JointVector> out, blocked_line;
   if (!inRange(robot, X_WO.translation())) return out;
-  for (const JointVector& q : ikSolutions(robot, X_WO * X_TO.inverse())) {
-    if (!staticFree({robot, q, HeldObject{object, X_TO}})) continue;
-    out.push_back(q);
+  const Pose X_WT = X_WO * X_TO.inverse();
+  const bool check_line = approach && classifyGrasp(X_WT) == GraspClass::kSide;
+  const HeldObject held{object, X_TO};
+  for (const JointVector& q : ikSolutions(robot, X_WT)) {
+    if (!staticFree({robot, q, held})) continue;
+    (!check_line || approachLineFree(robot, q, held, kApproachLine) ? out : blocked_line).push_back(q);
     if (static_cast<int>(out.size()) >= limit) break;
   }
+  for (const JointVector& q : blocked_line)
+    if (static_cast<int>(out.size()) < limit) out.push_back(q);
   return out;
+}
+
+bool TransitionSampler::approachLineFree(int robot, const JointVector& q, const HeldObject& held, double distance) {
+  constexpr double kStep = 0.01;          // metres between IK waypoints
+  constexpr double kMaxJointStep = 0.35;  // radians per joint between waypoints: more is a branch flip
+  const SceneRobot& r = world_->scene().robots[robot];
+  if (r.model->kinematics != KinematicsKind::kUrDh) return true;  // a gantry moves its TCP in lines
+  const Pose X_WT = forwardKinematics(*r.model, r.X_WB, q).X_WT;
+  const Vec3 back = -X_WT.linear().col(2);
+  const int n = std::max(1, static_cast<int>(std::ceil(distance / kStep)));
+  JointVector prev = q;
+  for (int i = 1; i <= n; ++i) {
+    const Pose X_WTi = makePose(back * (distance * i / n)) * X_WT;
+    std::optional<JointVector> next;
+    for (const JointVector& cand : inverseKinematics(*r.model, r.X_WB, X_WTi))
+      if (!next || (cand - prev).cwiseAbs().maxCoeff() < (*next - prev).cwiseAbs().maxCoeff()) next = cand;
+    if (!next || (*next - prev).cwiseAbs().maxCoeff() > kMaxJointStep) return false;
+    if (segmentInCollision(*world_, *context_, {robot, prev, held}, *next, no_objects_, nullptr,
+                           {CheckScope::kStaticOnly}))
+      return false;
+    prev = *next;
+  }
+  return true;
 }
 
 std::vector<int> TransitionSampler::blockingObjects(const RobotState& state, ObjectLayout layout) {

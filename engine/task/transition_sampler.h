@@ -37,9 +37,17 @@ class TransitionSampler {
   std::vector<JointVector> ikSolutions(int robot, const Pose& X_WT) const;
   /// Configurations grasping `object` at X_WO with a grasp of class g that are free of self and
   /// obstacle collisions while holding it. At most `limit` (closest to home first).
-  std::vector<GraspConfig> graspConfigs(int robot, int object, const Pose& X_WO, GraspClass g, int limit = 8);
-  /// Configurations holding `object` with the fixed grasp X_TO while it is at X_WO, statically free.
-  std::vector<JointVector> holdConfigs(int robot, int object, const Pose& X_WO, const Pose& X_TO, int limit = 4);
+  /// With `approach`, side grasps prefer the IK branch whose approach line is free (approachLineFree).
+  std::vector<GraspConfig> graspConfigs(int robot, int object, const Pose& X_WO, GraspClass g, int limit = 8,
+                                        bool approach = false);
+  /// Configurations holding `object` with the fixed grasp X_TO while it is at X_WO, statically free;
+  /// with `approach`, side grasps with a free approach line first.
+  std::vector<JointVector> holdConfigs(int robot, int object, const Pose& X_WO, const Pose& X_TO, int limit = 4,
+                                       bool approach = false);
+  /// The TCP can back off from q in a straight line along its approach axis, on the same IK branch,
+  /// by `distance`, clear of itself and the static scene: the way into and out of a shelf cubby (an arm
+  /// folded the other way may have no way out).
+  bool approachLineFree(int robot, const JointVector& q, const HeldObject& held, double distance);
   /// Self and obstacle collisions only.
   bool staticFree(const RobotState& state);
   /// Objects of `layout` that the robot (and what it holds) collides with, found one by one. Empty

@@ -5,6 +5,7 @@
 #include "engine/log/memory_sink.h"
 #include "engine/scenarios/scenario_registry.h"
 #include "engine/task/task_layer.h"
+#include "engine/task/transition_sampler.h"
 
 namespace dash {
 namespace {
@@ -104,6 +105,27 @@ TEST(TaskConflictDetection, ThreeLayerStockingIsTaskLevelFeasible) {
       EXPECT_EQ(last_location[o], space.goalLocation(o)) << run.scene.objects[o].id;
     }
   }
+}
+
+// Into and out of a cubby the gripper moves along its approach axis: the configurations chosen for
+// picks and places there are on IK branches that can back straight out.
+TEST(TransitionSampling, CubbyGraspsCanBackStraightOut) {
+  const Scene scene = generateScenario("stocking", {{"layers", "3"}, {"objects", "6"}}, 1, RobotLibrary::loadDefault());
+  const CollisionWorld world(scene);
+  CollisionContext context(world);
+  TransitionSampler sampler(world, context);
+  int checked = 0;
+  for (int o = 0; o < static_cast<int>(scene.objects.size()); ++o) {
+    const Pose& goal = *scene.objects[o].X_WO_goal;
+    for (const GraspConfig& gc : sampler.graspConfigs(0, o, goal, GraspClass::kSide, 6, true)) {
+      EXPECT_TRUE(sampler.approachLineFree(0, gc.q, HeldObject{o, gc.X_TO}, 0.2)) << scene.objects[o].id;
+      for (const JointVector& q : sampler.holdConfigs(0, o, goal, gc.X_TO, 1, true)) {
+        EXPECT_TRUE(sampler.approachLineFree(0, q, HeldObject{o, gc.X_TO}, 0.2)) << scene.objects[o].id;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 0);
 }
 
 // Seed 2: no single grasp serves an item's pick from its move-out pose and its place back at its
