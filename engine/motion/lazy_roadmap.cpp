@@ -106,9 +106,12 @@ std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_
   const double budget = std::min(params_.query_seconds, std::max(0.0, deadline.secondsLeft()));
   // LazyPRM::solve evaluates the condition once per sample it draws.
   std::size_t evaluations = 0;
+  const std::size_t samples = vertexCount() >= params_.dense_vertices
+                                  ? std::min(params_.query_samples, params_.dense_query_samples)
+                                  : params_.query_samples;
   const ob::PlannerTerminationCondition ptc(
       [&, end = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget)] {
-        return ++evaluations > params_.query_samples || deadline.expired() || std::chrono::steady_clock::now() >= end;
+        return ++evaluations > samples || deadline.expired() || std::chrono::steady_clock::now() >= end;
       });
   const ob::PlannerStatus status = planner_->solve(ptc);
   if (status != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;

@@ -29,6 +29,11 @@ struct RoadmapParams {
   /// so that a run does the same on a loaded machine as on an idle one (same seed, same plan).
   std::size_t query_samples = 5000;
   double query_seconds = 10.0;          ///< a ceiling per query on top of the work budget
+  /// A roadmap this dense answers from what it has, growing by at most `dense_query_samples` per
+  /// query: queries that still fail there ask for a narrow passage that more samples rarely find, and
+  /// every sample makes the next query slower (thousands of replans in conflict resolution).
+  std::size_t dense_vertices = 30000;
+  std::size_t dense_query_samples = 300;
   bool simplify = true;                 ///< shortcut the found path
 };
 
