@@ -32,8 +32,8 @@ struct RoadmapParams {
   /// A roadmap this dense answers from what it has, growing by at most `dense_query_samples` per
   /// query: queries that still fail there ask for a narrow passage that more samples rarely find, and
   /// every sample makes the next query slower (thousands of replans in conflict resolution).
-  std::size_t dense_vertices = 30000;
-  std::size_t dense_query_samples = 300;
+  std::size_t dense_vertices = 50000;
+  std::size_t dense_query_samples = 1000;
   bool simplify = true;                 ///< shortcut the found path
 };
 
