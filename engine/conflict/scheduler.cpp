@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 #include "engine/conflict/parking.h"
 
@@ -321,11 +319,6 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
           conflict = checker_.check(trial[p.robot], timelines[p.robot].end(), kForever, trial, objects);
         }
         if (!conflict && a.type == TaskArcType::kPlace) conflict = checker_.checkResting(o, tc.X_WO, T, trial, a.robot);
-        if (std::getenv("DASH_DEBUG") && conflict) {
-          std::fprintf(stderr, "DBG0 step %d T=%.2f mode %d t=%.3f robot=%d other=%d object=%d movers=%zu tries=%d;", k, T, mode, conflict->t, conflict->robot, conflict->other, conflict->object, movers.size(), composite_tries);
-          for (const Participant& p : parts) std::fprintf(stderr, " r%d end %.3f transit %zu time %.3f appr %.3f;", p.robot, timelines[p.robot].end(), p.transit.size(), p.transit_time, p.approach_time);
-          std::fprintf(stderr, "\n");
-        }
         const bool with_partner =
             conflict && parts.size() == 2 && (conflict->other == parts[0].robot || conflict->other == parts[1].robot);
         // A conflict among the robots of this step (participants, and the movers of its composite

@@ -237,7 +237,8 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
       }
       // The giver brings the object straight to the handover pose; everyone else approaches along the
       // TCP axis so that fingers slide around the object instead of sweeping through it.
-      visit.q_pre = giver ? visit.q : backedOff(r, visit.q, held.before, layouts[k], {}, 0.0, partner_before).value_or(visit.q);
+      visit.q_pre =
+          giver ? visit.q : backedOff(r, visit.q, held.before, layouts[k], {}, 0.0, partner_before).value_or(visit.q);
       const bool own_axis = !(receiver && !giver_backs_off);
       if (!own_axis) {
         // The giver cannot back off (its approach axis leads out of reach): the receiver pulls the

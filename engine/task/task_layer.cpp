@@ -71,8 +71,7 @@ void TaskLayer::rebuild() {
 
 bool TaskLayer::addConstraint(const TaskConstraint& given) {
   TaskConstraint c = given;
-  if (c.temporary && c.arc.valid())
-    c.queries = std::min(++motion_failures_[c.arc.value()], params_.max_ban_queries);
+  if (c.temporary && c.arc.valid()) c.queries = std::min(++motion_failures_[c.arc.value()], params_.max_ban_queries);
   if (!constraints_.add(c)) return false;
   std::string content;
   std::vector<std::uint32_t> vertices;
@@ -98,8 +97,8 @@ bool TaskLayer::addConstraint(const TaskConstraint& given) {
 TaskLayer::Lifted TaskLayer::liftTemporaryConstraints(const std::string& why) {
   Lifted out;
   for (const TaskConstraint& c : constraints_.removeTemporary()) {
-    emitter_->constraint(c.from_motion ? log::ConstraintKind::Motion : toLogKind(c.kind),
-                         log::ConstraintAction::Lifted, 0, why, {}, c.cause);
+    emitter_->constraint(c.from_motion ? log::ConstraintKind::Motion : toLogKind(c.kind), log::ConstraintAction::Lifted,
+                         0, why, {}, c.cause);
     out.any = true;
     out.motion = out.motion || c.from_motion;
   }
@@ -108,8 +107,8 @@ TaskLayer::Lifted TaskLayer::liftTemporaryConstraints(const std::string& why) {
 
 void TaskLayer::expireTemporaryConstraints() {
   for (const TaskConstraint& c : constraints_.expireTemporary())
-    emitter_->constraint(c.from_motion ? log::ConstraintKind::Motion : toLogKind(c.kind), log::ConstraintAction::Lifted, 0,
-                         "lifted after " + std::to_string(motion_failures_[c.arc.value()]) + " task queries", {},
+    emitter_->constraint(c.from_motion ? log::ConstraintKind::Motion : toLogKind(c.kind), log::ConstraintAction::Lifted,
+                         0, "lifted after " + std::to_string(motion_failures_[c.arc.value()]) + " task queries", {},
                          c.cause);
 }
 
