@@ -69,9 +69,32 @@ void TaskLayer::rebuild() {
   graph_.build(space_, reachability_.oracle(), observer);
 }
 
+namespace {
+
+/// What a temporary ban is counted by: its hyperarc, or its handover class (giver, receiver, grasps).
+std::uint64_t banKey(const TaskConstraint& c) {
+  if (c.arc.valid()) return c.arc.value();
+  return (std::uint64_t{1} << 40) | (static_cast<std::uint64_t>(c.giver) << 24) |
+         (static_cast<std::uint64_t>(c.receiver) << 8) | (static_cast<std::uint64_t>(c.giver_grasp) << 4) |
+         static_cast<std::uint64_t>(c.receiver_grasp);
+}
+
+}  // namespace
+
 bool TaskLayer::addConstraint(const TaskConstraint& given) {
   TaskConstraint c = given;
-  if (c.temporary && c.arc.valid()) c.queries = std::min(++motion_failures_[c.arc.value()], params_.max_ban_queries);
+  // A motion failure at a handover is one of its configurations (the handover pose sampled for that
+  // pair of robots and grasps), which every object of that size shares: the whole class is banned,
+  // so that the next schedule does not try the same handover with the next object.
+  if (c.temporary && c.from_motion && c.arc.valid() && graph_.graph().property(c.arc).type == TaskArcType::kHandover) {
+    const TaskArc& a = graph_.graph().property(c.arc);
+    c.arc = HyperarcId();
+    c.giver = a.robot;
+    c.receiver = a.robot2;
+    c.giver_grasp = a.grasp;
+    c.receiver_grasp = a.grasp2;
+  }
+  if (c.temporary) c.queries = std::min(++motion_failures_[banKey(c)], params_.max_ban_queries);
   if (!constraints_.add(c)) return false;
   std::string content;
   std::vector<std::uint32_t> vertices;
@@ -108,7 +131,7 @@ TaskLayer::Lifted TaskLayer::liftTemporaryConstraints(const std::string& why) {
 void TaskLayer::expireTemporaryConstraints() {
   for (const TaskConstraint& c : constraints_.expireTemporary())
     emitter_->constraint(c.from_motion ? log::ConstraintKind::Motion : toLogKind(c.kind), log::ConstraintAction::Lifted,
-                         0, "lifted after " + std::to_string(motion_failures_[c.arc.value()]) + " task queries", {},
+                         0, "lifted after " + std::to_string(motion_failures_[banKey(c)]) + " task queries", {},
                          c.cause);
 }
 

@@ -91,7 +91,7 @@ class TaskLayer {
   TaskHypergraph graph_;
   TaskConstraintSet constraints_;
   int ban_lifts_ = 0;
-  std::unordered_map<std::uint32_t, int> motion_failures_;  ///< per task hyperarc
+  std::unordered_map<std::uint64_t, int> motion_failures_;  ///< per banned hyperarc or handover class
   std::size_t extended_vertices_ = 0;
   std::size_t extended_hyperarcs_ = 0;
   int queries_ = 0;

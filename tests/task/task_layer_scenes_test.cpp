@@ -107,6 +107,37 @@ TEST(TaskConflictDetection, ThreeLayerStockingIsTaskLevelFeasible) {
   }
 }
 
+// A motion failure at a handover bans that handover class (robots and grasps) for the next queries,
+// whatever the object: the failing configuration is the pair's handover pose, which every cube shares.
+TEST(TaskLayerFeedback, MotionFailureAtAHandoverBansItsClass) {
+  LayerRun run("sorting", {{"robots", "2"}, {"objects", "2"}}, 1);
+  ASSERT_EQ(run.result.status, TaskLayerStatus::kFeasible) << run.result.reason;
+  const TaskStep* handover = nullptr;
+  for (const TaskStep& s : run.result.plan.steps)
+    if (s.action.type == TaskArcType::kHandover) handover = &s;
+  ASSERT_NE(handover, nullptr);
+  TaskConstraint c;
+  c.kind = TaskConstraint::Kind::kInteraction;
+  c.arc = handover->arc;
+  c.temporary = true;
+  c.from_motion = true;
+  c.cause = "test";
+  ASSERT_TRUE(run.layer->addConstraint(c));
+  const TaskConstraint& added = run.layer->constraints().all().back();
+  EXPECT_FALSE(added.arc.valid());
+  EXPECT_EQ(added.giver, handover->action.robot);
+  EXPECT_EQ(added.receiver, handover->action.robot2);
+  EXPECT_TRUE(added.temporary);
+  // The next schedule hands no object over that way.
+  const TaskLayerResult next = run.layer->plan(Deadline(60));
+  if (next.status == TaskLayerStatus::kFeasible) {
+    for (const TaskStep& s : next.plan.steps)
+      EXPECT_FALSE(s.action.type == TaskArcType::kHandover && s.action.robot == added.giver &&
+                   s.action.robot2 == added.receiver && s.action.grasp == added.giver_grasp &&
+                   s.action.grasp2 == added.receiver_grasp);
+  }
+}
+
 // Into and out of a cubby the gripper moves along its approach axis: the configurations chosen for
 // picks and places there are on IK branches that can back straight out.
 TEST(TransitionSampling, CubbyGraspsCanBackStraightOut) {
