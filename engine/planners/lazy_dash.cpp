@@ -48,6 +48,7 @@ namespace {
 constexpr int kMaxMotionRounds = 200;
 constexpr double kBudgetGrowthAfterLift = 4.0;
 constexpr int kMaxHomeBudgetGrowths = 3;
+constexpr int kMaxBudgetGrowths = 3;  // after lifted motion bans: at most 64x the first budget
 
 double pathLength(const Plan& plan) {
   double total = 0.0;
@@ -97,13 +98,17 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   };
 
   int home_budget_growths = 0;
+  int budget_growths = 0;
   for (int round = 0; round < kMaxMotionRounds; ++round) {
     const TaskLayerResult layer = task.plan(deadline);
     if (layer.status != TaskLayerStatus::kFeasible)
       return finish(outcomeOf(layer.status, deadline),
                     "task layer: " + std::string(toString(layer.status)) + (layer.reason.empty() ? "" : " (" + layer.reason + ")"));
     // No schedule avoids the hyperarcs the motion layer failed on: search harder on the same ones.
-    if (layer.motion_bans_lifted) motion.scaleBudget(kBudgetGrowthAfterLift);
+    if (layer.motion_bans_lifted && budget_growths < kMaxBudgetGrowths) {
+      ++budget_growths;
+      motion.scaleBudget(kBudgetGrowthAfterLift);
+    }
     if (settings.task_only) {
       result.task_plan_json = layer.plan.toJson(task.space());
       return finish(PlanOutcome::kSolved, layer.plan.describe(task.space()));

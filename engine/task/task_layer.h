@@ -22,9 +22,9 @@ struct TaskLayerParams {
   TaskConflictParams conflicts;
   int max_iterations = 1000;
   int max_extra_locations_per_object = 3;
-  /// Times a run may lift the motion layer's temporary hyperarc bans when no schedule avoids them
-  /// (the motion budget is then raised, so the same schedule is tried harder, not forever).
-  int max_ban_lifts = 3;
+  /// Times a run may lift the temporary bans when no schedule avoids them (the motion budget is then
+  /// raised, a bounded number of times: LazyDash). On large scenes independent failures meet often.
+  int max_ban_lifts = 20;
   /// A hyperarc the motion layer fails on again is banned for as many task queries as it has failed
   /// (at most this many), so that alternatives get tried instead of two failing ones alternating.
   int max_ban_queries = 8;
