@@ -498,6 +498,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
   out.scene = scene.name;
   out.makespan = out.lastTime();
   result.ok = true;
+  result.step_times = step_time;
   result.stats.checks = static_cast<std::int64_t>(context_->counters().configuration_checks - checks_before);
   return result;
 }

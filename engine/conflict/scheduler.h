@@ -47,6 +47,7 @@ struct ScheduleResult {
   int failed_step = -1;
   std::string reason;
   ScheduleStats stats;
+  std::vector<double> step_times;  ///< when each task step's transition happens (when ok)
 };
 
 /// Replans a move for `robot` from -> to in `context` (the robots standing still in context.parked).

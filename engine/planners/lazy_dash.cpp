@@ -1,5 +1,6 @@
 #include "engine/planners/lazy_dash.h"
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "engine/collision/collision_context.h"
@@ -49,6 +50,32 @@ constexpr int kMaxMotionRounds = 200;
 constexpr double kBudgetGrowthAfterLift = 4.0;
 constexpr int kMaxHomeBudgetGrowths = 3;
 constexpr int kMaxBudgetGrowths = 3;  // after lifted motion bans: at most 64x the first budget
+constexpr int kMaxValidationFeedbacks = 5;
+
+/// The task step a collision found by the validator belongs to: the first transition at or after it
+/// of one of the robots involved (the move into it is where the contact was), else the last before it.
+/// -1 when the problem is not a collision between robots or held objects.
+int missedConflictStep(const Scene& scene, const TaskPlan& plan, const std::vector<double>& step_times,
+                       const ValidationProblem& problem) {
+  if (problem.kind != ProblemKind::kRobotRobotCollision && problem.kind != ProblemKind::kHeldObjectCollision &&
+      problem.kind != ProblemKind::kRobotObjectCollision)
+    return -1;
+  if (step_times.size() != plan.steps.size()) return -1;
+  std::vector<int> robots;
+  for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r)
+    if (scene.robots[r].id == problem.robot || scene.robots[r].id == problem.other) robots.push_back(r);
+  auto involves = [&](const TaskArc& a) {
+    return std::find(robots.begin(), robots.end(), a.robot) != robots.end() ||
+           std::find(robots.begin(), robots.end(), a.robot2) != robots.end();
+  };
+  int after = -1, before = -1;
+  for (int k = 0; k < static_cast<int>(plan.steps.size()); ++k) {
+    if (!involves(plan.steps[k].action)) continue;
+    if (step_times[k] >= problem.t && (after < 0 || step_times[k] < step_times[after])) after = k;
+    if (step_times[k] < problem.t && (before < 0 || step_times[k] > step_times[before])) before = k;
+  }
+  return after >= 0 ? after : before;
+}
 
 double pathLength(const Plan& plan) {
   double total = 0.0;
@@ -98,6 +125,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   };
 
   int home_budget_growths = 0;
+  int validation_feedbacks = 0;
   int budget_growths = 0;
   for (int round = 0; round < kMaxMotionRounds; ++round) {
     const TaskLayerResult layer = task.plan(deadline);
@@ -149,9 +177,17 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
     plan.planner = name();
     const ValidationReport report = validatePlan(scene, plan);
     if (!report.valid()) {
-      // A plan that fails validation is a bug in the planner, never a result.
-      return finish(PlanOutcome::kInfeasible, "internal error: the planned schedule failed validation: " +
-                                                  report.problems.front().message);
+      // A plan that fails validation is never a result. A contact the scheduler's continuous check
+      // sampled past (the validator samples other instants at the same resolution) goes back to the
+      // task query like any conflict, a few times per run; anything else is a bug in the planner.
+      const int step = missedConflictStep(scene, layer.plan, schedule.step_times, report.problems.front());
+      if (step < 0 || validation_feedbacks++ >= kMaxValidationFeedbacks)
+        return finish(PlanOutcome::kInfeasible, "internal error: the planned schedule failed validation: " +
+                                                    report.problems.front().message);
+      emitter.counter("validation_feedbacks", validation_feedbacks);
+      task.addConstraint(motionFeedback(layer.plan, step, "validation: " + report.problems.front().message));
+      emitter.setIteration(emitter.iteration() + 1);
+      continue;
     }
     result.stats.makespan = plan.makespan;
     result.stats.path_length = pathLength(plan);
