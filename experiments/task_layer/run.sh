@@ -25,7 +25,7 @@ done
 
 SCENES=(
   "sorting robots=16 objects=64"
-  "wall robots=8 walls=4 objects=40"
+  "wall robots=8 walls=6 objects=40"
   "shelf-wall robots=4 objects=32"
   "stocking layers=3 objects=18"
   "stocking layers=2 objects=28"
