@@ -193,6 +193,16 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
   std::vector<std::uint32_t> last_vertex(static_cast<std::size_t>(robots));
   // Whether each robot's last retreat backed off along its own approach axis (so may back off farther).
   std::vector<bool> own_retreat(static_cast<std::size_t>(robots), false);
+  // Out of a cubby: the robot's last retreat, if along its own axis, backs off as far as it validly can
+  // and the robot continues from there.
+  auto backOutOfLastRetreat = [&](int r) {
+    if (!own_retreat[r] || result.robots[r].visits.empty()) return false;
+    StepVisit& last = result.robots[r].visits.back();
+    const auto post = farthestBackOff(r, last.q, last.held_after, layouts[last.step + 1]);
+    if (!post) return false;
+    last.q_post = at[r] = *post;
+    return true;
+  };
   for (int r = 0; r < robots; ++r) {
     at[r] = scene.robots[r].home;
     last_vertex[r] = motionVertex(scene.robots[r].id + " home");
@@ -270,14 +280,7 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
             visit.q_pre = *pre;
             changed = true;
           }
-        if (own_retreat[r] && !result.robots[r].visits.empty()) {
-          StepVisit& prev = result.robots[r].visits.back();
-          if (auto post = farthestBackOff(r, prev.q, prev.held_after, layouts[prev.step + 1])) {
-            prev.q_post = *post;
-            at[r] = *post;
-            changed = true;
-          }
-        }
+        if (backOutOfLastRetreat(r)) changed = true;
         if (changed) transit = connect(r, at[r], visit.q_pre, context, deadline);
       }
       if (!transit) {
@@ -309,13 +312,8 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
       const MotionContext context{{}, layouts.back(), {}};
       auto home = connect(r, at[r], scene.robots[r].home, context, deadline);
       // As for a transit: out of a cubby, the last retreat backs off farther along its axis.
-      if (!home && !deadline.expired() && own_retreat[r] && !result.robots[r].visits.empty()) {
-        StepVisit& last = result.robots[r].visits.back();
-        if (auto post = farthestBackOff(r, last.q, last.held_after, layouts[last.step + 1])) {
-          last.q_post = at[r] = *post;
-          home = connect(r, at[r], scene.robots[r].home, context, deadline);
-        }
-      }
+      if (!home && !deadline.expired() && backOutOfLastRetreat(r))
+        home = connect(r, at[r], scene.robots[r].home, context, deadline);
       if (!home) {
         result.status = deadline.expired() ? MotionStatus::kTimeout : MotionStatus::kFailed;
         result.reason = "no path home for " + scene.robots[r].id +

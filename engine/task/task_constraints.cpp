@@ -33,9 +33,9 @@ bool TaskConstraintSet::add(const TaskConstraint& c) {
   return true;
 }
 
-std::vector<TaskConstraint> TaskConstraintSet::removeTemporary() {
+std::vector<TaskConstraint> TaskConstraintSet::removeWhere(bool (*remove)(const TaskConstraint&)) {
   std::vector<TaskConstraint> removed, kept;
-  for (const TaskConstraint& c : constraints_) (c.temporary ? removed : kept).push_back(c);
+  for (const TaskConstraint& c : constraints_) (remove(c) ? removed : kept).push_back(c);
   if (removed.empty()) return removed;
   constraints_.clear();
   by_post_.clear();
@@ -45,18 +45,14 @@ std::vector<TaskConstraint> TaskConstraintSet::removeTemporary() {
   return removed;
 }
 
+std::vector<TaskConstraint> TaskConstraintSet::removeTemporary() {
+  return removeWhere([](const TaskConstraint& c) { return c.temporary; });
+}
+
 std::vector<TaskConstraint> TaskConstraintSet::expireTemporary() {
   for (TaskConstraint& c : constraints_)
     if (c.temporary) --c.queries;
-  std::vector<TaskConstraint> expired, kept;
-  for (const TaskConstraint& c : constraints_) (c.temporary && c.queries <= 0 ? expired : kept).push_back(c);
-  if (expired.empty()) return expired;
-  constraints_.clear();
-  by_post_.clear();
-  by_pre_.clear();
-  interactions_.clear();
-  for (const TaskConstraint& c : kept) add(c);
-  return expired;
+  return removeWhere([](const TaskConstraint& c) { return c.temporary && c.queries <= 0; });
 }
 
 bool TaskConstraintSet::forbidsInteraction(HyperarcId id, const TaskArc& arc) const {

@@ -71,6 +71,8 @@ class TaskConstraintSet {
   }
 
  private:
+  /// Removes the constraints `remove` selects (rebuilding the indices); returns them.
+  std::vector<TaskConstraint> removeWhere(bool (*remove)(const TaskConstraint&));
   std::vector<TaskConstraint> constraints_;
   std::unordered_map<std::uint32_t, std::vector<int>> by_post_;
   std::unordered_map<std::uint32_t, std::vector<int>> by_pre_;

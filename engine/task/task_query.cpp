@@ -127,8 +127,7 @@ TaskQueryResult queryTaskPlan(const TaskHypergraph& graph, const TaskSpace& spac
   TaskQueryResult out;
   out.status = result.status;
   out.stats = result.stats;
-  if (result.found())
-    out.plan = removeRoundTrips(planFromHyperpath(graph, result), graph, constraints, &out.round_trip_steps_removed);
+  if (result.found()) out.plan = removeRoundTrips(planFromHyperpath(graph, result), graph, constraints);
   return out;
 }
 

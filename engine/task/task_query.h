@@ -22,7 +22,6 @@ struct TaskQueryResult {
   HyperpathStatus status = HyperpathStatus::kExhausted;
   TaskPlan plan;
   HyperpathStats stats;
-  int round_trip_steps_removed = 0;  ///< steps of the search's hyperpath dropped by removeRoundTrips
   bool found() const { return status == HyperpathStatus::kFound; }
 };
 

@@ -50,16 +50,28 @@ markdown() {
 
 query() { "$DASHBENCH" db query "$DB" "$1" --format csv --max-rows 100000; }
 
+# The scene column of a batch's runs: "sorting r=4 o=8", "wall r=5 w=2 o=4".
+scene_sql="CASE family WHEN 'wall' THEN printf('wall r=%d w=%d o=%d', json_extract(params, '\$.robots'),
+                json_extract(params, '\$.walls'), json_extract(params, '\$.objects'))
+             ELSE printf('%s r=%d o=%d', family, json_extract(params, '\$.robots'), json_extract(params, '\$.objects'))
+           END AS scene,"
+
+# CTEs "ranked" and "med": the median of each (scene, planner, m) of a long(scene, planner, m, v) table;
+# $1 filters long's rows.
+medians() {
+  echo "ranked AS (SELECT scene, planner, m, v, ROW_NUMBER() OVER (PARTITION BY scene, planner, m ORDER BY v) AS i,
+                    COUNT(*) OVER (PARTITION BY scene, planner, m) AS n FROM long $1),
+  med AS (SELECT scene, planner, m, AVG(v) AS v FROM ranked WHERE i IN ((n + 1) / 2, (n + 2) / 2)
+          GROUP BY scene, planner, m),"
+}
+
 tables() {
   local id="$1"
   # Runs of the batch, medians over the solved runs per (scene, planner), in long then wide form.
   local with
   with="WITH r AS (
     SELECT family, json_extract(params, '\$.objects') AS objects, planner, status,
-           CASE family WHEN 'wall' THEN printf('wall r=%d w=%d o=%d', json_extract(params, '\$.robots'),
-                json_extract(params, '\$.walls'), json_extract(params, '\$.objects'))
-             ELSE printf('%s r=%d o=%d', family, json_extract(params, '\$.robots'), json_extract(params, '\$.objects'))
-           END AS scene,
+           $scene_sql
            total_time, time_task_construction, time_task_query, time_task_conflict_detection,
            time_motion_construction, time_motion_query, time_conflict_resolution,
            task_vertices, task_hyperarcs, task_extended_vertices, task_extended_hyperarcs,
@@ -87,10 +99,7 @@ tables() {
     UNION ALL SELECT scene, planner, 'cl', collision_checks_lazy FROM r WHERE status = 'solved'
     UNION ALL SELECT scene, planner, 'rv', roadmap_vertices FROM r WHERE status = 'solved'
     UNION ALL SELECT scene, planner, 're', roadmap_edges FROM r WHERE status = 'solved'),
-  ranked AS (SELECT scene, planner, m, v, ROW_NUMBER() OVER (PARTITION BY scene, planner, m ORDER BY v) AS i,
-                    COUNT(*) OVER (PARTITION BY scene, planner, m) AS n FROM long),
-  med AS (SELECT scene, planner, m, AVG(v) AS v FROM ranked WHERE i IN ((n + 1) / 2, (n + 2) / 2)
-          GROUP BY scene, planner, m),
+  $(medians "")
   w AS (SELECT scene, planner,
           MAX(CASE m WHEN 'total' THEN v END) AS total, MAX(CASE m WHEN 'tc' THEN v END) AS tc,
           MAX(CASE m WHEN 'tq' THEN v END) AS tq, MAX(CASE m WHEN 'td' THEN v END) AS td,
@@ -173,10 +182,7 @@ tables() {
   echo
   query "WITH r AS (
     SELECT family, json_extract(params, '\$.objects') AS objects, planner, status,
-           CASE family WHEN 'wall' THEN printf('wall r=%d w=%d o=%d', json_extract(params, '\$.robots'),
-                json_extract(params, '\$.walls'), json_extract(params, '\$.objects'))
-             ELSE printf('%s r=%d o=%d', family, json_extract(params, '\$.robots'), json_extract(params, '\$.objects'))
-           END AS scene,
+           $scene_sql
            time_task_construction, time_task_query, time_task_conflict_detection, time_motion_construction,
            time_motion_query, time_conflict_resolution, total_time, iterations, constraints_motion
     FROM dash_runs WHERE batch_id = '$id' AND status NOT IN ('solved', 'running', 'cancelled', 'pending')),
@@ -190,10 +196,7 @@ tables() {
     UNION ALL SELECT scene, planner, 'total', total_time FROM r
     UNION ALL SELECT scene, planner, 'it', iterations FROM r
     UNION ALL SELECT scene, planner, 'mcn', constraints_motion FROM r),
-  ranked AS (SELECT scene, planner, m, v, ROW_NUMBER() OVER (PARTITION BY scene, planner, m ORDER BY v) AS i,
-                    COUNT(*) OVER (PARTITION BY scene, planner, m) AS n FROM long WHERE v IS NOT NULL),
-  med AS (SELECT scene, planner, m, AVG(v) AS v FROM ranked WHERE i IN ((n + 1) / 2, (n + 2) / 2)
-          GROUP BY scene, planner, m),
+  $(medians "WHERE v IS NOT NULL")
   w AS (SELECT scene, planner,
           MAX(CASE m WHEN 'tc' THEN v END) AS tc, MAX(CASE m WHEN 'tq' THEN v END) AS tq,
           MAX(CASE m WHEN 'td' THEN v END) AS td, MAX(CASE m WHEN 'mc' THEN v END) AS mc,
