@@ -71,15 +71,17 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
   const Scene& scene = space.scene();
   const int robots = static_cast<int>(scene.robots.size());
   ScheduleResult result;
-  std::vector<RobotTimeline> timelines;
-  for (int r = 0; r < robots; ++r) timelines.emplace_back(r, scene.robots[r].home);
-  ObjectTimeline objects(startLayout(space));
+  ScheduleState state{{}, ObjectTimeline(startLayout(space)), {}, std::vector<double>(plan.steps.size(), 0.0)};
+  for (int r = 0; r < robots; ++r) state.timelines.emplace_back(r, scene.robots[r].home);
+  std::vector<RobotTimeline>& timelines = state.timelines;
+  ObjectTimeline& objects = state.objects;
+  std::vector<PlanEvent>& events = state.events;
+  std::vector<double>& step_time = state.step_time;
   std::vector<std::size_t> next_visit(static_cast<std::size_t>(robots), 0);
-  std::vector<double> step_time(plan.steps.size(), 0.0);
-  std::vector<PlanEvent> events;
   const std::uint64_t checks_before = context_->counters().configuration_checks;
 
   auto fail = [&](int step, std::string why) {
+    memo_.recordEnd(state);
     result.ok = false;
     result.failed_step = step;
     result.reason = std::move(why);
@@ -126,7 +128,19 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
     return false;
   };
 
-  for (int k = 0; k < static_cast<int>(plan.steps.size()); ++k) {
+  // The steps this plan shares with the last one built are taken as they were scheduled then.
+  const int shared = memo_.resume(plan, transitions, state);
+  memo_.restart(shared);
+  result.stats.reused_steps = shared;
+  for (int k = 0; k < shared; ++k) {
+    const TaskArc& a = plan.steps[k].action;
+    ++next_visit[a.robot];
+    if (a.type == TaskArcType::kHandover) ++next_visit[a.robot2];
+  }
+  for (int r = 0; r < robots && shared > 0; ++r)
+    if (!fixNextTransit(r)) return fail(shared, "no path for " + scene.robots[r].id + " on from the shared steps");
+
+  for (int k = shared; k < static_cast<int>(plan.steps.size()); ++k) {
     const TaskArc& a = plan.steps[k].action;
     const TransitionConfig& tc = transitions[k];
     std::vector<Participant> parts;
@@ -447,6 +461,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
     // The next visit's transit must start where this robot now stands.
     for (const Participant& p : parts)
       if (!fixNextTransit(p.robot)) return fail(k, "no path after a skipped retreat of " + scene.robots[p.robot].id);
+    memo_.recordStep(plan.steps[k], tc, state);
   }
 
   // Home, when the scene wants every robot to end there.
@@ -485,6 +500,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
     if (!done) return fail(-1, "could not bring " + scene.robots[r].id + " home without collisions");
   }
 
+  memo_.recordEnd(state);
   Plan& out = result.plan;
   for (int r = 0; r < robots; ++r) {
     RobotTrajectory traj;

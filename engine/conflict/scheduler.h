@@ -9,7 +9,9 @@
 // standing still, then by replanning in the composite space of the robots in conflict (ARC's
 // subproblem: the step's participants plus the robots standing in their way, which may step aside and
 // come back; the robot set grows with each new robot found in the way). What cannot be resolved is
-// reported, with the step it happened at, for the planner to turn into a constraint.
+// reported, with the step it happened at, for the planner to turn into a constraint. A build whose
+// task plan starts with the same steps as the last build's takes those steps as they were scheduled
+// then (ScheduleMemo) and goes on from the first step where the plans part.
 #include <functional>
 #include <optional>
 #include <string>
@@ -17,6 +19,7 @@
 
 #include "engine/conflict/composite_planner.h"
 #include "engine/conflict/schedule_checker.h"
+#include "engine/conflict/schedule_memo.h"
 #include "engine/core/deadline.h"
 #include "engine/motion/motion_layer.h"
 #include "engine/plan/plan.h"
@@ -38,6 +41,7 @@ struct ScheduleStats {
   int delays = 0;       ///< retiming steps taken
   int replans = 0;      ///< moves replanned around robots in the way
   int composite_replans = 0;  ///< subproblems solved in the composite space of several robots
+  int reused_steps = 0;       ///< leading steps taken from the last schedule built (ScheduleMemo)
   std::int64_t checks = 0;
 };
 
@@ -74,6 +78,7 @@ class Scheduler {
   CollisionContext* context_;
   SchedulerParams params_;
   ScheduleChecker checker_;
+  ScheduleMemo memo_;  ///< the last schedule built, for the next build of a plan that starts the same
 };
 
 }  // namespace dash

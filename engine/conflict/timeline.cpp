@@ -54,6 +54,12 @@ void RobotTimeline::release(double t) {
   holds_.back().to = t;
 }
 
+void RobotTimeline::rewind(const Mark& mark) {
+  DASH_DEMAND(mark.points >= 1 && mark.points <= points_.size());
+  points_.resize(mark.points);
+  holds_ = mark.holds;
+}
+
 ObjectTimeline::ObjectTimeline(const ObjectLayout& start) : start_(start) {}
 
 void ObjectTimeline::pick(int object, double t) { changes_.push_back({t, object, false, Pose::Identity()}); }
@@ -75,6 +81,11 @@ ObjectLayout ObjectTimeline::layoutAt(double t) const {
     }
   }
   return layout;
+}
+
+void ObjectTimeline::rewind(std::size_t mark) {
+  DASH_DEMAND(mark <= changes_.size());
+  changes_.resize(mark);
 }
 
 void ObjectTimeline::breakpoints(double a, double b, std::vector<double>& out) const {

@@ -44,6 +44,15 @@ class RobotTimeline {
   void release(double t);
   const std::vector<HoldInterval>& holds() const { return holds_; }
 
+  /// Where the timeline stands now, to come back to after later appends, grasps and releases.
+  struct Mark {
+    std::size_t points = 0;
+    std::vector<HoldInterval> holds;
+  };
+  Mark mark() const { return {points_.size(), holds_}; }
+  /// Back to a mark taken on this timeline (everything appended since is dropped).
+  void rewind(const Mark& mark);
+
  private:
   int robot_;
   std::vector<TimedPoint> points_;
@@ -61,6 +70,10 @@ class ObjectTimeline {
   ObjectLayout layoutAt(double t) const;
   /// Event times strictly inside (a, b).
   void breakpoints(double a, double b, std::vector<double>& out) const;
+
+  /// Changes recorded so far; rewind(n) drops those recorded after the first n.
+  std::size_t mark() const { return changes_.size(); }
+  void rewind(std::size_t mark);
 
  private:
   struct Change {

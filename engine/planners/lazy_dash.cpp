@@ -127,6 +127,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   int home_budget_growths = 0;
   int validation_feedbacks = 0;
   int budget_growths = 0;
+  std::int64_t reused_steps = 0;  // steps conflict resolution took from the previous round's schedule
   for (int round = 0; round < kMaxMotionRounds; ++round) {
     const TaskLayerResult layer = task.plan(deadline);
     if (layer.status != TaskLayerStatus::kFeasible)
@@ -166,6 +167,8 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
       };
       schedule = scheduler.build(layer.plan, layer.transitions, std::move(motions), task.space(), replan, deadline);
     }
+    reused_steps += schedule.stats.reused_steps;
+    emitter.counter("scheduled_steps_reused", reused_steps);
     if (!schedule.ok) {
       if (deadline.expired()) return finish(outcomeOf(TaskLayerStatus::kTimeout, deadline), "conflict resolution: timeout");
       if (schedule.failed_step < 0) return finish(PlanOutcome::kInfeasible, "conflict resolution: " + schedule.reason);

@@ -1,0 +1,80 @@
+// Conflict resolution again on a plan that starts like the last one (as after a failure fed back to the
+// task query): the scheduler takes the shared steps as it scheduled them and the plan stays valid.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "engine/conflict/scheduler.h"
+#include "engine/log/memory_sink.h"
+#include "engine/plan/plan_validator.h"
+#include "engine/scenarios/scenario_registry.h"
+#include "engine/task/task_layer.h"
+
+namespace dash {
+namespace {
+
+struct SortingRun {
+  Scene scene = generateScenario("sorting", {{"robots", "4"}, {"objects", "8"}}, 1, RobotLibrary::loadDefault());
+  CollisionWorld world{scene};
+  CollisionContext context{world};
+  log::MemorySink sink;
+  log::EventEmitter emitter{&sink};
+  TaskLayer task{scene, world, context, emitter, 1};
+  MotionLayer motion{world, context, emitter};
+  Scheduler scheduler{world, context};
+  TaskLayerResult layer = task.plan(Deadline(120));
+
+  ScheduleResult schedule(const TaskPlan& plan) {
+    MotionLayerResult motions = motion.plan(plan, layer.transitions, task.space(), Deadline(120));
+    EXPECT_EQ(motions.status, MotionStatus::kOk) << motions.reason;
+    const Deadline deadline(120);
+    const MoveReplanner replan = [&](int r, const JointVector& from, const JointVector& to, const MotionContext& ctx) {
+      return motion.connect(r, from, to, ctx, deadline);
+    };
+    return scheduler.build(plan, layer.transitions, std::move(motions), task.space(), replan, deadline);
+  }
+};
+
+TEST(SchedulerResume, TheSamePlanAgainIsTakenWholeFromTheLastSchedule) {
+  seedOmplOnce(1);
+  SortingRun run;
+  ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
+  const ScheduleResult first = run.schedule(run.layer.plan);
+  ASSERT_TRUE(first.ok) << first.reason;
+  EXPECT_EQ(first.stats.reused_steps, 0);
+  const ScheduleResult again = run.schedule(run.layer.plan);
+  ASSERT_TRUE(again.ok) << again.reason;
+  EXPECT_EQ(again.stats.reused_steps, static_cast<int>(run.layer.plan.steps.size()));
+  EXPECT_EQ(again.step_times, first.step_times);
+  EXPECT_EQ(again.plan.makespan, first.plan.makespan);
+  EXPECT_TRUE(validatePlan(run.scene, again.plan).valid());
+}
+
+TEST(SchedulerResume, APlanThatPartsHalfWayKeepsTheFirstHalfAndStaysValid) {
+  seedOmplOnce(1);
+  SortingRun run;
+  ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
+  const ScheduleResult first = run.schedule(run.layer.plan);
+  ASSERT_TRUE(first.ok) << first.reason;
+  // The same steps, but from the middle on each waits for the step before it: a plan that parts there.
+  TaskPlan serial = run.layer.plan;
+  const int half = static_cast<int>(serial.steps.size()) / 2;
+  for (int k = half; k < static_cast<int>(serial.steps.size()); ++k)
+    if (std::find(serial.steps[k].after.begin(), serial.steps[k].after.end(), k - 1) == serial.steps[k].after.end())
+      serial.steps[k].after.push_back(k - 1);
+  int parts_at = half;
+  const int n = static_cast<int>(serial.steps.size());
+  while (parts_at < n && serial.steps[parts_at].after == run.layer.plan.steps[parts_at].after) ++parts_at;
+  ASSERT_LT(parts_at, n);
+  const ScheduleResult second = run.schedule(serial);
+  ASSERT_TRUE(second.ok) << second.reason;
+  EXPECT_EQ(second.stats.reused_steps, parts_at);
+  for (int k = 0; k < parts_at; ++k) EXPECT_EQ(second.step_times[k], first.step_times[k]) << "step " << k;
+  for (int k = parts_at + 1; k < static_cast<int>(serial.steps.size()); ++k)
+    EXPECT_GT(second.step_times[k], second.step_times[k - 1]) << "step " << k;
+  const ValidationReport report = validatePlan(run.scene, second.plan);
+  EXPECT_TRUE(report.valid()) << report.summary();
+}
+
+}  // namespace
+}  // namespace dash
