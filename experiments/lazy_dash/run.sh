@@ -5,11 +5,12 @@
 # / query, conflict resolution), representation sizes, makespan and collision checks, medians over
 # the solved runs (failed runs show their status instead).
 #
-#   experiments/lazy_dash/run.sh [--large] [--seeds N] [--time-limit SEC]
+#   experiments/lazy_dash/run.sh [--large] [--scene "FAMILY K=V ..."]... [--seeds N] [--time-limit SEC]
 #
 # Default: the small cases (sorting 4x8, wall 8/2/16, shelf-wall 2/8, stocking 2/8, lab 2);
-# --large: the paper's largest instances (600 s each by default). Plans are validated by
-# `dashbench validate` again here, outside the planner. DASHBENCH names the dashbench to use.
+# --large: the paper's largest instances (600 s each by default); --scene (repeatable): these scenes
+# instead (e.g. to run the large ones in two halves side by side). Seeds are 1..N. Plans are validated
+# by `dashbench validate` again here, outside the planner. DASHBENCH names the dashbench to use.
 set -euo pipefail
 
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -32,27 +33,31 @@ LARGE=(
   "stocking layers=2 objects=28"
   "lab containers=8"
 )
+CHOSEN=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --large) SCENES=("${LARGE[@]}"); shift ;;
+    --scene) CHOSEN+=("$2"); shift 2 ;;
     --seeds) SEEDS="$2"; shift 2 ;;
     --time-limit) TIME_LIMIT="$2"; shift 2 ;;
-    -h|--help) sed -n '2,12p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
+[ ${#CHOSEN[@]} -gt 0 ] && SCENES=("${CHOSEN[@]}")
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT
 
 median() { sort -g | awk '{v[NR]=$1} END{if (NR==0) print "-"; else if (NR%2) print v[(NR+1)/2]; else print (v[NR/2]+v[NR/2+1])/2}'; }
 
-echo "| scene | solved | total (s) | task constr. / query / conflict det. (s) | motion constr. / query (s) | conflict res. (s) | H_T | H_TE | H_M | H_ME | makespan (s) | collision checks |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| scene | solved | total (s) | per seed (s) | task constr. / query / conflict det. (s) | motion constr. / query (s) | conflict res. (s) | H_T | H_TE | H_M | H_ME | makespan (s) | collision checks |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for spec in "${SCENES[@]}"; do
   read -r family params <<<"$spec"
   : >"$WORK/rows"
   ok=0
   statuses=""
+  per_seed=""
   for seed in $(seq 1 "$SEEDS"); do
     # shellcheck disable=SC2086
     "$DASHBENCH" scenario "$family" $params --seed "$seed" -o "$WORK/scene.json" >/dev/null 2>&1
@@ -69,6 +74,8 @@ for spec in "${SCENES[@]}"; do
       rc=1
     fi
     statuses="$statuses ${status:-crashed}"
+    [ "$rc" -eq 0 ] && per_seed="$per_seed, $(grep '^time:' "$WORK/err" | grep -o '(phases [0-9.]*' | awk '{printf "%.0f", $2}')" \
+      || per_seed="$per_seed, ${status:-crashed}"
     phase() { grep '^time:' "$WORK/err" | grep -o "$1 [0-9.]*" | awk '{print $2}' | head -1; }
     total=$(grep '^time:' "$WORK/err" | grep -o '(phases [0-9.]*' | awk '{print $2}' || true)
     sizes=$(grep '^sizes:' "$WORK/err" | awk '{print $3, $5, $7, $9}' || true)
@@ -81,10 +88,11 @@ for spec in "${SCENES[@]}"; do
   col() { awk -v c="$1" '$1 == 0 {print ($c == "" ? 0 : $c)}' "$WORK/rows" | median; }
   last() { awk -v c="$1" '$1 == 0 {v=$c} END{print (v == "" ? "-" : v)}' "$WORK/rows"; }
   if [ "$ok" -eq 0 ]; then
-    printf '| %s %s | 0/%d (%s) | | | | | | | | | | |\n' "$family" "$params" "$SEEDS" "$(echo $statuses | tr ' ' ',')"
+    printf '| %s %s | 0/%d (%s) | | %s | | | | | | | | | |\n' "$family" "$params" "$SEEDS" "$(echo $statuses | tr ' ' ',')" \
+      "${per_seed#, }"
     continue
   fi
-  printf '| %s %s | %d/%d | %s | %s / %s / %s | %s / %s | %s | %s | %s | %s | %s | %s | %s |\n' "$family" "$params" "$ok" \
-    "$SEEDS" "$(col 2)" "$(col 3)" "$(col 4)" "$(col 5)" "$(col 6)" "$(col 7)" "$(col 8)" "$(last 9)" "$(last 10)" \
+  printf '| %s %s | %d/%d | %s | %s | %s / %s / %s | %s / %s | %s | %s | %s | %s | %s | %s | %s |\n' "$family" "$params" "$ok" \
+    "$SEEDS" "$(col 2)" "${per_seed#, }" "$(col 3)" "$(col 4)" "$(col 5)" "$(col 6)" "$(col 7)" "$(col 8)" "$(last 9)" "$(last 10)" \
     "$(last 11)" "$(last 12)" "$(col 13)" "$(col 14)"
 done
