@@ -41,6 +41,8 @@ std::optional<ScheduleConflict> ScheduleChecker::check(const RobotTimeline& time
   objects.breakpoints(from, until, cuts);
   for (const RobotTimeline& o : others)
     if (o.robot() != r && mayInteract(r, o.robot())) o.breakpoints(from, until, cuts);
+  for (auto it = std::upper_bound(extra_cuts_.begin(), extra_cuts_.end(), from); it != extra_cuts_.end() && *it < until; ++it)
+    cuts.push_back(*it);
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end(), [](double a, double b) { return b - a < 1e-9; }), cuts.end());
   if (cuts.size() == 1) cuts.push_back(cuts.front());  // a single instant
@@ -65,6 +67,8 @@ std::optional<ScheduleConflict> ScheduleChecker::check(const RobotTimeline& time
   }
   return std::nullopt;
 }
+
+void ScheduleChecker::alsoCheckAt(double t) { extra_cuts_.insert(std::upper_bound(extra_cuts_.begin(), extra_cuts_.end(), t), t); }
 
 std::optional<ScheduleConflict> ScheduleChecker::checkResting(int object, const Pose& X_WO, double from,
                                                               const std::vector<RobotTimeline>& timelines, int except) {

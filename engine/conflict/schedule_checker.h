@@ -30,6 +30,9 @@ class ScheduleChecker {
   /// Object `object` resting at X_WO from `from` on, against every robot timeline but `except`.
   std::optional<ScheduleConflict> checkResting(int object, const Pose& X_WO, double from,
                                                const std::vector<RobotTimeline>& timelines, int except);
+  /// From now on every check also cuts time at t, so the robots' configurations at exactly t are checked
+  /// (a contact the plan validator found there, between the instants this checker sampled).
+  void alsoCheckAt(double t);
 
  private:
   bool mayInteract(int a, int b) const { return interact_[a][b]; }
@@ -37,6 +40,7 @@ class ScheduleChecker {
   const CollisionWorld* world_;
   CollisionContext* context_;
   std::vector<std::vector<bool>> interact_;  ///< robots whose reach boxes (grown for a held object) meet
+  std::vector<double> extra_cuts_;           ///< alsoCheckAt's instants, sorted
 };
 
 }  // namespace dash

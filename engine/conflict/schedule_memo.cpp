@@ -48,6 +48,19 @@ void ScheduleMemo::restart(int steps) {
   marks_.resize(static_cast<std::size_t>(steps));
 }
 
+void ScheduleMemo::forgetFrom(double t) {
+  if (!last_) return;
+  int keep = 0;
+  for (; keep < steps(); ++keep) {
+    const StepMark& mark = marks_[keep];
+    bool before = true;
+    for (std::size_t r = 0; r < mark.robots.size() && before; ++r)
+      before = last_->timelines[r].points()[mark.robots[r].points - 1].t < t;
+    if (!before) break;
+  }
+  restart(keep);
+}
+
 void ScheduleMemo::recordStep(const TaskStep& step, const TransitionConfig& transition, const ScheduleState& state) {
   keys_.push_back({step.action, step.after, transition});
   StepMark mark;

@@ -38,6 +38,9 @@ class ScheduleMemo {
   void recordStep(const TaskStep& step, const TransitionConfig& transition, const ScheduleState& state);
   /// The build stopped (done or failed): remembers what it built, to rewind to the marks later.
   void recordEnd(const ScheduleState& state) { last_ = state; }
+  /// Forgets the steps after which some robot's schedule already reaches time t (a collision the
+  /// validator found there must not be taken again from the memo).
+  void forgetFrom(double t);
   int steps() const { return static_cast<int>(keys_.size()); }
 
  private:

@@ -65,6 +65,10 @@ class Scheduler {
   ScheduleResult build(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
                        MotionLayerResult motion, const TaskSpace& space, const MoveReplanner& replan,
                        const Deadline& deadline);
+  /// The next build schedules again every step whose motions reach time t (see ScheduleMemo).
+  void forgetFrom(double t) { memo_.forgetFrom(t); }
+  /// Every later build also checks the robots' configurations at exactly t (ScheduleChecker::alsoCheckAt).
+  void alsoCheckAt(double t) { checker_.alsoCheckAt(t); }
 
  private:
   struct Attempt;

@@ -51,15 +51,20 @@ constexpr double kBudgetGrowthAfterLift = 4.0;
 constexpr int kMaxHomeBudgetGrowths = 3;
 constexpr int kMaxBudgetGrowths = 3;  // after lifted motion bans: at most 64x the first budget
 constexpr int kMaxValidationFeedbacks = 5;
+constexpr int kMaxRechecksPerRound = 3;
+
+/// A collision between robots, held objects or resting objects (what conflict resolution checks).
+bool isContact(const ValidationProblem& problem) {
+  return problem.kind == ProblemKind::kRobotRobotCollision || problem.kind == ProblemKind::kHeldObjectCollision ||
+         problem.kind == ProblemKind::kRobotObjectCollision;
+}
 
 /// The task step a collision found by the validator belongs to: the first transition at or after it
 /// of one of the robots involved (the move into it is where the contact was), else the last before it.
 /// -1 when the problem is not a collision between robots or held objects.
 int missedConflictStep(const Scene& scene, const TaskPlan& plan, const std::vector<double>& step_times,
                        const ValidationProblem& problem) {
-  if (problem.kind != ProblemKind::kRobotRobotCollision && problem.kind != ProblemKind::kHeldObjectCollision &&
-      problem.kind != ProblemKind::kRobotObjectCollision)
-    return -1;
+  if (!isContact(problem)) return -1;
   if (step_times.size() != plan.steps.size()) return -1;
   std::vector<int> robots;
   for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r)
@@ -128,6 +133,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   int validation_feedbacks = 0;
   int budget_growths = 0;
   std::int64_t reused_steps = 0;  // steps conflict resolution took from the previous round's schedule
+  std::int64_t rechecks = 0;      // schedules built again after the validator found a contact
   for (int round = 0; round < kMaxMotionRounds; ++round) {
     const TaskLayerResult layer = task.plan(deadline);
     if (layer.status != TaskLayerStatus::kFeasible)
@@ -159,16 +165,33 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
       emitter.setIteration(emitter.iteration() + 1);
       continue;
     }
+    // A plan that fails validation is never a result. A contact the validator finds between the instants
+    // the scheduler's continuous check sampled (same resolution, other instants): the scheduler checks
+    // that instant too from now on and schedules again from there, the same task plan and the steps
+    // before it kept (a few times per round; then it goes back to the task query like any conflict).
     ScheduleResult schedule;
-    {
-      log::PhaseTimer timer(emitter, log::Phase::ConflictResolution);
-      const MoveReplanner replan = [&](int r, const JointVector& from, const JointVector& to, const MotionContext& ctx) {
-        return motion.connect(r, from, to, ctx, deadline);
-      };
-      schedule = scheduler.build(layer.plan, layer.transitions, std::move(motions), task.space(), replan, deadline);
+    Plan plan;
+    ValidationReport report;
+    for (int recheck = 0;; ++recheck) {
+      {
+        log::PhaseTimer timer(emitter, log::Phase::ConflictResolution);
+        const MoveReplanner replan = [&](int r, const JointVector& from, const JointVector& to,
+                                         const MotionContext& ctx) { return motion.connect(r, from, to, ctx, deadline); };
+        schedule = scheduler.build(layer.plan, layer.transitions, motions, task.space(), replan, deadline);
+      }
+      reused_steps += schedule.stats.reused_steps;
+      emitter.counter("scheduled_steps_reused", reused_steps);
+      if (!schedule.ok) break;
+      plan = std::move(schedule.plan);
+      plan.planner = name();
+      report = validatePlan(scene, plan);
+      if (report.valid() || recheck >= kMaxRechecksPerRound || !isContact(report.problems.front())) break;
+      const ValidationProblem& contact = report.problems.front();
+      scheduler.alsoCheckAt(contact.t);
+      if (contact.t_end > contact.t) scheduler.alsoCheckAt(contact.t_end);
+      scheduler.forgetFrom(contact.t);
+      emitter.counter("validation_rechecks", ++rechecks);
     }
-    reused_steps += schedule.stats.reused_steps;
-    emitter.counter("scheduled_steps_reused", reused_steps);
     if (!schedule.ok) {
       if (deadline.expired()) return finish(outcomeOf(TaskLayerStatus::kTimeout, deadline), "conflict resolution: timeout");
       if (schedule.failed_step < 0) return finish(PlanOutcome::kInfeasible, "conflict resolution: " + schedule.reason);
@@ -176,18 +199,15 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
       emitter.setIteration(emitter.iteration() + 1);
       continue;
     }
-    Plan plan = std::move(schedule.plan);
-    plan.planner = name();
-    const ValidationReport report = validatePlan(scene, plan);
     if (!report.valid()) {
-      // A plan that fails validation is never a result. A contact the scheduler's continuous check
-      // sampled past (the validator samples other instants at the same resolution) goes back to the
-      // task query like any conflict, a few times per run; anything else is a bug in the planner.
+      // Still a contact after the rechecks: back to the task query like any conflict, a few times per
+      // run; anything else is a bug in the planner.
       const int step = missedConflictStep(scene, layer.plan, schedule.step_times, report.problems.front());
       if (step < 0 || validation_feedbacks++ >= kMaxValidationFeedbacks)
         return finish(PlanOutcome::kInfeasible, "internal error: the planned schedule failed validation: " +
                                                     report.problems.front().message);
       emitter.counter("validation_feedbacks", validation_feedbacks);
+      scheduler.forgetFrom(report.problems.front().t);
       task.addConstraint(motionFeedback(layer.plan, step, "validation: " + report.problems.front().message));
       emitter.setIteration(emitter.iteration() + 1);
       continue;

@@ -111,5 +111,14 @@ TEST(ScheduleMemo, RestartKeepsTheSharedStepsOnly) {
   EXPECT_EQ(b.memo.resume(b.plan, b.transitions, state), 1);
 }
 
+TEST(ScheduleMemo, ForgetsTheStepsWhoseMotionsReachATime) {
+  Built b = buildTwoSteps();  // after step 1 robot 0 is at t = 1; after step 2 robot 0 reaches t = 2.5
+  ScheduleState state{{}, ObjectTimeline(twoObjects()), {}, {0.0, 0.0}};
+  b.memo.forgetFrom(2.2);
+  EXPECT_EQ(b.memo.resume(b.plan, b.transitions, state), 1);
+  b.memo.forgetFrom(1.0);
+  EXPECT_EQ(b.memo.resume(b.plan, b.transitions, state), 0);
+}
+
 }  // namespace
 }  // namespace dash
