@@ -23,6 +23,26 @@ constexpr double kHandoverAlong[] = {0.0, -0.1, 0.1, -0.2, 0.2};
 constexpr double kHandoverYaws[] = {0.0, 1.5707963267948966, 3.141592653589793, -1.5707963267948966};
 
 double jointDistance(const JointVector& a, const JointVector& b) { return (a - b).cwiseAbs().sum(); }
+
+constexpr std::size_t kMaxMemoEntries = 50000;  // per kind; cleared when full (under 100 MB)
+
+/// The exact bytes of the arguments, as a hash key.
+std::string memoKey(int robot, int object, const Pose& X_WO, int what, const Pose& X_TO, int limit, bool approach) {
+  std::string key;
+  auto put = [&](const void* p, std::size_t n) { key.append(static_cast<const char*>(p), n); };
+  const int ints[] = {robot, object, what, limit, approach ? 1 : 0};
+  put(ints, sizeof ints);
+  put(X_WO.matrix().data(), 16 * sizeof(double));
+  put(X_TO.matrix().data(), 16 * sizeof(double));
+  return key;
+}
+
+template <typename Map, typename Compute>
+const typename Map::mapped_type& remembered(Map& memo, std::string key, Compute compute) {
+  if (auto it = memo.find(key); it != memo.end()) return it->second;
+  if (memo.size() >= kMaxMemoEntries) memo.clear();
+  return memo.emplace(std::move(key), compute()).first->second;
+}
 }  // namespace
 
 GraspClass classifyGrasp(const Pose& X_WT) {
@@ -61,6 +81,18 @@ bool TransitionSampler::staticFree(const RobotState& state) {
 
 std::vector<GraspConfig> TransitionSampler::graspConfigs(int robot, int object, const Pose& X_WO, GraspClass g,
                                                          int limit, bool approach) {
+  return remembered(grasp_memo_, memoKey(robot, object, X_WO, static_cast<int>(g), Pose::Identity(), limit, approach),
+                    [&] { return computeGraspConfigs(robot, object, X_WO, g, limit, approach); });
+}
+
+std::vector<JointVector> TransitionSampler::holdConfigs(int robot, int object, const Pose& X_WO, const Pose& X_TO,
+                                                        int limit, bool approach) {
+  return remembered(hold_memo_, memoKey(robot, object, X_WO, -1, X_TO, limit, approach),
+                    [&] { return computeHoldConfigs(robot, object, X_WO, X_TO, limit, approach); });
+}
+
+std::vector<GraspConfig> TransitionSampler::computeGraspConfigs(int robot, int object, const Pose& X_WO, GraspClass g,
+                                                                int limit, bool approach) {
   std::vector<GraspConfig> out;
   if (!inRange(robot, X_WO.translation())) return out;
   const SceneRobot& r = world_->scene().robots[robot];
@@ -85,8 +117,8 @@ std::vector<GraspConfig> TransitionSampler::graspConfigs(int robot, int object, 
   return out;
 }
 
-std::vector<JointVector> TransitionSampler::holdConfigs(int robot, int object, const Pose& X_WO, const Pose& X_TO,
-                                                        int limit, bool approach) {
+std::vector<JointVector> TransitionSampler::computeHoldConfigs(int robot, int object, const Pose& X_WO,
+                                                               const Pose& X_TO, int limit, bool approach) {
   std::vector<JointVector> out, blocked_line;
   if (!inRange(robot, X_WO.translation())) return out;
   const Pose X_WT = X_WO * X_TO.inverse();

@@ -2,6 +2,8 @@
 // Transition configurations: robot configurations at picks, placements and handovers, by IK of grasp
 // candidates (engine/collision/grasp_candidates.h) and collision checks. Used by H_T reachability
 // (static checks only) and by task conflict detection (against the objects resting at that moment).
+#include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "engine/collision/collision_context.h"
@@ -57,9 +59,18 @@ class TransitionSampler {
   std::vector<Pose> handoverPoses(int giver, int receiver) const;
 
  private:
+  std::vector<GraspConfig> computeGraspConfigs(int robot, int object, const Pose& X_WO, GraspClass g, int limit,
+                                               bool approach);
+  std::vector<JointVector> computeHoldConfigs(int robot, int object, const Pose& X_WO, const Pose& X_TO, int limit,
+                                              bool approach);
+
   const CollisionWorld* world_;
   CollisionContext* context_;
   ObjectLayout no_objects_;
+  // graspConfigs and holdConfigs depend on the static scene only, and task conflict detection asks for the
+  // same ones again after every constraint: answers are kept (bounded; keyed by the exact arguments).
+  std::unordered_map<std::string, std::vector<GraspConfig>> grasp_memo_;
+  std::unordered_map<std::string, std::vector<JointVector>> hold_memo_;
 };
 
 }  // namespace dash

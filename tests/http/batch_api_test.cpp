@@ -182,7 +182,13 @@ struct OneAtATime : BatchApiTest {
 TEST_F(OneAtATime, AfterARestartUnfinishedBatchesAreResumable) {
   const std::string running = submit(*http, tinySpec("first", "2", "[1]", kSpinning, 60));
   const std::string queued = submit(*http, tinySpec("second", "2", "[1,2]", kTaskOnlyPlanner));
-  ASSERT_TRUE(waitFor([&] { return http->get("/api/batches/" + running).json()["status"] == "running"; }, 30));
+  // Its run started (the batch is "running" a moment before its worker takes the run).
+  ASSERT_TRUE(waitFor(
+      [&] {
+        const Json b = http->get("/api/batches/" + running).json();
+        return b["status"] == "running" && b["runs"][0]["status"] == "running";
+      },
+      30));
   EXPECT_EQ(http->get("/api/batches/" + queued).json()["status"], "queued");
   server->stop();  // what Ctrl-C does: the running batch is stopped, the queued one never started
 

@@ -159,6 +159,33 @@ TEST(TransitionSampling, CubbyGraspsCanBackStraightOut) {
   EXPECT_GT(checked, 0);
 }
 
+// Grasp and hold configurations depend on the static scene only: asked again (as task conflict
+// detection does after every constraint), the sampler answers from memory, without a collision check,
+// and the answer for another pose is its own.
+TEST(TransitionSampler, RemembersStaticAnswers) {
+  const Scene scene = generateScenario("shelf-wall", {{"robots", "2"}, {"objects", "4"}}, 1, RobotLibrary::loadDefault());
+  const CollisionWorld world(scene);
+  CollisionContext context(world);
+  TransitionSampler sampler(world, context);
+  const Pose& goal = *scene.objects[0].X_WO_goal;
+  const std::vector<GraspConfig> first = sampler.graspConfigs(0, 0, goal, GraspClass::kSide, 6, true);
+  ASSERT_FALSE(first.empty());
+  const std::vector<JointVector> holds = sampler.holdConfigs(0, 0, goal, first[0].X_TO, 2, true);
+  const std::uint64_t checks = context.counters().configuration_checks;
+  const std::vector<GraspConfig> again = sampler.graspConfigs(0, 0, goal, GraspClass::kSide, 6, true);
+  EXPECT_EQ(sampler.holdConfigs(0, 0, goal, first[0].X_TO, 2, true).size(), holds.size());
+  EXPECT_EQ(context.counters().configuration_checks, checks);
+  ASSERT_EQ(again.size(), first.size());
+  for (std::size_t i = 0; i < first.size(); ++i) EXPECT_EQ(again[i].q, first[i].q);
+  // Moved 5 cm along x: other configurations (the translation is part of what is remembered).
+  const Pose moved = makePose(Vec3(0.05, 0, 0)) * goal;
+  const std::vector<GraspConfig> elsewhere = sampler.graspConfigs(0, 0, moved, GraspClass::kSide, 6, true);
+  EXPECT_GT(context.counters().configuration_checks, checks);
+  if (!elsewhere.empty()) {
+    EXPECT_NE(elsewhere[0].q, first[0].q);
+  }
+}
+
 // Seed 2: no single grasp serves an item's pick from its move-out pose and its place back at its
 // goal. That combination is banned for some task queries, never the goal placement for ever (which
 // left the item no way home: infeasible).
