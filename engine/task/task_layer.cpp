@@ -240,25 +240,6 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
         result.status = TaskLayerStatus::kTimeout;
         return result;
       }
-      // A motion failure bans its hyperarc for some queries, not for ever (paper: the failed hyperarc
-      // is not removed): with no schedule around it, the same hyperarcs go back to the motion layer
-      // (which then searches harder: motion_bans_lifted), or to task conflict detection.
-      auto liftBans = [&] {
-        if (ban_lifts_ >= params_.max_ban_lifts) return false;
-        const Lifted lifted = liftTemporaryConstraints("no schedule avoids the temporary bans");
-        if (!lifted.any) return false;
-        ++ban_lifts_;
-        result.motion_bans_lifted = result.motion_bans_lifted || lifted.motion;
-        return true;
-      };
-      // Motion bans are lifted before the task space is expanded: an extra location for every
-      // constrained object makes every later query harder (stocking 3/18 seed 4 grew to 3 extra
-      // locations per item while one handover was banned by the motion layer, and no query found a
-      // schedule within its budget after that). Task-level bans (grasp chains) come back at once from
-      // task conflict detection, so for those the space is expanded first.
-      const bool motion_bans = std::any_of(constraints_.all().begin(), constraints_.all().end(),
-                                           [](const TaskConstraint& c) { return c.temporary && c.from_motion; });
-      if (motion_bans && liftBans()) continue;
       bool expanded = false;
       for (int o : objectsToExpandAfterFailure())
         expanded = expand(o, std::string("task query ") + std::string(toString(query.status)) +
@@ -267,7 +248,17 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
         rebuild();
         continue;
       }
-      if (liftBans()) continue;
+      // A motion failure bans its hyperarc for some queries, not for ever (paper: the failed hyperarc
+      // is not removed): with no schedule around it, the same hyperarcs go back to the motion layer
+      // (which then searches harder: motion_bans_lifted), or to task conflict detection.
+      if (ban_lifts_ < params_.max_ban_lifts) {
+        const Lifted lifted = liftTemporaryConstraints("no schedule avoids the temporary bans");
+        if (lifted.any) {
+          ++ban_lifts_;
+          result.motion_bans_lifted = result.motion_bans_lifted || lifted.motion;
+          continue;
+        }
+      }
       result.status = TaskLayerStatus::kInfeasible;
       result.reason = std::string("task query ") + std::string(toString(query.status)) + " with " +
                       std::to_string(constraints_.size()) + " task constraints";
