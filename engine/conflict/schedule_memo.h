@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "engine/conflict/timeline.h"
-#include "engine/task/task_conflict_detection.h"
 #include "engine/plan/plan.h"
+#include "engine/task/task_conflict_detection.h"
 
 namespace dash {
 
