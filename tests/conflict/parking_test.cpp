@@ -6,17 +6,12 @@
 
 #include "engine/collision/collision_queries.h"
 #include "engine/conflict/parking.h"
-#include "engine/scenarios/scenario_registry.h"
+#include "tests/conflict/two_arms.h"
 
 namespace dash {
 namespace {
 
-struct TwoArms {
-  Scene scene = generateScenario("sorting", {{"robots", "2"}, {"objects", "2"}}, 1, RobotLibrary::loadDefault());
-  CollisionWorld world{scene};
-  CollisionContext context{world};
-  ObjectLayout layout = ObjectLayout::atStart(scene);
-};
+using testing::TwoArms;
 
 TEST(Parking, HomeWhenNothingIsInTheWay) {
   TwoArms arms;

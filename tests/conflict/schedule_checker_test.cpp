@@ -4,16 +4,13 @@
 #include <gtest/gtest.h>
 
 #include "engine/conflict/schedule_checker.h"
-#include "engine/scenarios/scenario_registry.h"
+#include "tests/conflict/two_arms.h"
 
 namespace dash {
 namespace {
 
-struct TwoArms {
-  Scene scene = generateScenario("sorting", {{"robots", "2"}, {"objects", "2"}}, 1, RobotLibrary::loadDefault());
-  CollisionWorld world{scene};
-  CollisionContext context{world};
-  ObjectTimeline objects{ObjectLayout::atStart(scene)};
+struct TwoArms : testing::TwoArms {
+  ObjectTimeline objects{layout};
   std::vector<RobotTimeline> timelines{RobotTimeline(0, scene.robots[0].home), RobotTimeline(1, scene.robots[1].home)};
 
   std::uint64_t checksOver(ScheduleChecker& checker, double from, double until) {
