@@ -6,6 +6,7 @@
 #include <ompl/geometric/PathGeometric.h>
 #include <ompl/geometric/PathSimplifier.h>
 #include <ompl/geometric/planners/prm/LazyPRM.h>
+#include <ompl/geometric/planners/rrt/RRTConnect.h>
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
@@ -86,8 +87,7 @@ LazyRoadmap::LazyRoadmap(const CollisionWorld& world, CollisionContext& context,
 
 LazyRoadmap::~LazyRoadmap() = default;
 
-std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_start, const JointVector& q_goal,
-                                                           const MotionContext& motion, const Deadline& deadline) {
+bool LazyRoadmap::prepare(const JointVector& q_start, const JointVector& q_goal, const MotionContext& motion) {
   if (!last_context_ || !last_context_->sameAs(motion)) {
     checker_->motion = motion;
     planner_->clearValidity();
@@ -95,25 +95,26 @@ std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_
   }
   // An invalid end is answered at once: given one, OMPL keeps resampling the goal (sleeping between
   // tries) until the termination condition, which is the whole budget.
-  if (!checker_->stateValid(q_start) || !checker_->stateValid(q_goal)) return std::nullopt;
+  return checker_->stateValid(q_start) && checker_->stateValid(q_goal);
+}
+
+std::optional<std::vector<JointVector>> LazyRoadmap::solve(ob::Planner& planner, const JointVector& q_start,
+                                                           const JointVector& q_goal, std::size_t work,
+                                                           const Deadline& deadline) {
   auto pdef = std::make_shared<ob::ProblemDefinition>(si_);
   ob::ScopedState<> start(si_), goal(si_);
   setJoints(q_start, start.get());
   setJoints(q_goal, goal.get());
   pdef->setStartAndGoalStates(start, goal);
-  planner_->clearQuery();
-  planner_->setProblemDefinition(pdef);
+  planner.setProblemDefinition(pdef);
   const double budget = std::min(params_.query_seconds, std::max(0.0, deadline.secondsLeft()));
-  // LazyPRM::solve evaluates the condition once per sample it draws.
+  // Lazy-PRM evaluates the condition once per sample it draws, RRT-Connect once per iteration.
   std::size_t evaluations = 0;
-  const std::size_t samples = vertexCount() >= params_.dense_vertices
-                                  ? std::min(params_.query_samples, params_.dense_query_samples)
-                                  : params_.query_samples;
   const ob::PlannerTerminationCondition ptc(
       [&, end = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget)] {
-        return ++evaluations > samples || deadline.expired() || std::chrono::steady_clock::now() >= end;
+        return ++evaluations > work || deadline.expired() || std::chrono::steady_clock::now() >= end;
       });
-  const ob::PlannerStatus status = planner_->solve(ptc);
+  const ob::PlannerStatus status = planner.solve(ptc);
   if (status != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
   auto path = std::static_pointer_cast<og::PathGeometric>(pdef->getSolutionPath());
   if (params_.simplify) {
@@ -129,9 +130,27 @@ std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_
   return out;
 }
 
+std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_start, const JointVector& q_goal,
+                                                           const MotionContext& motion, const Deadline& deadline) {
+  if (!prepare(q_start, q_goal, motion)) return std::nullopt;
+  planner_->clearQuery();
+  const std::size_t samples = vertexCount() >= params_.dense_vertices
+                                  ? std::min(params_.query_samples, params_.dense_query_samples)
+                                  : params_.query_samples;
+  return solve(*planner_, q_start, q_goal, samples, deadline);
+}
+
+std::optional<std::vector<JointVector>> LazyRoadmap::queryTrees(const JointVector& q_start, const JointVector& q_goal,
+                                                                const MotionContext& motion, const Deadline& deadline) {
+  if (!prepare(q_start, q_goal, motion)) return std::nullopt;
+  og::RRTConnect trees(si_);
+  trees.setRange(planner_->getRange());
+  trees.setup();
+  return solve(trees, q_start, q_goal, params_.tree_iterations, deadline);
+}
+
 void LazyRoadmap::scaleBudget(double factor) {
-  params_.query_samples = static_cast<std::size_t>(static_cast<double>(params_.query_samples) * factor);
-  params_.query_seconds *= factor;
+  params_.scale(factor);
 }
 
 std::size_t LazyRoadmap::vertexCount() const { return planner_->milestoneCount(); }

@@ -17,6 +17,7 @@ namespace ompl::geometric {
 class LazyPRM;
 }
 namespace ompl::base {
+class Planner;
 class SpaceInformation;
 }
 
@@ -35,6 +36,15 @@ struct RoadmapParams {
   std::size_t dense_vertices = 50000;
   std::size_t dense_query_samples = 1000;
   bool simplify = true;                 ///< shortcut the found path
+  /// Work budget of one global-sampling query (queryTrees): RRT-Connect iterations.
+  std::size_t tree_iterations = 20000;
+
+  /// Multiplies the per-query work budgets and the time ceiling.
+  void scale(double factor) {
+    query_samples = static_cast<std::size_t>(static_cast<double>(query_samples) * factor);
+    tree_iterations = static_cast<std::size_t>(static_cast<double>(tree_iterations) * factor);
+    query_seconds *= factor;
+  }
 };
 
 class LazyRoadmap {
@@ -46,6 +56,11 @@ class LazyRoadmap {
   /// resolution), or nullopt. Grows the roadmap as needed.
   std::optional<std::vector<JointVector>> query(const JointVector& q_start, const JointVector& q_goal,
                                                 const MotionContext& motion, const Deadline& deadline);
+  /// Global sampling, for when query() found no path between valid ends: OMPL's RRT-Connect grows a
+  /// tree from each end, and so gets out of narrow places next to them (deep in a shelf cubby) that the
+  /// roadmap's uniform samples rarely reach. The roadmap itself is not changed.
+  std::optional<std::vector<JointVector>> queryTrees(const JointVector& q_start, const JointVector& q_goal,
+                                                     const MotionContext& motion, const Deadline& deadline);
   /// Multiplies the per-query budgets (after a motion failure was found to have no alternative).
   void scaleBudget(double factor);
   std::size_t vertexCount() const;
@@ -55,6 +70,13 @@ class LazyRoadmap {
   struct Checker;  ///< validity in the current context (defined in the .cpp)
 
  private:
+  /// Sets the validity context; false if an end is invalid (answered at once, see query()).
+  bool prepare(const JointVector& q_start, const JointVector& q_goal, const MotionContext& motion);
+  /// Runs `planner` from q_start to q_goal for at most `work` condition evaluations (and the time
+  /// ceiling), then simplifies the path.
+  std::optional<std::vector<JointVector>> solve(ompl::base::Planner& planner, const JointVector& q_start,
+                                                const JointVector& q_goal, std::size_t work, const Deadline& deadline);
+
   const CollisionWorld* world_;
   CollisionContext* context_;
   int robot_;

@@ -65,17 +65,22 @@ bool staysOnApproachLine(const SceneRobot& r, const JointVector& q, const JointV
 
 }  // namespace
 
-/// For people reading a failure: whether an end of the missing path is itself in collision.
-std::string MotionLayer::whyNoPath(int robot, const JointVector& from, const JointVector& q_pre, const JointVector& q,
-                                   const HeldObject& held, const ObjectLayout& layout) const {
-  const Scene& scene = world_->scene();
+std::string MotionLayer::collidingEnd(int robot, const JointVector& from, const JointVector& q_pre,
+                                      const JointVector& q, const HeldObject& held, const ObjectLayout& layout) const {
   const std::pair<const char*, const JointVector*> ends[] = {{"start", &from}, {"approach start", &q_pre}, {"transition", &q}};
   for (const auto& [name, cfg] : ends) {
     CollisionReport report;
     if (robotInCollision(*world_, *context_, RobotState{robot, *cfg, held}, layout, &report))
-      return std::string(": the ") + name + " configuration is in collision (" + describe(report, scene) + ")";
+      return std::string(name) + " configuration is in collision (" + describe(report, world_->scene()) + ")";
   }
-  return ": the roadmap found no way between valid ends";
+  return {};
+}
+
+/// For people reading a failure: whether an end of the missing path is itself in collision.
+std::string MotionLayer::whyNoPath(int robot, const JointVector& from, const JointVector& q_pre, const JointVector& q,
+                                   const HeldObject& held, const ObjectLayout& layout) const {
+  const std::string colliding = collidingEnd(robot, from, q_pre, q, held, layout);
+  return colliding.empty() ? ": the roadmap found no way between valid ends" : ": the " + colliding;
 }
 
 namespace {
@@ -95,8 +100,7 @@ LazyRoadmap& MotionLayer::roadmap(int robot, bool holding) {
 }
 
 void MotionLayer::scaleBudget(double factor) {
-  params_.roadmap.query_samples = static_cast<std::size_t>(static_cast<double>(params_.roadmap.query_samples) * factor);
-  params_.roadmap.query_seconds *= factor;
+  params_.roadmap.scale(factor);
   for (auto& r : roadmaps_)
     if (r) r->scaleBudget(factor);
 }
@@ -283,9 +287,15 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
         if (backOutOfLastRetreat(r)) changed = true;
         if (changed) transit = connect(r, at[r], visit.q_pre, context, deadline);
       }
+      // Global sampling: trees grown from both ends.
+      if (!transit && !deadline.expired())
+        transit = roadmap(r, held.before.holding()).queryTrees(at[r], visit.q_pre, context, deadline);
       if (!transit) {
         result.status = deadline.expired() ? MotionStatus::kTimeout : MotionStatus::kFailed;
         result.failed_step = k;
+        result.failed_robot = r;
+        result.failed_q = visit.q;
+        result.ends_free = collidingEnd(r, at[r], visit.q_pre, visit.q, held.before, layouts[k]).empty();
         result.reason = "no path for " + scene.robots[r].id + " to step " + std::to_string(k) + " (" +
                         describeStep(plan.steps[k], space) + ")" +
                         whyNoPath(r, at[r], visit.q_pre, visit.q, held.before, layouts[k]);
@@ -314,6 +324,8 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
       // As for a transit: out of a cubby, the last retreat backs off farther along its axis.
       if (!home && !deadline.expired() && backOutOfLastRetreat(r))
         home = connect(r, at[r], scene.robots[r].home, context, deadline);
+      if (!home && !deadline.expired())
+        home = roadmap(r, false).queryTrees(at[r], scene.robots[r].home, context, deadline);
       if (!home) {
         result.status = deadline.expired() ? MotionStatus::kTimeout : MotionStatus::kFailed;
         result.reason = "no path home for " + scene.robots[r].id +

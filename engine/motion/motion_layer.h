@@ -50,6 +50,12 @@ struct MotionLayerResult {
   MotionStatus status = MotionStatus::kFailed;
   std::vector<RobotMotionPlan> robots;  ///< one per scene robot
   int failed_step = -1;                 ///< the step whose motion could not be found
+  /// At failed_step: the robot that found no way, and the transition configuration it was going to.
+  /// `ends_free`: both ends of the missing move were collision-free (the roadmap found no way between
+  /// them), so another configuration for the same transition may do.
+  int failed_robot = -1;
+  JointVector failed_q;
+  bool ends_free = false;
   std::string reason;
 };
 
@@ -77,6 +83,10 @@ class MotionLayer {
  private:
   /// q moved so that the TCP goes back along its own approach axis (or along `direction_W`, a world
   /// direction, when given) by the approach distance: free, and the straight segment to q free.
+  /// The end of a missing move that is in collision ("start", "approach start", "transition") and
+  /// with what; empty when all three are free.
+  std::string collidingEnd(int robot, const JointVector& from, const JointVector& q_pre, const JointVector& q,
+                           const HeldObject& held, const ObjectLayout& layout) const;
   std::string whyNoPath(int robot, const JointVector& from, const JointVector& q_pre, const JointVector& q,
                         const HeldObject& held, const ObjectLayout& layout) const;
   /// A handover partner standing still at its transition configuration must also stay clear of the

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <unordered_map>
 
 #include "engine/collision/collision_context.h"
 #include "engine/collision/collision_world.h"
@@ -52,6 +53,9 @@ constexpr int kMaxHomeBudgetGrowths = 3;
 constexpr int kMaxBudgetGrowths = 3;  // after lifted motion bans: at most 64x the first budget
 constexpr int kMaxValidationFeedbacks = 5;
 constexpr int kMaxRechecksPerRound = 3;
+// Transition configurations of one task hyperarc the motion layer may turn down (no way to them)
+// before the hyperarc itself goes back to the task query as a ban.
+constexpr int kMaxTransitionResamples = 2;
 
 /// A collision between robots, held objects or resting objects (what conflict resolution checks).
 bool isContact(const ValidationProblem& problem) {
@@ -132,6 +136,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   int home_budget_growths = 0;
   int validation_feedbacks = 0;
   int budget_growths = 0;
+  std::unordered_map<std::uint32_t, int> transition_resamples;  // per task hyperarc
   std::int64_t reused_steps = 0;  // steps conflict resolution took from the previous round's schedule
   std::int64_t rechecks = 0;      // schedules built again after the validator found a contact
   for (int round = 0; round < kMaxMotionRounds; ++round) {
@@ -160,6 +165,15 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
           continue;
         }
         return finish(PlanOutcome::kInfeasible, "motion layer: " + motions.reason);
+      }
+      // Both ends were free but the roadmap found no way: first another configuration for the same
+      // transition (task conflict detection samples again), then a ban on the hyperarc.
+      const HyperarcId failed_arc = layer.plan.steps[motions.failed_step].arc;
+      if (motions.ends_free && transition_resamples[failed_arc.value()] < kMaxTransitionResamples &&
+          task.rejectTransition(motions.failed_robot, motions.failed_q, "motion query: " + motions.reason)) {
+        ++transition_resamples[failed_arc.value()];
+        emitter.setIteration(emitter.iteration() + 1);
+        continue;
       }
       task.addConstraint(motionFeedback(layer.plan, motions.failed_step, "motion query: " + motions.reason));
       emitter.setIteration(emitter.iteration() + 1);

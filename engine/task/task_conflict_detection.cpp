@@ -29,12 +29,15 @@ class ChainSearch {
  public:
   ChainSearch(TransitionSampler& sampler, const TaskSpace& space, const TaskPlan& plan,
               const std::vector<ObjectLayout>& before, const ObjectLayout& empty, std::vector<int> steps, int object,
-              bool use_objects, const TaskConflictParams& params, const Deadline& deadline)
+              bool use_objects, const TaskConflictParams& params, const RejectedConfigurations& rejected,
+              const Deadline& deadline)
       : deadline_(deadline),
         sampler_(sampler), space_(space), plan_(plan), before_(before), empty_(empty), steps_(std::move(steps)),
-        object_(object), use_objects_(use_objects), params_(params), assignment_(steps_.size()) {}
+        object_(object), use_objects_(use_objects), params_(params), rejected_(rejected),
+        assignment_(steps_.size()) {}
 
-  bool run() { return solve(0, Pose::Identity()); }
+  bool run() { return solved_ = solve(0, Pose::Identity()); }
+  bool solved() const { return solved_; }
   const std::vector<TransitionConfig>& assignment() const { return assignment_; }
   const std::vector<int>& steps() const { return steps_; }
   /// The position in steps() the search got stuck at most deeply.
@@ -46,6 +49,7 @@ class ChainSearch {
   const ObjectLayout& layoutAt(int step) const { return use_objects_ ? before_[step] : empty_; }
 
   bool free(const RobotState& state, int step) {
+    if (rejected_.contains(state.robot, state.q)) return false;  // the motion layer could not reach it
     if (!use_objects_) return true;
     return !robotInCollision(sampler_.world(), sampler_.context(), state, before_[step], nullptr,
                              CheckScope::kObjectsOnly);
@@ -106,6 +110,7 @@ class ChainSearch {
           const std::vector<GraspConfig> receivers = sampler_.graspConfigs(a.robot2, o, X_WO, a.grasp2, 4);
           for (const JointVector& q1 : givers)
             for (const GraspConfig& gc2 : receivers) {
+              if (rejected_.contains(a.robot, q1) || rejected_.contains(a.robot2, gc2.q)) continue;
               const RobotState states[2] = {{a.robot, q1, HeldObject{o, X_TO}}, {a.robot2, gc2.q, HeldObject{}}};
               if (robotsInCollision(sampler_.world(), sampler_.context(), states, layoutAt(k), nullptr,
                                     use_objects_ ? CheckScope::kAll : CheckScope::kStaticOnly))
@@ -133,9 +138,11 @@ class ChainSearch {
   int object_;
   bool use_objects_;
   const TaskConflictParams& params_;
+  const RejectedConfigurations& rejected_;
   std::vector<TransitionConfig> assignment_;
   std::size_t deepest_ = 0;
   int budget_ = params_.chain_budget;
+  bool solved_ = false;
 };
 
 TaskConflictDetector::TaskConflictDetector(TransitionSampler& sampler, TaskSpace& space, const TaskHypergraph& graph,
@@ -321,17 +328,32 @@ void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& 
       impossible = true;
     }
     if (impossible) continue;
-    ChainSearch full(*sampler_, *space_, plan, trace.before, trace.empty, chains[o], o, true, params_, deadline);
-    if (full.run()) {
+    // Configurations the motion layer could not reach are avoided while the chain has others; with no
+    // others, they are used again (the motion layer then bans the hyperarc instead).
+    auto search = [&](bool use_objects) {
+      ChainSearch avoiding(*sampler_, *space_, plan, trace.before, trace.empty, chains[o], o, use_objects, params_,
+                           *rejected_, deadline);
+      if (avoiding.run() || rejected_->size() == 0 || deadline.expired()) return avoiding;
+      ChainSearch any(*sampler_, *space_, plan, trace.before, trace.empty, chains[o], o, use_objects, params_,
+                      kNoneRejected, deadline);
+      any.run();
+      return any;
+    };
+    const ChainSearch full = search(true);
+    if (full.solved()) {
       for (std::size_t i = 0; i < chains[o].size(); ++i) result.transitions[chains[o][i]] = full.assignment()[i];
       continue;
     }
-    ChainSearch alone(*sampler_, *space_, plan, trace.before, trace.empty, chains[o], o, false, params_, deadline);
     if (deadline.expired()) {
       result.interrupted = true;
       return;
     }
-    if (alone.run()) {
+    const ChainSearch alone = search(false);
+    if (deadline.expired()) {
+      result.interrupted = true;
+      return;
+    }
+    if (alone.solved()) {
       // Feasible without the resting objects: they are what blocks it. Name every blocker.
       bool any = false;
       for (std::size_t i = 0; i < chains[o].size(); ++i) {

@@ -18,6 +18,7 @@
 
 #include "engine/core/deadline.h"
 #include "engine/core/rng.h"
+#include "engine/task/rejected_configurations.h"
 #include "engine/task/task_constraints.h"
 #include "engine/task/task_plan.h"
 #include "engine/task/transition_sampler.h"
@@ -57,6 +58,9 @@ class TaskConflictDetector {
   TaskConflictDetector(TransitionSampler& sampler, TaskSpace& space, const TaskHypergraph& graph, Rng& rng,
                        TaskConflictParams params = {});
 
+  /// Configurations never to choose (the motion layer could not reach them); `rejected` must outlive
+  /// the detector.
+  void avoid(const RejectedConfigurations& rejected) { rejected_ = &rejected; }
   /// Stops early (result.interrupted) when the deadline expires.
   TaskConflictResult detect(const TaskPlan& plan, const Deadline& deadline = Deadline());
 
@@ -79,6 +83,8 @@ class TaskConflictDetector {
   const TaskHypergraph* graph_;
   Rng* rng_;
   TaskConflictParams params_;
+  static inline const RejectedConfigurations kNoneRejected{};
+  const RejectedConfigurations* rejected_ = &kNoneRejected;
   std::map<std::tuple<int, int, int, int, long, long, long>, bool> handover_possible_;
 };
 

@@ -117,6 +117,15 @@ bool TaskLayer::addConstraint(const TaskConstraint& given) {
   return true;
 }
 
+bool TaskLayer::rejectTransition(int robot, const JointVector& q, const std::string& cause) {
+  if (rejected_.contains(robot, q)) return false;
+  rejected_.add(robot, q);
+  emitter_->constraint(log::ConstraintKind::Motion, log::ConstraintAction::Created,
+                       static_cast<std::uint32_t>(constraints_.size() + rejected_.size() - 1),
+                       "avoid this transition configuration of " + scene_->robots[robot].id, {}, cause);
+  return true;
+}
+
 TaskLayer::Lifted TaskLayer::liftTemporaryConstraints(const std::string& why) {
   Lifted out;
   for (const TaskConstraint& c : constraints_.removeTemporary()) {
@@ -200,10 +209,38 @@ std::vector<int> TaskLayer::objectsToExpandAfterFailure() const {
   return out;
 }
 
+bool TaskLayer::holdsTemporaryMotionBans() const {
+  const auto& all = constraints_.all();
+  return std::any_of(all.begin(), all.end(), [](const TaskConstraint& c) { return c.temporary && c.from_motion; });
+}
+
+bool TaskLayer::expandAfterFailure(const TaskQueryResult& query) {
+  if (query.unroutable_object >= 0) return false;
+  bool expanded = false;
+  for (int o : objectsToExpandAfterFailure())
+    expanded = expand(o, std::string("task query ") + std::string(toString(query.status)) +
+                             " under the task constraints") || expanded;
+  if (expanded) rebuild();
+  return expanded;
+}
+
+// A motion failure bans its hyperarc for some queries, not for ever (paper: the failed hyperarc is not
+// removed): with no schedule around it, the same hyperarcs go back to the motion layer (which then
+// searches harder: motion_bans_lifted), or to task conflict detection.
+bool TaskLayer::liftAfterFailure(TaskLayerResult& result) {
+  if (ban_lifts_ >= params_.max_ban_lifts) return false;
+  const Lifted lifted = liftTemporaryConstraints("no schedule avoids the temporary bans");
+  if (!lifted.any) return false;
+  ++ban_lifts_;
+  result.motion_bans_lifted = result.motion_bans_lifted || lifted.motion;
+  return true;
+}
+
 TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
   TaskLayerResult result;
   rebuild();
   TaskConflictDetector detector(sampler_, space_, graph_, rng_, params_.conflicts);
+  detector.avoid(rejected_);
   TaskQueryObserver observer;
   if (emitter_->enabled()) {
     observer.onVertex = [&](const ExtendedVertex& v) {
@@ -240,28 +277,22 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
         result.status = TaskLayerStatus::kTimeout;
         return result;
       }
-      bool expanded = false;
-      for (int o : objectsToExpandAfterFailure())
-        expanded = expand(o, std::string("task query ") + std::string(toString(query.status)) +
-                                 " under the task constraints") || expanded;
-      if (expanded) {
-        rebuild();
-        continue;
-      }
-      // A motion failure bans its hyperarc for some queries, not for ever (paper: the failed hyperarc
-      // is not removed): with no schedule around it, the same hyperarcs go back to the motion layer
-      // (which then searches harder: motion_bans_lifted), or to task conflict detection.
-      if (ban_lifts_ < params_.max_ban_lifts) {
-        const Lifted lifted = liftTemporaryConstraints("no schedule avoids the temporary bans");
-        if (lifted.any) {
-          ++ban_lifts_;
-          result.motion_bans_lifted = result.motion_bans_lifted || lifted.motion;
-          continue;
-        }
-      }
+      // What comes first after a failed query. Mostly the task space grows (the constraints contradict
+      // each other). But a query that ran out of budget while motion bans held proves nothing, and a
+      // larger task space makes the next one harder still: the bans are lifted first. An object that
+      // the interaction constraints left without any route gets none from another object's move-out
+      // state: only lifting can help it.
+      const bool lift_first = query.unroutable_object >= 0 ||
+                              (query.status == HyperpathStatus::kBudget && holdsTemporaryMotionBans());
+      const bool progress = lift_first ? liftAfterFailure(result) || expandAfterFailure(query)
+                                       : expandAfterFailure(query) || liftAfterFailure(result);
+      if (progress) continue;
       result.status = TaskLayerStatus::kInfeasible;
       result.reason = std::string("task query ") + std::string(toString(query.status)) + " with " +
-                      std::to_string(constraints_.size()) + " task constraints";
+                      std::to_string(constraints_.size()) + " task constraints" +
+                      (query.unroutable_object < 0
+                           ? std::string()
+                           : ": " + scene_->objects[query.unroutable_object].id + " has no route to its goal");
       return result;
     }
     TaskConflictResult conflicts;

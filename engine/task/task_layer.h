@@ -60,6 +60,9 @@ class TaskLayer {
   TaskLayerResult plan(const Deadline& deadline);
   /// Adds a constraint (emitting its event); false if it was already known.
   bool addConstraint(const TaskConstraint& c);
+  /// The motion layer found no way to robot r's transition configuration q: task conflict detection
+  /// chooses another from now on (logged as a motion constraint); false if q was already rejected.
+  bool rejectTransition(int robot, const JointVector& q, const std::string& cause);
 
   const TaskSpace& space() const { return space_; }
   const TaskHypergraph& graph() const { return graph_; }
@@ -80,6 +83,11 @@ class TaskLayer {
   void expireTemporaryConstraints();
   bool expand(int object, const std::string& reason);
   std::vector<int> objectsToExpandAfterFailure() const;
+  bool holdsTemporaryMotionBans() const;
+  /// After a failed query: move-out states for the objects of the constraints (false if none was added).
+  bool expandAfterFailure(const TaskQueryResult& query);
+  /// After a failed query: the temporary constraints lifted (false if none, or no lifts left).
+  bool liftAfterFailure(TaskLayerResult& result);
 
   const Scene* scene_;
   log::EventEmitter* emitter_;
@@ -90,6 +98,7 @@ class TaskLayer {
   GeometricReachability reachability_;
   TaskHypergraph graph_;
   TaskConstraintSet constraints_;
+  RejectedConfigurations rejected_;
   int ban_lifts_ = 0;
   std::unordered_map<std::uint64_t, int> motion_failures_;  ///< per banned hyperarc or handover class
   std::size_t extended_vertices_ = 0;

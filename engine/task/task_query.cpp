@@ -110,6 +110,17 @@ TaskQueryResult queryTaskPlan(const TaskHypergraph& graph, const TaskSpace& spac
   const TaskHeuristic heuristic(graph, space, [&](HyperarcId a) {
     return constraints.forbidsInteraction(a, graph.graph().property(a));
   });
+  // The heuristic's routes are a relaxation (robots and frontier/history constraints ignored): an object
+  // without one has no plan at all, which the search would find out only by exhausting its budget.
+  for (int o = 0; o < space.objectCount(); ++o) {
+    const auto start = graph.find(TaskElement::objectAt(o, space.startLocation(o)));
+    if (start && heuristic.costToGo(*start) >= TaskHeuristic::kUnreachable) {
+      TaskQueryResult out;
+      out.status = HyperpathStatus::kExhausted;
+      out.unroutable_object = o;
+      return out;
+    }
+  }
   const TaskGreedyOrder priority(graph, space, constraints, heuristic);
   HyperpathSearchParams search;
   search.algorithm = params.algorithm;

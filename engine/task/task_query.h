@@ -22,6 +22,9 @@ struct TaskQueryResult {
   HyperpathStatus status = HyperpathStatus::kExhausted;
   TaskPlan plan;
   HyperpathStats stats;
+  /// An object with no route to its goal left by the interaction constraints (the search was not
+  /// run: kExhausted), or -1.
+  int unroutable_object = -1;
   bool found() const { return status == HyperpathStatus::kFound; }
 };
 

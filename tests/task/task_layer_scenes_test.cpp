@@ -138,6 +138,71 @@ TEST(TaskLayerFeedback, MotionFailureAtAHandoverBansItsClass) {
   }
 }
 
+// A transition configuration the motion layer found no way to is not chosen again: task conflict
+// detection samples another one for the next schedule instead (logged as a motion constraint).
+TEST(TaskLayerFeedback, RejectedTransitionConfigurationIsNotChosenAgain) {
+  LayerRun run("sorting", {{"robots", "2"}, {"objects", "2"}}, 1);
+  ASSERT_EQ(run.result.status, TaskLayerStatus::kFeasible) << run.result.reason;
+  int handover = -1;
+  for (int k = 0; k < static_cast<int>(run.result.plan.steps.size()); ++k)
+    if (run.result.plan.steps[k].action.type == TaskArcType::kHandover) handover = k;
+  ASSERT_GE(handover, 0);
+  const int receiver = run.result.plan.steps[handover].action.robot2;
+  const JointVector rejected = run.result.transitions[handover].q2;
+  const auto motion_constraints = run.sink.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created);
+  ASSERT_TRUE(run.layer->rejectTransition(receiver, rejected, "test"));
+  EXPECT_FALSE(run.layer->rejectTransition(receiver, rejected, "test"));  // known already
+  EXPECT_EQ(run.sink.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created),
+            motion_constraints + 1);
+
+  const TaskLayerResult next = run.layer->plan(Deadline(60));
+  ASSERT_EQ(next.status, TaskLayerStatus::kFeasible) << next.reason;
+  int receiver_configurations = 0;
+  for (int k = 0; k < static_cast<int>(next.plan.steps.size()); ++k) {
+    const TaskArc& a = next.plan.steps[k].action;
+    const TransitionConfig& tc = next.transitions[k];
+    if (a.robot == receiver) {
+      EXPECT_GT((tc.q - rejected).cwiseAbs().maxCoeff(), 1e-6) << "step " << k;
+    }
+    if (a.type == TaskArcType::kHandover && a.robot2 == receiver) {
+      ++receiver_configurations;
+      EXPECT_GT((tc.q2 - rejected).cwiseAbs().maxCoeff(), 1e-6) << "step " << k;
+    }
+  }
+  EXPECT_GT(receiver_configurations, 0);  // the same handover, with another configuration
+}
+
+// Interaction constraints that leave an object no route to its goal end the task layer without task
+// space expansions: another object's move-out state gives it no route. (Before, every object of the
+// frontier constraints was expanded, over and over, while the query spent its whole budget each time.)
+TEST(TaskLayerFeedback, ObjectWithoutARouteGetsNoExpansions) {
+  LayerRun run("sorting", {{"robots", "2"}, {"objects", "2"}}, 1);
+  ASSERT_EQ(run.result.status, TaskLayerStatus::kFeasible) << run.result.reason;
+  const TaskSpace& space = run.layer->space();
+  // An object that blocks the other's goal: the kind of constraint that asks for expansions.
+  const auto blocker = run.layer->graph().find(TaskElement::objectAt(1, space.startLocation(1)));
+  const auto blocked = run.layer->graph().find(TaskElement::objectAt(0, space.goalLocation(0)));
+  ASSERT_TRUE(blocker && blocked);
+  ASSERT_TRUE(run.layer->addConstraint({TaskConstraint::Kind::kFrontier, *blocker, *blocked}));
+  // No handover at all between the two arms.
+  for (int giver = 0; giver < 2; ++giver)
+    for (GraspClass g1 : {GraspClass::kTop, GraspClass::kSide, GraspClass::kBottom})
+      for (GraspClass g2 : {GraspClass::kTop, GraspClass::kSide, GraspClass::kBottom}) {
+        TaskConstraint c;
+        c.kind = TaskConstraint::Kind::kInteraction;
+        c.giver = giver;
+        c.receiver = 1 - giver;
+        c.giver_grasp = g1;
+        c.receiver_grasp = g2;
+        run.layer->addConstraint(c);
+      }
+  const auto expansions = run.sink.countTaskSpaceExpansions();
+  const TaskLayerResult next = run.layer->plan(Deadline(60));
+  EXPECT_EQ(next.status, TaskLayerStatus::kInfeasible);
+  EXPECT_NE(next.reason.find("has no route to its goal"), std::string::npos) << next.reason;
+  EXPECT_EQ(run.sink.countTaskSpaceExpansions(), expansions);
+}
+
 // Into and out of a cubby the gripper moves along its approach axis: the configurations chosen for
 // picks and places there are on IK branches that can back straight out.
 TEST(TransitionSampling, CubbyGraspsCanBackStraightOut) {

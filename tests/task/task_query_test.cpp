@@ -102,7 +102,10 @@ TEST(TaskQuery, HistoryConstraintOrdersPlacements) {
 TEST(TaskQuery, ImpossibleProblemEndsExhausted) {
   // The goal is beyond every robot's reach: no place arc reaches it.
   Toy toy(test::lineScene(2, {{0.0, 5.0}}));
-  EXPECT_EQ(queryTaskPlan(toy.hg, toy.space, {}, {}, Deadline()).status, HyperpathStatus::kExhausted);
+  const TaskQueryResult result = queryTaskPlan(toy.hg, toy.space, {}, {}, Deadline());
+  EXPECT_EQ(result.status, HyperpathStatus::kExhausted);
+  EXPECT_EQ(result.unroutable_object, 0);  // said without a search
+  EXPECT_EQ(result.stats.expansions, 0u);
 }
 
 TEST(TaskQuery, ContradictoryConstraintsEndExhaustedNotLooping) {
@@ -111,7 +114,10 @@ TEST(TaskQuery, ContradictoryConstraintsEndExhaustedNotLooping) {
   TaskConstraintSet constraints;
   constraints.add({TaskConstraint::Kind::kFrontier, toy.goal(0), toy.goal(1)});
   constraints.add({TaskConstraint::Kind::kFrontier, toy.goal(1), toy.goal(0)});
-  EXPECT_EQ(queryTaskPlan(toy.hg, toy.space, constraints, {}, Deadline()).status, HyperpathStatus::kExhausted);
+  const TaskQueryResult result = queryTaskPlan(toy.hg, toy.space, constraints, {}, Deadline());
+  EXPECT_EQ(result.status, HyperpathStatus::kExhausted);
+  EXPECT_EQ(result.unroutable_object, -1);  // each object has its route; only the order is impossible
+  EXPECT_GT(result.stats.expansions, 0u);
 }
 
 TEST(TaskQuery, InteractionConstraintsRemoveARoute) {
@@ -128,7 +134,10 @@ TEST(TaskQuery, InteractionConstraintsRemoveARoute) {
       c.receiver_grasp = g2;
       constraints.add(c);
     }
-  EXPECT_EQ(queryTaskPlan(toy.hg, toy.space, constraints, {}, Deadline()).status, HyperpathStatus::kExhausted);
+  const TaskQueryResult result = queryTaskPlan(toy.hg, toy.space, constraints, {}, Deadline());
+  EXPECT_EQ(result.status, HyperpathStatus::kExhausted);
+  EXPECT_EQ(result.unroutable_object, 0);
+  EXPECT_EQ(result.stats.expansions, 0u);
 }
 
 // Motion failures ban a hyperarc for a number of task queries, then the ban expires.

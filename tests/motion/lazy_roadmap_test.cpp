@@ -1,0 +1,61 @@
+// The lazy roadmap's two ways to a configuration: the roadmap query, and global sampling with trees
+// grown from both ends (RRT-Connect) for when the roadmap has no answer.
+#include <gtest/gtest.h>
+
+#include "engine/collision/collision_queries.h"
+#include "engine/collision/segment_queries.h"
+#include "engine/motion/lazy_roadmap.h"
+#include "tests/conflict/two_arms.h"
+
+namespace dash {
+namespace {
+
+struct OneArm : ::testing::Test, dash::testing::TwoArms {
+  OneArm() { seedOmplOnce(1); }
+  MotionContext context_at_start() const { return {HeldObject{}, layout, {}}; }
+  JointVector home() const { return scene.robots[0].home; }
+  /// The home posture turned about the base: far from home in joint space, free of everything.
+  JointVector turned() const {
+    JointVector q = home();
+    q[0] += q[0] > 0.0 ? -2.6 : 2.6;
+    return q;
+  }
+  void expectValidPath(const std::vector<JointVector>& path, const JointVector& from, const JointVector& to) {
+    ASSERT_GE(path.size(), 2u);
+    EXPECT_TRUE(path.front().isApprox(from));
+    EXPECT_TRUE(path.back().isApprox(to));
+    for (std::size_t i = 1; i < path.size(); ++i)
+      EXPECT_FALSE(segmentInCollision(world, context, RobotState{0, path[i - 1], HeldObject{}}, path[i], layout))
+          << "segment " << i;
+  }
+};
+
+TEST_F(OneArm, TreesFindAPathTheRoadmapHasNoBudgetFor) {
+  ASSERT_FALSE(robotInCollision(world, context, RobotState{0, turned(), HeldObject{}}, layout));
+  RoadmapParams params;
+  params.query_samples = 1;  // start and goal are more than one edge apart: the roadmap cannot answer
+  LazyRoadmap roadmap(world, context, 0, params);
+  EXPECT_FALSE(roadmap.query(home(), turned(), context_at_start(), Deadline()).has_value());
+  const auto path = roadmap.queryTrees(home(), turned(), context_at_start(), Deadline());
+  ASSERT_TRUE(path.has_value());
+  expectValidPath(*path, home(), turned());
+}
+
+TEST_F(OneArm, TreesAnswerAnInvalidEndAtOnce) {
+  LazyRoadmap roadmap(world, context, 0);
+  JointVector into_table = home();
+  into_table[1] = 0.9;  // shoulder down past the horizontal: the arm goes through its own table
+  into_table[2] = 1.2;
+  ASSERT_TRUE(robotInCollision(world, context, RobotState{0, into_table, HeldObject{}}, layout));
+  EXPECT_FALSE(roadmap.queryTrees(home(), into_table, context_at_start(), Deadline()).has_value());
+}
+
+TEST_F(OneArm, RoadmapQueryFindsAValidPath) {
+  LazyRoadmap roadmap(world, context, 0);
+  const auto path = roadmap.query(home(), turned(), context_at_start(), Deadline());
+  ASSERT_TRUE(path.has_value());
+  expectValidPath(*path, home(), turned());
+}
+
+}  // namespace
+}  // namespace dash
