@@ -25,6 +25,7 @@ namespace dash {
 
 namespace {
 constexpr double kPi = 3.141592653589793;
+constexpr double kSameState = 1e-6;  // radians (metres for the gantry), largest joint difference
 }  // namespace
 
 // Validity of states and straight motions for one robot in the current MotionContext.
@@ -122,11 +123,16 @@ std::optional<std::vector<JointVector>> LazyRoadmap::solve(ob::Planner& planner,
     simplifier.reduceVertices(*path);
     simplifier.shortcutPath(*path);
   }
-  std::vector<JointVector> out;
-  for (std::size_t i = 0; i < path->getStateCount(); ++i) out.push_back(jointsOf(path->getState(i), checker_->dof));
-  // The end points are exactly the requested configurations (OMPL copies them).
-  out.front() = q_start;
-  out.back() = q_goal;
+  // The end points are exactly the requested configurations (OMPL copies them). States closer than
+  // kSameState to the one before are left out: RRT-Connect may join its trees at nearly the same state,
+  // and a timed path cannot spend no time on a move.
+  std::vector<JointVector> out{q_start};
+  for (std::size_t i = 1; i + 1 < path->getStateCount(); ++i) {
+    JointVector q = jointsOf(path->getState(i), checker_->dof);
+    if ((q - out.back()).cwiseAbs().maxCoeff() >= kSameState) out.push_back(std::move(q));
+  }
+  if (out.size() > 1 && (q_goal - out.back()).cwiseAbs().maxCoeff() < kSameState) out.pop_back();
+  out.push_back(q_goal);
   return out;
 }
 

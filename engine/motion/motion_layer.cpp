@@ -77,10 +77,8 @@ std::string MotionLayer::collidingEnd(int robot, const JointVector& from, const 
 }
 
 /// For people reading a failure: whether an end of the missing path is itself in collision.
-std::string MotionLayer::whyNoPath(int robot, const JointVector& from, const JointVector& q_pre, const JointVector& q,
-                                   const HeldObject& held, const ObjectLayout& layout) const {
-  const std::string colliding = collidingEnd(robot, from, q_pre, q, held, layout);
-  return colliding.empty() ? ": the roadmap found no way between valid ends" : ": the " + colliding;
+std::string MotionLayer::whyNoPath(const std::string& colliding_end) {
+  return colliding_end.empty() ? ": the roadmap found no way between valid ends" : ": the " + colliding_end;
 }
 
 namespace {
@@ -295,10 +293,10 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
         result.failed_step = k;
         result.failed_robot = r;
         result.failed_q = visit.q;
-        result.ends_free = collidingEnd(r, at[r], visit.q_pre, visit.q, held.before, layouts[k]).empty();
+        const std::string colliding = collidingEnd(r, at[r], visit.q_pre, visit.q, held.before, layouts[k]);
+        result.ends_free = colliding.empty();
         result.reason = "no path for " + scene.robots[r].id + " to step " + std::to_string(k) + " (" +
-                        describeStep(plan.steps[k], space) + ")" +
-                        whyNoPath(r, at[r], visit.q_pre, visit.q, held.before, layouts[k]);
+                        describeStep(plan.steps[k], space) + ")" + whyNoPath(colliding);
         return result;
       }
       visit.transit = *transit;
@@ -329,7 +327,7 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
       if (!home) {
         result.status = deadline.expired() ? MotionStatus::kTimeout : MotionStatus::kFailed;
         result.reason = "no path home for " + scene.robots[r].id +
-                        whyNoPath(r, at[r], scene.robots[r].home, scene.robots[r].home, {}, layouts.back());
+                        whyNoPath(collidingEnd(r, at[r], scene.robots[r].home, scene.robots[r].home, {}, layouts.back()));
         return result;
       }
       result.robots[r].home_path = *home;

@@ -81,14 +81,14 @@ class MotionLayer {
                                                   const MotionContext& context, const Deadline& deadline);
 
  private:
-  /// q moved so that the TCP goes back along its own approach axis (or along `direction_W`, a world
-  /// direction, when given) by the approach distance: free, and the straight segment to q free.
   /// The end of a missing move that is in collision ("start", "approach start", "transition") and
   /// with what; empty when all three are free.
   std::string collidingEnd(int robot, const JointVector& from, const JointVector& q_pre, const JointVector& q,
                            const HeldObject& held, const ObjectLayout& layout) const;
-  std::string whyNoPath(int robot, const JointVector& from, const JointVector& q_pre, const JointVector& q,
-                        const HeldObject& held, const ObjectLayout& layout) const;
+  /// ": the <end> configuration is in collision (...)", or that the roadmap found no way between valid ends.
+  static std::string whyNoPath(const std::string& colliding_end);
+  /// q moved so that the TCP goes back along its own approach axis (or along `direction_W`, a world
+  /// direction, when given) by the approach distance: free, and the straight segment to q free.
   /// A handover partner standing still at its transition configuration must also stay clear of the
   /// segment; when it is in the way of the sideways rise, the straight back-off is tried.
   std::optional<JointVector> backedOff(int robot, const JointVector& q, const HeldObject& held,

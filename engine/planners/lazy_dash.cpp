@@ -168,10 +168,10 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
       }
       // Both ends were free but the roadmap found no way: first another configuration for the same
       // transition (task conflict detection samples again), then a ban on the hyperarc.
-      const HyperarcId failed_arc = layer.plan.steps[motions.failed_step].arc;
-      if (motions.ends_free && transition_resamples[failed_arc.value()] < kMaxTransitionResamples &&
+      int& resamples = transition_resamples[layer.plan.steps[motions.failed_step].arc.value()];
+      if (motions.ends_free && resamples < kMaxTransitionResamples &&
           task.rejectTransition(motions.failed_robot, motions.failed_q, "motion query: " + motions.reason)) {
-        ++transition_resamples[failed_arc.value()];
+        ++resamples;
         emitter.setIteration(emitter.iteration() + 1);
         continue;
       }
@@ -209,6 +209,21 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
     if (!schedule.ok) {
       if (deadline.expired()) return finish(outcomeOf(TaskLayerStatus::kTimeout, deadline), "conflict resolution: timeout");
       if (schedule.failed_step < 0) return finish(PlanOutcome::kInfeasible, "conflict resolution: " + schedule.reason);
+      // A handover that cannot be scheduled: first another handover configuration (pose, IK branches)
+      // for the same task plan, then a ban on the hyperarc.
+      const TaskStep& failed = layer.plan.steps[schedule.failed_step];
+      int& resamples = transition_resamples[failed.arc.value()];
+      if (failed.action.type == TaskArcType::kHandover && resamples < kMaxTransitionResamples) {
+        const TransitionConfig& tc = layer.transitions[schedule.failed_step];
+        const std::string why = "conflict resolution: " + schedule.reason;
+        const bool giver = task.rejectTransition(failed.action.robot, tc.q, why);
+        const bool receiver = task.rejectTransition(failed.action.robot2, tc.q2, why);
+        if (giver || receiver) {
+          ++resamples;
+          emitter.setIteration(emitter.iteration() + 1);
+          continue;
+        }
+      }
       task.addConstraint(motionFeedback(layer.plan, schedule.failed_step, "conflict resolution: " + schedule.reason));
       emitter.setIteration(emitter.iteration() + 1);
       continue;
