@@ -53,9 +53,6 @@ constexpr int kMaxHomeBudgetGrowths = 3;
 constexpr int kMaxBudgetGrowths = 3;  // after lifted motion bans: at most 64x the first budget
 constexpr int kMaxValidationFeedbacks = 5;
 constexpr int kMaxRechecksPerRound = 3;
-// Transition configurations of one task hyperarc the motion layer may turn down (no way to them)
-// before the hyperarc itself goes back to the task query as a ban.
-constexpr int kMaxTransitionResamples = 2;
 
 /// A collision between robots, held objects or resting objects (what conflict resolution checks).
 bool isContact(const ValidationProblem& problem) {
@@ -169,7 +166,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
       // Both ends were free but the roadmap found no way: first another configuration for the same
       // transition (task conflict detection samples again), then a ban on the hyperarc.
       int& resamples = transition_resamples[layer.plan.steps[motions.failed_step].arc.value()];
-      if (motions.ends_free && resamples < kMaxTransitionResamples &&
+      if (motions.ends_free && resamples < params_.max_transition_resamples &&
           task.rejectTransition(motions.failed_robot, motions.failed_q, "motion query: " + motions.reason)) {
         ++resamples;
         emitter.setIteration(emitter.iteration() + 1);
@@ -213,7 +210,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
       // for the same task plan, then a ban on the hyperarc.
       const TaskStep& failed = layer.plan.steps[schedule.failed_step];
       int& resamples = transition_resamples[failed.arc.value()];
-      if (failed.action.type == TaskArcType::kHandover && resamples < kMaxTransitionResamples) {
+      if (failed.action.type == TaskArcType::kHandover && resamples < params_.max_transition_resamples) {
         const TransitionConfig& tc = layer.transitions[schedule.failed_step];
         const std::string why = "conflict resolution: " + schedule.reason;
         const bool giver = task.rejectTransition(failed.action.robot, tc.q, why);

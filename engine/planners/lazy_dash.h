@@ -13,6 +13,10 @@ namespace dash {
 
 struct LazyDashParams {
   MotionLayerParams motion;
+  /// Transition configurations of one task hyperarc that the motion layer or conflict resolution may
+  /// turn down (no way to them, or a handover that cannot be scheduled) before the hyperarc itself goes
+  /// back to the task query as a ban.
+  int max_transition_resamples = 2;
 };
 
 class LazyDash final : public Planner {

@@ -24,9 +24,12 @@ struct OneArm : ::testing::Test, dash::testing::TwoArms {
     ASSERT_GE(path.size(), 2u);
     EXPECT_TRUE(path.front().isApprox(from));
     EXPECT_TRUE(path.back().isApprox(to));
-    for (std::size_t i = 1; i < path.size(); ++i)
+    for (std::size_t i = 1; i < path.size(); ++i) {
       EXPECT_FALSE(segmentInCollision(world, context, RobotState{0, path[i - 1], HeldObject{}}, path[i], layout))
           << "segment " << i;
+      // Timed paths cannot spend no time on a move: no state repeats the one before.
+      EXPECT_GE((path[i] - path[i - 1]).cwiseAbs().maxCoeff(), 1e-6) << "state " << i;
+    }
   }
 };
 

@@ -78,21 +78,36 @@ TEST(LazyDashEndToEnd, TaskOnlyGivesATaskLevelFeasibleSchedule) {
   EXPECT_NE(result.task_plan_json.find("\"handover\""), std::string::npos);
 }
 
-// A motion query that runs out of budget bans its hyperarc for as many task queries as it has failed
-// (TaskLayerParams::max_ban_queries at most). When no schedule avoids
-// the banned hyperarcs, the bans are lifted and the same hyperarcs go back to the motion layer with a
-// larger budget: starved roadmaps end solved, not infeasible. (Wall: the way round a wall needs the
-// roadmap; the straight segment never gets there.)
-TEST(LazyDashEndToEnd, StarvedRoadmapsGetMoreBudgetInsteadOfInfeasible) {
+// A motion query that runs out of budget (roadmap and global sampling) first gets other transition
+// configurations (motion constraints that are never lifted), then bans its hyperarc for as many task
+// queries as it has failed (TaskLayerParams::max_ban_queries at most). When no schedule avoids the
+// banned hyperarcs, the bans are lifted and the same hyperarcs go back to the motion layer with a larger
+// budget: starved roadmaps end solved, not infeasible. (Wall: the way round a wall needs the roadmap; the
+// straight segment never gets there.) Without resampling, the same run needs more bans and lifts.
+TEST(LazyDashEndToEnd, StarvedRoadmapsGetOtherConfigurationsAndMoreBudgetInsteadOfInfeasible) {
   const Scene scene = generateScenario("wall", {{"walls", "2"}, {"objects", "4"}}, 1, RobotLibrary::loadDefault());
   LazyDashParams params;
   params.motion.roadmap.query_samples = 3;
-  log::MemorySink sink;
-  const PlanResult result = LazyDash(params).solve(scene, {}, Deadline(240), &sink);
-  ASSERT_EQ(result.outcome, PlanOutcome::kSolved) << result.message;
-  EXPECT_TRUE(validatePlan(scene, *result.plan).valid());
-  EXPECT_GT(sink.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created), 0);
-  EXPECT_GT(sink.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Lifted), 0);
+  params.motion.roadmap.tree_iterations = 3;  // global sampling starved too
+  auto lifted = [](const log::MemorySink& sink) {
+    return sink.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Lifted);
+  };
+
+  params.max_transition_resamples = 0;
+  log::MemorySink banning;
+  const PlanResult banned = LazyDash(params).solve(scene, {}, Deadline(240), &banning);
+  ASSERT_EQ(banned.outcome, PlanOutcome::kSolved) << banned.message;
+  EXPECT_TRUE(validatePlan(scene, *banned.plan).valid());
+  EXPECT_GT(banning.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created), 0);
+  EXPECT_GT(lifted(banning), 0);
+
+  params.max_transition_resamples = 2;  // the default
+  log::MemorySink resampling;
+  const PlanResult resampled = LazyDash(params).solve(scene, {}, Deadline(240), &resampling);
+  ASSERT_EQ(resampled.outcome, PlanOutcome::kSolved) << resampled.message;
+  EXPECT_TRUE(validatePlan(scene, *resampled.plan).valid());
+  EXPECT_GT(resampling.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created), 0);
+  EXPECT_LT(lifted(resampling), lifted(banning));
 }
 
 TEST(LazyDashEndToEnd, StopFlagEndsTheRunPromptly) {
