@@ -1,9 +1,10 @@
 #pragma once
 // Transition configurations the motion layer could not reach: both ends of the missing move were
 // collision-free, yet the robot's roadmap found no way to the configuration (often an IK branch that a
-// roadmap hardly connects to, such as a wrist flipped the other way). Task conflict detection then
-// samples another configuration for the same transition instead of the task query banning the
-// transition (paper, "Motion Planning Layer": a transition becomes a constraint only after resampling).
+// roadmap hardly connects to, such as a wrist flipped the other way); or conflict resolution could not
+// schedule a handover at them. Task conflict detection then samples another configuration for the same
+// transition instead of the task query banning the transition (paper, "Motion Planning Layer": a
+// transition becomes a constraint only after resampling).
 #include <cstddef>
 #include <utility>
 #include <vector>

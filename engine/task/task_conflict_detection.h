@@ -58,8 +58,8 @@ class TaskConflictDetector {
   TaskConflictDetector(TransitionSampler& sampler, TaskSpace& space, const TaskHypergraph& graph, Rng& rng,
                        TaskConflictParams params = {});
 
-  /// Configurations never to choose (the motion layer could not reach them); `rejected` must outlive
-  /// the detector.
+  /// Configurations to choose only when a chain has no other (the motion layer could not reach them);
+  /// `rejected` must outlive the detector.
   void avoid(const RejectedConfigurations& rejected) { rejected_ = &rejected; }
   /// Stops early (result.interrupted) when the deadline expires.
   TaskConflictResult detect(const TaskPlan& plan, const Deadline& deadline = Deadline());

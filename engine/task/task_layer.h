@@ -60,8 +60,9 @@ class TaskLayer {
   TaskLayerResult plan(const Deadline& deadline);
   /// Adds a constraint (emitting its event); false if it was already known.
   bool addConstraint(const TaskConstraint& c);
-  /// The motion layer found no way to robot r's transition configuration q: task conflict detection
-  /// chooses another from now on (logged as a motion constraint); false if q was already rejected.
+  /// The motion layer found no way to robot r's transition configuration q (or conflict resolution could
+  /// not schedule the handover at it): task conflict detection chooses another from now on while there
+  /// is another (logged as a motion constraint); false if q was already rejected.
   bool rejectTransition(int robot, const JointVector& q, const std::string& cause);
 
   const TaskSpace& space() const { return space_; }
