@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <initializer_list>
 #include <unordered_map>
+#include <utility>
 
 #include "engine/collision/collision_context.h"
 #include "engine/collision/collision_world.h"
@@ -134,6 +136,17 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   int validation_feedbacks = 0;
   int budget_growths = 0;
   std::unordered_map<std::uint32_t, int> transition_resamples;  // per task hyperarc
+  // Other configurations for a step's transition instead of a ban on its hyperarc (at most
+  // max_transition_resamples per hyperarc): true when one of `configs` is newly rejected.
+  auto resampleTransition = [&](const TaskStep& step, std::initializer_list<std::pair<int, const JointVector*>> configs,
+                                const std::string& why) {
+    int& resamples = transition_resamples[step.arc.value()];
+    if (resamples >= params_.max_transition_resamples) return false;
+    bool rejected = false;
+    for (const auto& [robot, q] : configs) rejected = task.rejectTransition(robot, *q, why) || rejected;
+    if (rejected) ++resamples;
+    return rejected;
+  };
   std::int64_t reused_steps = 0;  // steps conflict resolution took from the previous round's schedule
   std::int64_t rechecks = 0;      // schedules built again after the validator found a contact
   for (int round = 0; round < kMaxMotionRounds; ++round) {
@@ -165,10 +178,9 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
       }
       // Both ends were free but the roadmap found no way: first another configuration for the same
       // transition (task conflict detection samples again), then a ban on the hyperarc.
-      int& resamples = transition_resamples[layer.plan.steps[motions.failed_step].arc.value()];
-      if (motions.ends_free && resamples < params_.max_transition_resamples &&
-          task.rejectTransition(motions.failed_robot, motions.failed_q, "motion query: " + motions.reason)) {
-        ++resamples;
+      if (motions.ends_free && resampleTransition(layer.plan.steps[motions.failed_step],
+                                                  {{motions.failed_robot, &motions.failed_q}},
+                                                  "motion query: " + motions.reason)) {
         emitter.setIteration(emitter.iteration() + 1);
         continue;
       }
@@ -209,17 +221,12 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
       // A handover that cannot be scheduled: first another handover configuration (pose, IK branches)
       // for the same task plan, then a ban on the hyperarc.
       const TaskStep& failed = layer.plan.steps[schedule.failed_step];
-      int& resamples = transition_resamples[failed.arc.value()];
-      if (failed.action.type == TaskArcType::kHandover && resamples < params_.max_transition_resamples) {
-        const TransitionConfig& tc = layer.transitions[schedule.failed_step];
-        const std::string why = "conflict resolution: " + schedule.reason;
-        const bool giver = task.rejectTransition(failed.action.robot, tc.q, why);
-        const bool receiver = task.rejectTransition(failed.action.robot2, tc.q2, why);
-        if (giver || receiver) {
-          ++resamples;
-          emitter.setIteration(emitter.iteration() + 1);
-          continue;
-        }
+      const TransitionConfig& tc = layer.transitions[schedule.failed_step];
+      if (failed.action.type == TaskArcType::kHandover &&
+          resampleTransition(failed, {{failed.action.robot, &tc.q}, {failed.action.robot2, &tc.q2}},
+                             "conflict resolution: " + schedule.reason)) {
+        emitter.setIteration(emitter.iteration() + 1);
+        continue;
       }
       task.addConstraint(motionFeedback(layer.plan, schedule.failed_step, "conflict resolution: " + schedule.reason));
       emitter.setIteration(emitter.iteration() + 1);

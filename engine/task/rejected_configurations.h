@@ -19,8 +19,11 @@ class RejectedConfigurations {
   /// conflict detection samples deterministically, so a repeat is the very same vector.
   static constexpr double kSameTolerance = 1e-6;
 
-  void add(int robot, const JointVector& q) {
-    if (!contains(robot, q)) configs_.emplace_back(robot, q);
+  /// False if q was rejected already.
+  bool add(int robot, const JointVector& q) {
+    if (contains(robot, q)) return false;
+    configs_.emplace_back(robot, q);
+    return true;
   }
   bool contains(int robot, const JointVector& q) const {
     for (const auto& [r, rejected] : configs_)

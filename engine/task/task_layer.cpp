@@ -118,8 +118,7 @@ bool TaskLayer::addConstraint(const TaskConstraint& given) {
 }
 
 bool TaskLayer::rejectTransition(int robot, const JointVector& q, const std::string& cause) {
-  if (rejected_.contains(robot, q)) return false;
-  rejected_.add(robot, q);
+  if (!rejected_.add(robot, q)) return false;
   emitter_->constraint(log::ConstraintKind::Motion, log::ConstraintAction::Created,
                        static_cast<std::uint32_t>(constraints_.size() + rejected_.size() - 1),
                        "avoid this transition configuration of " + scene_->robots[robot].id, {}, cause);
