@@ -1,6 +1,6 @@
 #pragma once
 // DaSH (Decomposable State Space Hypergraph; Motes, Chen, Bretl, Morales, Amato, IEEE T-RO 39(5),
-// 2023), the baseline of the Lazy-DaSH paper (../shared/paper/lazy-dash.tex, "Comparison with DaSH",
+// 2023), the baseline of the Lazy-DaSH paper (Lee et al., see lazy_dash.h; "Comparison with DaSH",
 // "Method Descriptions"), on the workbench's geometry:
 //  1. task space hypergraph H_T with location-free object elements (dash_task_graph.h) and
 //     pre-sampled object placements besides each object's start and goal;

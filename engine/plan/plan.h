@@ -1,5 +1,5 @@
 #pragma once
-// A plan in the dashbench.plan/1 format (../shared/contracts/formats.md): one joint-space trajectory
+// A plan in the dashbench.plan/1 format (docs/formats.md): one joint-space trajectory
 // per robot (points joined by straight lines, held still after the last point) and the timed grasp,
 // release and inspect events. Plain value type; the JSON codec is plan_json.h and the contract check
 // is plan_validator.h.

@@ -1,6 +1,7 @@
 #pragma once
-// Lazy-DaSH (Lazy Decomposable State Space Hypergraph): Motes et al.'s hypergraph planner made lazy
-// at three stages (../shared/paper/lazy-dash.tex, Algorithm 1): the task query defers motion
+// Lazy-DaSH: S. Lee, J. Motes, I. Ngui, M. Morales, N. M. Amato, "Lazy-DaSH: Lazy Approach for
+// Hypergraph-based Multi-robot Task and Motion Planning". DaSH's hypergraph planner (Motes et al.,
+// T-RO 2023) made lazy at three stages (the paper's Algorithm 1): the task query defers motion
 // feasibility to the motion layer; the motion hypergraph is built over edge-unvalidated roadmaps and
 // validated in the motion query; conflict resolution replans lazily with motion constraints.
 // Task conflict detection (Algorithm 2) and task space expansion happen before any motion is planned.

@@ -1,5 +1,5 @@
 #pragma once
-// A planning scene in the dashbench.scene/1 format (../shared/contracts/formats.md): robots with their
+// A planning scene in the dashbench.scene/1 format (docs/formats.md): robots with their
 // mounting poses and home configurations, static obstacles, support surfaces, movable objects and extra
 // tasks. Immutable once loaded and shared by const reference; the robot models it points to are kept
 // alive by the RobotLibrary it holds.

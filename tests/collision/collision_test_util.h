@@ -16,7 +16,7 @@ inline std::shared_ptr<const RobotLibrary> library() {
   return lib;
 }
 
-inline std::string examplePath() { return std::string(DASHBENCH_SHARED_DIR) + "/contracts/examples/pick_place_scene.json"; }
+inline std::string examplePath() { return std::string(DASHBENCH_EXAMPLES_DIR) + "/pick_place_scene.json"; }
 
 inline Scene exampleScene() { return loadScene(examplePath(), library()); }
 

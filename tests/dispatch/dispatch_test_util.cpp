@@ -23,7 +23,7 @@ std::shared_ptr<const RobotLibrary> library() {
 
 namespace {
 
-std::string examples() { return std::string(DASHBENCH_SHARED_DIR) + "/contracts/examples/"; }
+std::string examples() { return std::string(DASHBENCH_EXAMPLES_DIR) + "/"; }
 
 const Vec3 kExtraBases[] = {Vec3(2.5, 0.0, 0.0), Vec3(-2.5, 0.0, 0.0), Vec3(0.0, 2.5, 0.0)};
 

@@ -114,7 +114,7 @@ Fixture fixtureDb(const std::string& path) {
   f.batch_id = "fixture-20260101-000000-abcd";
   db.putBatch(log::BatchRecord{.id = f.batch_id, .name = "fixture", .spec_json = "{}", .status = "finished"});
   log::RunSummary solved{.status = log::RunStatus::Solved, .total_time = 1.5, .makespan = 3.38};
-  solved.plan_json = readText(std::string(DASHBENCH_SHARED_DIR) + "/contracts/examples/pick_place_plan.json");
+  solved.plan_json = readText(std::string(DASHBENCH_EXAMPLES_DIR) + "/pick_place_plan.json");
   f.solved = record(db, meta(f.batch_id, R"({"robots":2,"objects":2})", 1, "lazy-dash", "{}"), 3, solved);
   f.timeout = record(db, meta(f.batch_id, R"({"robots":2,"objects":4})", 1, "lazy-dash", "{}"), 6,
                      log::RunSummary{.status = log::RunStatus::Timeout, .total_time = 30.0});

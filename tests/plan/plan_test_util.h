@@ -22,7 +22,7 @@ inline std::shared_ptr<const RobotLibrary> library() {
   return lib;
 }
 
-inline std::string examplesDir() { return std::string(DASHBENCH_SHARED_DIR) + "/contracts/examples/"; }
+inline std::string examplesDir() { return std::string(DASHBENCH_EXAMPLES_DIR) + "/"; }
 inline std::string exampleScenePath() { return examplesDir() + "pick_place_scene.json"; }
 inline std::string examplePlanPath() { return examplesDir() + "pick_place_plan.json"; }
 
