@@ -1,4 +1,5 @@
 // ResultsDb's read side: runs, batches, counts, and trusted SELECTs.
+#include "engine/core/text_split.h"
 #include "engine/log/results_db.h"
 #include "engine/log/results_db_impl.h"
 #include "engine/log/results_schema.h"
@@ -7,17 +8,7 @@
 namespace dash::log {
 namespace {
 
-std::vector<std::string> splitTags(const std::string& joined) {
-  std::vector<std::string> tags;
-  std::size_t start = 0;
-  while (!joined.empty() && start <= joined.size()) {
-    const std::size_t end = joined.find('\x1f', start);
-    tags.push_back(joined.substr(start, end == std::string::npos ? std::string::npos : end - start));
-    if (end == std::string::npos) break;
-    start = end + 1;
-  }
-  return tags;
-}
+std::vector<std::string> splitTags(const std::string& joined) { return splitList(joined, '\x1f', EmptyItems::kKeep); }
 
 }  // namespace
 

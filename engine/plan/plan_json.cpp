@@ -8,6 +8,8 @@
 #include <sstream>
 
 #include "engine/core/check.h"
+#include "engine/core/json_reader.h"
+#include "engine/geometry/pose_json.h"
 
 namespace dash {
 
@@ -16,46 +18,10 @@ namespace {
 // ordered_json keeps the file's key order, so robots stay in file order and output follows the contract.
 using Json = nlohmann::ordered_json;
 
-constexpr double kUnitQuaternionTolerance = 1e-6;
-
-/// Every error names the path of the offending field.
-class Reader {
+/// The shared field reader plus what plans add: times and poses.
+class Reader : public JsonReader<Json> {
  public:
-  explicit Reader(const std::string& source) : prefix_(source.empty() ? "" : source + ": ") {}
-
-  [[noreturn]] void fail(const std::string& path, const std::string& message) const {
-    throw InputError(prefix_ + (path.empty() ? std::string("plan") : path) + ": " + message);
-  }
-
-  static std::string join(const std::string& path, const std::string& key) {
-    return path.empty() ? key : path + "." + key;
-  }
-  static std::string index(const std::string& path, std::size_t i) {
-    return path + "[" + std::to_string(i) + "]";
-  }
-
-  /// The value of `key` in `object` (whose path is `path`); fails if missing.
-  const Json& field(const Json& object, const std::string& path, const std::string& key) const {
-    const auto it = object.find(key);
-    if (it == object.end()) fail(join(path, key), "missing field");
-    return *it;
-  }
-
-  void requireObject(const Json& value, const std::string& path) const {
-    if (!value.is_object()) fail(path, "expected an object");
-  }
-
-  const Json& array(const Json& value, const std::string& path) const {
-    if (!value.is_array()) fail(path, "expected an array");
-    return value;
-  }
-
-  double number(const Json& value, const std::string& path) const {
-    if (!value.is_number()) fail(path, "expected a number");
-    const double x = value.get<double>();
-    if (!std::isfinite(x)) fail(path, "number is not finite");
-    return x;
-  }
+  explicit Reader(const std::string& source) : JsonReader<Json>(source, "plan") {}
 
   double time(const Json& value, const std::string& path) const {
     const double t = number(value, path);
@@ -63,40 +29,10 @@ class Reader {
     return t;
   }
 
-  std::string string(const Json& value, const std::string& path) const {
-    if (!value.is_string()) fail(path, "expected a string");
-    return value.get<std::string>();
-  }
-
-  std::string nonEmptyString(const Json& value, const std::string& path) const {
-    std::string s = string(value, path);
-    if (s.empty()) fail(path, "must not be empty");
-    return s;
-  }
-
-  std::vector<double> numbers(const Json& value, const std::string& path, std::size_t length) const {
-    array(value, path);
-    if (value.size() != length) {
-      fail(path, "expected " + std::to_string(length) + " numbers, got " + std::to_string(value.size()));
-    }
-    std::vector<double> out;
-    out.reserve(length);
-    for (std::size_t i = 0; i < length; ++i) out.push_back(number(value[i], index(path, i)));
-    return out;
-  }
-
   Pose pose(const Json& value, const std::string& path) const {
     requireObject(value, path);
-    const auto p = numbers(field(value, path, "p"), join(path, "p"), 3);
-    const std::string q_path = join(path, "q");
-    const auto q = numbers(field(value, path, "q"), q_path, 4);
-    const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    if (std::abs(norm - 1.0) > kUnitQuaternionTolerance) fail(q_path, "quaternion is not unit length");
-    return makePose(Vec3(p[0], p[1], p[2]), quatFromXYZW({q[0], q[1], q[2], q[3]}));
+    return readPose(*this, value, path);
   }
-
- private:
-  std::string prefix_;
 };
 
 RobotTrajectory parseTrajectory(const Reader& r, const std::string& id, const Json& j, const std::string& path) {

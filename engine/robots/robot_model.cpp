@@ -9,7 +9,9 @@
 #include <sstream>
 
 #include "engine/core/check.h"
+#include "engine/core/json_reader.h"
 #include "engine/core/paths.h"
+#include "engine/geometry/pose_json.h"
 
 namespace dash {
 
@@ -21,80 +23,25 @@ constexpr const char* kFormat = "dashbench.robot/1";
 constexpr int kUrJoints = 6;
 constexpr int kGantryJoints = 3;
 constexpr double kSnapEps = 1e-15;       // cos/sin of alpha this close to 0 or +-1 are exact
-constexpr double kUnitQuatTol = 1e-6;    // |q| of a file quaternion must be 1 within this
 constexpr double kUrStructureTol = 1e-9;  // the analytic IK needs the UR DH structure to this
 
-/// "path[i]"; built by appending (GCC 12 warns falsely on "[" + std::to_string(i) + "]").
-std::string indexed(const std::string& path, std::size_t i) {
-  std::string out = path;
-  out += '[';
-  out += std::to_string(i);
-  out += ']';
-  return out;
-}
+std::string indexed(const std::string& path, std::size_t i) { return jsonPathIndex(path, i); }
 
-/// Reads one field of a JSON document; every error names the field by its dotted path.
-class Reader {
+/// The shared field reader plus what robot models add: vectors, poses and optional fields.
+class Reader : public JsonReader<json> {
  public:
-  explicit Reader(std::string source) : source_(std::move(source)) {}
+  explicit Reader(const std::string& source) : JsonReader<json>(source, "robot model") {}
 
-  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
-    throw InputError(source_ + ": " + path + ": " + what);
-  }
-
-  const json& field(const json& obj, const std::string& path, const char* key) const {
-    if (!obj.is_object()) fail(path, "expected an object");
-    auto it = obj.find(key);
-    if (it == obj.end()) fail(join(path, key), "missing field");
-    return *it;
-  }
+  /// The value of `key` in `obj`, or nullptr.
   const json* optionalField(const json& obj, const char* key) const {
     auto it = obj.find(key);
     return it == obj.end() ? nullptr : &*it;
-  }
-
-  double number(const json& j, const std::string& path) const {
-    if (!j.is_number()) fail(path, "expected a number, got " + typeName(j));
-    const double v = j.get<double>();
-    if (!std::isfinite(v)) fail(path, "must be finite");
-    return v;
-  }
-  std::string string(const json& j, const std::string& path) const {
-    if (!j.is_string()) fail(path, "expected a string, got " + typeName(j));
-    return j.get<std::string>();
-  }
-  const json& array(const json& j, const std::string& path) const {
-    if (!j.is_array()) fail(path, "expected an array, got " + typeName(j));
-    return j;
-  }
-  std::vector<double> numbers(const json& j, const std::string& path, std::size_t n) const {
-    array(j, path);
-    if (j.size() != n) {
-      fail(path, "expected " + std::to_string(n) + " numbers, got " + std::to_string(j.size()));
-    }
-    std::vector<double> out;
-    for (std::size_t i = 0; i < n; ++i) out.push_back(number(j[i], indexed(path, i)));
-    return out;
   }
   Vec3 vec3(const json& j, const std::string& path) const {
     const auto v = numbers(j, path, 3);
     return Vec3(v[0], v[1], v[2]);
   }
-  Pose pose(const json& j, const std::string& path) const {
-    const Vec3 p = vec3(field(j, path, "p"), path + ".p");
-    const auto q = numbers(field(j, path, "q"), path + ".q", 4);
-    const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    if (std::abs(norm - 1.0) > kUnitQuatTol) fail(path + ".q", "quaternion is not unit length");
-    return makePose(p, quatFromXYZW({q[0], q[1], q[2], q[3]}));
-  }
-
-  static std::string join(const std::string& path, const std::string& key) {
-    return path.empty() ? key : path + "." + key;
-  }
-
- private:
-  static std::string typeName(const json& j) { return j.type_name(); }
-  std::string source_;
+  Pose pose(const json& j, const std::string& path) const { return readPose(*this, j, path); }
 };
 
 JointVector toJointVector(const std::vector<double>& v) {

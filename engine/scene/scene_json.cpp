@@ -8,6 +8,8 @@
 #include <sstream>
 
 #include "engine/core/check.h"
+#include "engine/core/json_reader.h"
+#include "engine/geometry/pose_json.h"
 
 namespace dash {
 
@@ -16,80 +18,14 @@ namespace {
 // ordered_json keeps the file's key order: generator params stay in order, output follows the contract.
 using Json = nlohmann::ordered_json;
 
-constexpr double kUnitQuaternionTolerance = 1e-6;
-
-/// Validation helpers. Every error names the path of the offending field.
-class Validator {
+/// The shared field reader plus what scenes add: poses and box shapes.
+class Validator : public JsonReader<Json> {
  public:
-  explicit Validator(std::string source) : prefix_(source.empty() ? "" : source + ": ") {}
-
-  [[noreturn]] void fail(const std::string& path, const std::string& message) const {
-    throw InputError(prefix_ + (path.empty() ? std::string("scene") : path) + ": " + message);
-  }
-
-  static std::string join(const std::string& path, const std::string& key) {
-    return path.empty() ? key : path + "." + key;
-  }
-  static std::string index(const std::string& path, std::size_t i) {
-    return path + "[" + std::to_string(i) + "]";
-  }
-
-  const Json& field(const Json& object, const std::string& path, const std::string& key) const {
-    const auto it = object.find(key);
-    if (it == object.end()) fail(join(path, key), "missing field");
-    return *it;
-  }
-
-  void requireObject(const Json& value, const std::string& path) const {
-    if (!value.is_object()) fail(path, "expected an object");
-  }
-
-  const Json& array(const Json& value, const std::string& path) const {
-    if (!value.is_array()) fail(path, "expected an array");
-    return value;
-  }
-
-  double number(const Json& value, const std::string& path) const {
-    if (!value.is_number()) fail(path, "expected a number");
-    const double x = value.get<double>();
-    if (!std::isfinite(x)) fail(path, "number is not finite");
-    return x;
-  }
-
-  std::string string(const Json& value, const std::string& path) const {
-    if (!value.is_string()) fail(path, "expected a string");
-    return value.get<std::string>();
-  }
-
-  bool boolean(const Json& value, const std::string& path) const {
-    if (!value.is_boolean()) fail(path, "expected true or false");
-    return value.get<bool>();
-  }
-
-  std::string nonEmptyString(const Json& value, const std::string& path) const {
-    std::string s = string(value, path);
-    if (s.empty()) fail(path, "must not be empty");
-    return s;
-  }
-
-  std::vector<double> numbers(const Json& value, const std::string& path, std::size_t length) const {
-    array(value, path);
-    if (value.size() != length) {
-      fail(path, "expected " + std::to_string(length) + " numbers, got " + std::to_string(value.size()));
-    }
-    std::vector<double> out;
-    for (std::size_t i = 0; i < length; ++i) out.push_back(number(value[i], index(path, i)));
-    return out;
-  }
+  explicit Validator(const std::string& source) : JsonReader<Json>(source, "scene") {}
 
   Pose pose(const Json& value, const std::string& path) const {
     requireObject(value, path);
-    const auto p = numbers(field(value, path, "p"), join(path, "p"), 3);
-    const std::string q_path = join(path, "q");
-    const auto q = numbers(field(value, path, "q"), q_path, 4);
-    const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    if (std::abs(norm - 1.0) > kUnitQuaternionTolerance) fail(q_path, "quaternion is not unit length");
-    return makePose(Vec3(p[0], p[1], p[2]), quatFromXYZW({q[0], q[1], q[2], q[3]}));
+    return readPose(*this, value, path);
   }
 
   BoxShape box(const Json& value, const std::string& path) const {
@@ -103,17 +39,7 @@ class Validator {
     }
     return BoxShape{.size = Vec3(size[0], size[1], size[2])};
   }
-
- private:
-  std::string prefix_;
 };
-
-// The field helpers above take (parent, parent path, key); numbers() wants the full path of the array.
-// These two wrappers keep call sites short.
-std::vector<double> numbersAt(const Validator& v, const Json& parent, const std::string& path,
-                              const std::string& key, std::size_t length) {
-  return v.numbers(v.field(parent, path, key), Validator::join(path, key), length);
-}
 
 SceneGenerator parseGenerator(const Validator& v, const Json& j, const std::string& path) {
   v.requireObject(j, path);
@@ -153,7 +79,7 @@ SceneRobot parseRobot(const Validator& v, const Json& j, const std::string& path
   if (r.model == nullptr) v.fail(Validator::join(path, "model"), "unknown robot model \"" + r.model_name + "\"");
   r.X_WB = v.pose(v.field(j, path, "base"), Validator::join(path, "base"));
   const std::string home_path = Validator::join(path, "home");
-  const auto home = numbersAt(v, j, path, "home", static_cast<std::size_t>(r.model->dof()));
+  const auto home = v.numbersAt(j, path, "home", static_cast<std::size_t>(r.model->dof()));
   r.home = JointVector::Map(home.data(), static_cast<Eigen::Index>(home.size()));
   for (int i = 0; i < r.model->dof(); ++i) {
     const double lo = r.model->limits.position_min[i];

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <string>
 
+#include "engine/core/text_split.h"
 #include "engine/log/db_query.h"
 #include "engine/log/db_tools.h"
 #include "engine/log/results_db.h"
@@ -34,19 +35,6 @@ const char* const kDbHelp =
 
 namespace {
 
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t comma = text.find(',', start);
-    std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    if (!item.empty()) out.push_back(item);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
-
 void writeOutput(const std::string& text, const std::optional<std::string>& out_path) {
   if (!out_path) {
     std::fwrite(text.data(), 1, text.size(), stdout);
@@ -76,7 +64,7 @@ int runExport(const std::vector<std::string>& words) {
   Args args(words, {.options = {"format", "runs", "out"}, .flags = {"events"}});
   DASH_THROW_UNLESS(args.positional().size() == 1, "usage: dashbench db export FILE --format csv|json [--runs UUID,...]");
   log::ExportOptions options{.format = log::parseOutputFormat(args.require("format")),
-                             .uuids = splitList(args.get("runs", "")),
+                             .uuids = splitList(args.get("runs", ""), ',', EmptyItems::kDrop),
                              .with_events = args.has("events")};
   const log::ResultsDb db(args.positional()[0], log::OpenMode::ReadOnly);
   writeOutput(log::exportRuns(db, options), args.get("out"));

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/check.h"
+#include "engine/geometry/pose_json.h"
 #include "engine/robots/kinematics.h"
 #include "server/cli/args.h"
 #include "server/cli/command.h"
@@ -13,10 +14,6 @@ namespace dash::cli {
 // Shared with cmd_ik.cpp.
 Pose parsePoseArgument(const std::string& text, const std::string& what);
 nlohmann::json poseJson(const Pose& X);
-
-namespace {
-constexpr double kUnitQuaternionTolerance = 1e-6;  // as for poses in files
-}  // namespace
 
 /// "x,y,z,qx,qy,qz,qw" (quaternion of unit length, as in the file contract).
 Pose parsePoseArgument(const std::string& text, const std::string& what) {

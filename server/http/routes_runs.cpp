@@ -2,6 +2,7 @@
 // plan and scene, and its tags and note.
 
 #include "engine/core/check.h"
+#include "engine/core/text_split.h"
 #include "server/http/api_json.h"
 #include "server/http/api_util.h"
 #include "server/http/routes.h"
@@ -18,31 +19,18 @@ constexpr const char* kRun = R"(/api/runs/([0-9A-Fa-f\-]{1,64}))";
 constexpr std::int64_t kMaxPage = 5000;
 constexpr std::int64_t kMaxCsvRows = 200000;
 
-std::vector<std::string> splitComma(const std::string& text) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t comma = text.find(',', start);
-    std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    if (!item.empty()) out.push_back(item);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
-
 RunListRequest listRequest(const httplib::Request& req) {
   RunListRequest r;
   r.filter = param(req, "q");
   r.batch_id = param(req, "batch");
-  r.uuids = splitComma(param(req, "uuids"));
+  r.uuids = splitList(param(req, "uuids"), ',', EmptyItems::kDrop);
   r.sort = param(req, "sort", "id");
   const std::string order = param(req, "order", "desc");
   if (order != "asc" && order != "desc") throw HttpError(400, "order: '" + order + "' is not asc or desc");
   r.descending = order == "desc";
   r.limit = intParam(req, "limit", 100, 1, kMaxPage);
   r.offset = intParam(req, "offset", 0, 0, INT64_MAX);
-  r.columns = splitComma(param(req, "columns"));
+  r.columns = splitList(param(req, "columns"), ',', EmptyItems::kDrop);
   return r;
 }
 

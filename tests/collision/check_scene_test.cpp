@@ -2,7 +2,6 @@
 // 2 (invalid input). The engine function is tested directly for the wording of each problem.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <fstream>
@@ -12,6 +11,7 @@
 
 #include "engine/collision/scene_check.h"
 #include "tests/collision/collision_test_util.h"
+#include "tests/common/cli_run.h"
 
 namespace dash {
 namespace {
@@ -23,22 +23,9 @@ Json example() {
   return Json::parse(in);
 }
 
-struct CliResult {
-  int exit_code = -1;
-  std::string output;
-};
+using CliResult = test::CliRun;
 
-CliResult runCheckScene(const std::string& arguments) {
-  const std::string command = std::string(DASHBENCH_BINARY) + " check-scene " + arguments + " 2>&1";
-  CliResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return result;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) result.output += buffer;
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
+CliResult runCheckScene(const std::string& arguments) { return test::runDashbench("check-scene " + arguments); }
 
 std::string writeScene(const Json& scene, const std::string& name) {
   const std::string path = testing::TempDir() + "/dash_check_scene_" + name + ".json";

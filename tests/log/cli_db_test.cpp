@@ -1,29 +1,18 @@
 // `dashbench db ...` end to end, through the built binary.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdio>
 
 #include "engine/log/results_db.h"
+#include "tests/common/cli_run.h"
 #include "tests/log/log_test_util.h"
 
 namespace dash::log {
 namespace {
 
-struct Result {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
+using Result = test::CliRun;
 
-Result dashbench(const std::string& arguments) {
-  const std::string command = std::string(DASHBENCH_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  char buffer[4096];
-  while (std::size_t n = std::fread(buffer, 1, sizeof(buffer), pipe)) output.append(buffer, n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+Result dashbench(const std::string& arguments) { return test::runDashbench(arguments); }
 
 std::string quoted(const std::string& s) { return "'" + s + "'"; }
 

@@ -4,30 +4,16 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
-#include <sys/wait.h>
 
 #include "plan_test_util.h"
+#include "tests/common/cli_run.h"
 
 namespace dash {
 namespace {
 
-struct CliRun {
-  int status = -1;
-  std::string output;
-};
+using test::CliRun;
 
-CliRun runValidate(const std::string& arguments) {
-  const std::string command = std::string(DASHBENCH_BINARY) + " validate " + arguments + " 2>&1";
-  CliRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) run.output.append(buffer, n);
-  const int status = pclose(pipe);
-  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
+CliRun runValidate(const std::string& arguments) { return test::runDashbench("validate " + arguments); }
 
 std::string writeTemp(const std::string& name, const std::string& text) {
   const std::string path = ::testing::TempDir() + name;
@@ -39,7 +25,7 @@ const std::string kScene = "--scene " + test::exampleScenePath();
 
 TEST(ValidateCli, ExamplePlanIsValid) {
   const CliRun run = runValidate(kScene + " --plan " + test::examplePlanPath());
-  EXPECT_EQ(run.status, 0) << run.output;
+  EXPECT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("valid"), std::string::npos) << run.output;
 }
 
@@ -48,11 +34,11 @@ TEST(ValidateCli, ProblemsExitWithOne) {
   plan.events[1].t = 2.18;  // release in mid-air
   const std::string path = writeTemp("validate_cli_midair.json", planToJson(plan));
   const CliRun run = runValidate(kScene + " --plan " + path);
-  EXPECT_EQ(run.status, 1) << run.output;
+  EXPECT_EQ(run.exit_code, 1) << run.output;
   EXPECT_NE(run.output.find("release_unstable"), std::string::npos) << run.output;
 
   const CliRun json = runValidate(kScene + " --plan " + path + " --json");
-  EXPECT_EQ(json.status, 1) << json.output;
+  EXPECT_EQ(json.exit_code, 1) << json.output;
   EXPECT_NE(json.output.find("\"valid\": false"), std::string::npos) << json.output;
   EXPECT_NE(json.output.find("\"kind\": \"release_unstable\""), std::string::npos) << json.output;
 }
@@ -60,10 +46,10 @@ TEST(ValidateCli, ProblemsExitWithOne) {
 TEST(ValidateCli, BadInputExitsWithTwo) {
   const std::string broken = writeTemp("validate_cli_broken.json", "{\"format\": \"dashbench.plan/1\"}");
   const CliRun run = runValidate(kScene + " --plan " + broken);
-  EXPECT_EQ(run.status, 2) << run.output;
+  EXPECT_EQ(run.exit_code, 2) << run.output;
   EXPECT_NE(run.output.find("scene: missing field"), std::string::npos) << run.output;
-  EXPECT_EQ(runValidate(kScene).status, 2);
-  EXPECT_EQ(runValidate(kScene + " --plan /nonexistent/plan.json").status, 2);
+  EXPECT_EQ(runValidate(kScene).exit_code, 2);
+  EXPECT_EQ(runValidate(kScene + " --plan /nonexistent/plan.json").exit_code, 2);
 }
 
 }  // namespace

@@ -1,35 +1,21 @@
 // `dashbench fk` and `dashbench ik`: JSON output and exit codes (0 ok, 2 bad input).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "engine/robots/kinematics.h"
+#include "tests/common/cli_run.h"
 
 namespace dash {
 namespace {
 
 using nlohmann::json;
 
-struct RunResult {
-  int exit_code = -1;
-  std::string out;
-};
+using RunResult = test::CliRun;
 
-RunResult runCli(const std::string& arguments) {
-  const std::string command = std::string(DASHBENCH_BINARY) + " " + arguments + " 2>/dev/null";
-  RunResult r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.out.append(buffer, n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+RunResult runCli(const std::string& arguments) { return test::runDashbench(arguments, test::Stderr::kDrop); }
 
 Pose poseFromJson(const json& j) {
   return makePose(Vec3(j["p"][0], j["p"][1], j["p"][2]), quatFromXYZW({j["q"][0], j["q"][1], j["q"][2], j["q"][3]}));
@@ -42,8 +28,8 @@ const RobotModel& ur5e() {
 
 TEST(CliFk, Ur5eZeroConfiguration) {
   const RunResult r = runCli("fk --robot ur5e --q 0,0,0,0,0,0");
-  ASSERT_EQ(r.exit_code, 0) << r.out;
-  const json j = json::parse(r.out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json j = json::parse(r.output);
   const Pose flange = poseFromJson(j.at("flange"));
   const Pose tcp = poseFromJson(j.at("tcp"));
   EXPECT_LT((flange.translation() - Vec3(-0.8172, -0.2329, 0.0628)).norm(), 1e-12);
@@ -55,18 +41,18 @@ TEST(CliFk, Ur5eZeroConfiguration) {
 TEST(CliFk, BasePoseAndGantry) {
   RunResult r =
       runCli("fk --robot ur5e --q 0.1,-1,1.2,-0.3,0.5,2 --base 1,2,0.5,0,0,0.7071067811865476,0.7071067811865476");
-  ASSERT_EQ(r.exit_code, 0) << r.out;
+  ASSERT_EQ(r.exit_code, 0) << r.output;
   const Pose X_WB = makePose(Vec3(1, 2, 0.5), Quat(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ())));
   JointVector q(6);
   q << 0.1, -1, 1.2, -0.3, 0.5, 2;
   const FkResult fk = forwardKinematics(ur5e(), X_WB, q);
-  const json j = json::parse(r.out);
+  const json j = json::parse(r.output);
   EXPECT_TRUE(poseFromJson(j["tcp"]).isApprox(fk.X_WT, 1e-12));
   EXPECT_TRUE(poseFromJson(j["flange"]).isApprox(fk.X_WF, 1e-12));
 
   r = runCli("fk --robot gantry3 --q 0.1,0.2,0.05");
-  ASSERT_EQ(r.exit_code, 0) << r.out;
-  const json g = json::parse(r.out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json g = json::parse(r.output);
   EXPECT_NEAR(g["tcp"]["p"][2].get<double>(), 0.35, 1e-15);
   EXPECT_NEAR(std::abs(g["tcp"]["q"][0].get<double>()), 1.0, 1e-15);  // half turn about x
 }
@@ -80,8 +66,8 @@ TEST(CliIk, Ur5eSolutionsReproduceTheTarget) {
   std::snprintf(tcp, sizeof tcp, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", X_WT.translation().x(),
                 X_WT.translation().y(), X_WT.translation().z(), quat[0], quat[1], quat[2], quat[3]);
   const RunResult r = runCli(std::string("ik --robot ur5e --tcp ") + tcp);
-  ASSERT_EQ(r.exit_code, 0) << r.out;
-  const json j = json::parse(r.out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json j = json::parse(r.output);
   ASSERT_TRUE(j.is_array());
   EXPECT_EQ(j.size(), 8u);
   bool found_home = false;
@@ -98,15 +84,15 @@ TEST(CliIk, Ur5eSolutionsReproduceTheTarget) {
 TEST(CliIk, UnreachableAndGantry) {
   RunResult r = runCli("ik --robot ur5e --tcp 3,0,0,0,0,0,1");
   ASSERT_EQ(r.exit_code, 0);
-  EXPECT_EQ(json::parse(r.out), json::array());
+  EXPECT_EQ(json::parse(r.output), json::array());
   r = runCli("ik --robot gantry3 --tcp 0.1,0.2,0.35,1,0,0,0");
   ASSERT_EQ(r.exit_code, 0);
-  const json j = json::parse(r.out);
+  const json j = json::parse(r.output);
   ASSERT_EQ(j.size(), 1u);
   EXPECT_NEAR(j[0][2].get<double>(), 0.05, 1e-12);
   r = runCli("ik --robot gantry3 --tcp 0.1,0.2,0.35,0,0,0,1");  // tool up: no solution
   ASSERT_EQ(r.exit_code, 0);
-  EXPECT_TRUE(json::parse(r.out).empty());
+  EXPECT_TRUE(json::parse(r.output).empty());
 }
 
 TEST(CliFkIk, BadInputExitsWithTwo) {
@@ -120,7 +106,7 @@ TEST(CliFkIk, BadInputExitsWithTwo) {
                            "ik --robot ur5e"}) {
     const RunResult r = runCli(args);
     EXPECT_EQ(r.exit_code, 2) << args;
-    EXPECT_TRUE(r.out.empty()) << args << ": " << r.out;
+    EXPECT_TRUE(r.output.empty()) << args << ": " << r.output;
   }
 }
 

@@ -1,7 +1,6 @@
 // `dashbench scenario`: output to stdout or a file (-o / --out), --png, --list, and exit code 2 with a
 // message naming the key and its range on bad input.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -11,27 +10,14 @@
 
 #include "engine/scene/scene_json.h"
 #include "scenario_test_util.h"
+#include "tests/common/cli_run.h"
 
 namespace dash {
 namespace {
 
-struct RunResult {
-  int exit_code = -1;
-  std::string out;  ///< stdout and stderr together
-};
+using RunResult = test::CliRun;
 
-RunResult runCli(const std::string& arguments) {
-  const std::string command = std::string(DASHBENCH_BINARY) + " scenario " + arguments + " 2>&1";
-  RunResult r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.out.append(buffer, n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+RunResult runCli(const std::string& arguments) { return test::runDashbench("scenario " + arguments); }
 
 std::string readFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -53,9 +39,9 @@ class CliScenario : public ::testing::Test {
 
 TEST_F(CliScenario, StdoutShortAndLongOutputAgree) {
   const RunResult out = runCli("sorting --seed 3 robots=4 objects=8");
-  ASSERT_EQ(out.exit_code, 0) << out.out;
+  ASSERT_EQ(out.exit_code, 0) << out.output;
   const std::string expected = sceneToJson(test::generate("sorting", {{"robots", "4"}, {"objects", "8"}}, 3).scene);
-  EXPECT_EQ(out.out, expected);
+  EXPECT_EQ(out.output, expected);
   const auto a = dir_ / "a.json";
   const auto b = dir_ / "b.json";
   ASSERT_EQ(runCli("sorting --seed 3 robots=4 objects=8 -o " + a.string()).exit_code, 0);
@@ -67,16 +53,16 @@ TEST_F(CliScenario, StdoutShortAndLongOutputAgree) {
 TEST_F(CliScenario, WritesAPicture) {
   const auto png = dir_ / "s.png";
   const RunResult r = runCli("lab --seed 2 containers=3 -o " + (dir_ / "s.json").string() + " --png " + png.string());
-  ASSERT_EQ(r.exit_code, 0) << r.out;
+  ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(readFile(png).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
 }
 
 TEST_F(CliScenario, ListNamesEveryFamily) {
   const RunResult r = runCli("--list");
-  ASSERT_EQ(r.exit_code, 0) << r.out;
-  for (const auto& f : scenarioFamilies()) EXPECT_NE(r.out.find(f.name + ": "), std::string::npos) << f.name;
-  EXPECT_NE(r.out.find("robots=4  (2..32)"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("walls=1  (1..31)"), std::string::npos) << r.out;
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const auto& f : scenarioFamilies()) EXPECT_NE(r.output.find(f.name + ": "), std::string::npos) << f.name;
+  EXPECT_NE(r.output.find("robots=4  (2..32)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("walls=1  (1..31)"), std::string::npos) << r.output;
 }
 
 TEST_F(CliScenario, BadInputExitsTwoNamingTheProblem) {
@@ -99,8 +85,8 @@ TEST_F(CliScenario, BadInputExitsTwoNamingTheProblem) {
   };
   for (const Case& c : cases) {
     const RunResult r = runCli(c.args);
-    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.out;
-    for (const std::string& m : c.mentions) EXPECT_NE(r.out.find(m), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
+    for (const std::string& m : c.mentions) EXPECT_NE(r.output.find(m), std::string::npos) << c.args << "\n" << r.output;
   }
 }
 
