@@ -7,123 +7,10 @@
 // every Compare plot has data points; a run's 3D view draws and scrubs and plays; the Query page
 // refuses writes; the Dispatch page answers; no page logs a console error. Screenshots of each page
 // go to the artifacts folder. Exit: 0 passed, 1 failed, 77 skipped (Chromium cannot start here).
-import { spawn } from 'node:child_process';
-import { createRequire } from 'node:module';
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-
-const SKIP = 77;
-const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..');
-const CHROMIUM = process.env.DASHBENCH_CHROMIUM || '/usr/bin/chromium';
-const CHROMIUM_ARGS = [
-  '--headless',
-  '--no-sandbox',
-  '--disable-gpu',
-  '--disable-dev-shm-usage',
-  '--disable-background-networking',
-  '--disable-component-update',
-  '--disable-sync',
-  '--no-first-run',
-  // Software WebGL (SwiftShader) for the 3D view: newer Chromium no longer falls back to it by itself.
-  '--enable-unsafe-swiftshader',
-];
-
-function option(name, fallback) {
-  const i = process.argv.indexOf(`--${name}`);
-  return i > 0 && i + 1 < process.argv.length ? process.argv[i + 1] : fallback;
-}
-const DASHBENCH = option('dashbench', path.join(ROOT, 'build', 'dashbench'));
-const ARTIFACTS = path.resolve(option('artifacts', path.join(ROOT, 'build', 'test-artifacts')));
-const KEEP = process.argv.includes('--keep');
-
-function sleep(ms) {
-  return new Promise((r) => setTimeout(r, ms));
-}
-
-function loadPlaywright() {
-  const requireWeb = createRequire(path.join(ROOT, 'web', 'package.json'));
-  try {
-    return requireWeb('playwright-core');
-  } catch (e) {
-    console.error(`FAIL: web/node_modules has no playwright-core (${e.message}); run \`npm ci\` in web/`);
-    process.exit(1);
-  }
-}
-
-async function launchBrowser(playwright, profile) {
-  if (!fs.existsSync(CHROMIUM)) {
-    console.log(`SKIP: ${CHROMIUM} does not exist: install Debian's chromium (./dashbench test does)`);
-    process.exit(SKIP);
-  }
-  try {
-    return await playwright.chromium.launchPersistentContext(profile, {
-      executablePath: CHROMIUM,
-      headless: true,
-      args: CHROMIUM_ARGS,
-      viewport: { width: 1440, height: 1000 },
-      timeout: 60000,
-    });
-  } catch (e) {
-    console.log(`SKIP: Chromium cannot start here: ${String(e.message).split('\n')[0]}`);
-    process.exit(SKIP);
-  }
-}
-
-/// Starts `dashbench serve` on a free port; resolves {process, url} once it prints its URL.
-function startServer(tmp) {
-  const db = path.join(tmp, 'results.db');
-  const demo = path.join(ROOT, 'data', 'demo.db');
-  if (!fs.existsSync(demo)) throw new Error(`${demo} is missing (see the README's Dashboard section)`);
-  fs.copyFileSync(demo, db);
-  const args = ['serve', '--port', '0', '--db', db, '--token-file', path.join(tmp, 'token'), '--web', path.join(ROOT, 'web'), '--max-workers', '2'];
-  const child = spawn(DASHBENCH, args, { stdio: ['ignore', 'pipe', 'pipe'] });
-  let log = '';
-  return new Promise((resolve, reject) => {
-    const timer = setTimeout(() => reject(new Error(`the server did not start in 60 s:\n${log}`)), 60000);
-    const onData = (d) => {
-      log += d.toString();
-      const m = log.match(/open (http:\/\/127\.0\.0\.1:\d+)/);
-      if (m) {
-        clearTimeout(timer);
-        resolve({ child, url: m[1], db, log: () => log });
-      }
-    };
-    child.stdout.on('data', onData);
-    child.stderr.on('data', (d) => (log += d.toString()));
-    child.on('exit', (code) => reject(new Error(`the server exited (${code}):\n${log}`)));
-  });
-}
-
-async function stopServer(server) {
-  if (!server || server.child.exitCode !== null) return;
-  server.child.kill('SIGINT');
-  for (let i = 0; i < 100 && server.child.exitCode === null; i++) await sleep(100);
-  if (server.child.exitCode === null) server.child.kill('SIGKILL');
-}
-
-// ---------------------------------------------------------------------------------------------
-const results = [];
-async function step(name, fn) {
-  const t0 = Date.now();
-  try {
-    await fn();
-    results.push({ name, ok: true, seconds: (Date.now() - t0) / 1000 });
-    console.log(`PASS ${name} (${((Date.now() - t0) / 1000).toFixed(1)} s)`);
-  } catch (e) {
-    results.push({ name, ok: false, seconds: (Date.now() - t0) / 1000, error: e });
-    console.log(`FAIL ${name} (${((Date.now() - t0) / 1000).toFixed(1)} s): ${e.stack || e}`);
-  }
-}
-
-function expect(condition, message) {
-  if (!condition) throw new Error(message);
-}
-
-async function shot(page, name) {
-  await page.screenshot({ path: path.join(ARTIFACTS, `${name}.png`), fullPage: true });
-}
+import { ARTIFACTS, KEEP, loadPlaywright, launchBrowser, startServer, stopServer, step, expect, shot, results, finish } from './harness.mjs';
 
 async function main() {
   const playwright = loadPlaywright();
@@ -316,9 +203,7 @@ async function main() {
     await stopServer(server);
     if (!KEEP) fs.rmSync(tmp, { recursive: true, force: true });
   }
-  const failed = results.filter((r) => !r.ok);
-  console.log(`${results.length - failed.length} passed, ${failed.length} failed; screenshots in ${ARTIFACTS}`);
-  process.exit(failed.length ? 1 : 0);
+  finish();
 }
 
 main();

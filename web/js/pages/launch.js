@@ -245,9 +245,10 @@ export function mount(root) {
         return;
       }
       state.lastSpec = spec;
+      if (launching) return;
       runCount.textContent = `runs: ${r.runs} (${r.runs} processes, up to ${fmtSeconds(r.runs * r.time_limit)} of planning in total)`;
       runCount.dataset.runs = r.runs;
-      submit.disabled = false;
+      submit.disabled = launching;
     } catch (e) {
       if (seq !== validateSeq) return;
       runCount.textContent = 'runs: —';
@@ -260,6 +261,7 @@ export function mount(root) {
     submit.disabled = true;
     validate();
   }
+  let launching = false; // one launch at a time: a second click while the first is in flight does nothing
   for (const i of [nameInput, seedFrom, seedCount, timeLimit, memoryLimit]) i.addEventListener('input', changed);
   familySelect.addEventListener('change', () => {
     renderParams();
@@ -267,13 +269,16 @@ export function mount(root) {
   });
 
   submit.addEventListener('click', async () => {
+    if (launching) return;
     submitted.textContent = '';
+    delete submitted.dataset.batch;
     clearErrors();
     if (!getToken()) {
       formError.textContent = 'Launching needs the server token: use the Token button (top right).';
       return;
     }
     submit.disabled = true;
+    launching = true;
     try {
       const body =
         backendSelect.value === 'slurm'
@@ -284,15 +289,26 @@ export function mount(root) {
             }
           : { spec: buildSpec(), workers: Number(workers.value) };
       const r = await api.post('/api/batches', body);
-      submitted.textContent = `batch ${r.batch_id} ${r.status}: ${r.runs} runs`;
       submitted.dataset.batch = r.batch_id;
+      submitted.dataset.runs = r.runs;
+      showSubmitted(r.batch_id, r.status, null);
       loadBatches();
     } catch (e) {
       showError(e instanceof ApiError ? e.message : String(e));
     } finally {
-      submit.disabled = false;
+      launching = false;
+      submit.disabled = !state.lastSpec;
     }
   });
+
+  /// The line under Launch follows the batch it launched until that batch ends.
+  function showSubmitted(id, status, progress) {
+    if (submitted.dataset.batch !== id) return;
+    const runs = submitted.dataset.runs;
+    const done = progress ? ` · ${progress.done}/${progress.total} done` : '';
+    submitted.textContent = `batch ${id} ${status}: ${runs} runs${done}`;
+    submitted.dataset.status = status;
+  }
 
   // ---- batches ----
   const rows = new Map(); // batch id -> {progressCell, statusCell}
@@ -328,7 +344,12 @@ export function mount(root) {
           el('button', { type: 'button', class: 'small', 'data-testid': 'resume', onclick: () => act(b.id, 'resume') }, 'Resume'),
         );
       }
-      actions.append(' ', el('a', { href: `#/runs/${encodeURIComponent(`batch = "${b.id}"`)}`, text: 'runs' }));
+      actions.append(
+        ' ',
+        el('a', { href: `#/runs?q=${encodeURIComponent(`batch = "${b.id}"`)}`, text: 'runs' }),
+        ' ',
+        el('a', { href: `#/compare?batch=${encodeURIComponent(b.id)}`, 'data-testid': 'compare-batch', text: 'compare this batch' }),
+      );
       body.append(
         el(
           'tr',
@@ -356,6 +377,7 @@ export function mount(root) {
   const reload = debounce(loadBatches, 300);
   const offs = [
     on('batch', (m) => {
+      if (m.status) showSubmitted(m.id, m.status, m.progress);
       const r = rows.get(m.id);
       if (!r) return reload();
       if (m.progress) clear(r.progressCell).append(...progressBar(m.progress));
