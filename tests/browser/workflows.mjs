@@ -59,7 +59,7 @@ async function main() {
       await page.selectOption('[data-testid=builder-style]', 'box');
       await page.locator('[data-testid=compare-filter]').fill('robots = 2 or robots = 4');
       await page.locator('[data-testid=compare-filter]').press('Enter');
-      await page.waitForFunction(() => location.hash.includes('metric=collision_checks') && location.hash.includes('style=box') && location.hash.includes('split=&') === false);
+      await page.waitForFunction(() => location.hash.includes('metric=collision_checks') && location.hash.includes('style=box') && location.hash.includes('split=none'));
       const hash = await page.evaluate(() => location.hash);
       expect(/family=sorting/.test(hash) && /x=objects/.test(hash) && /q=robots/.test(hash), `the URL lacks the settings: ${hash}`);
       await page.goto(`${url}/#/runs`);

@@ -12,6 +12,9 @@ Chart.register(...registerables, BoxPlotController, BoxAndWiskers);
 Chart.defaults.font.family = 'system-ui, -apple-system, "Segoe UI", Roboto, sans-serif';
 Chart.defaults.color = '#1d232a';
 Chart.defaults.animation = false; // plots redraw on live updates; animation only distracts
+// Legends show each series' point shape (layers and phases differ by shape, not only by dash).
+Chart.defaults.plugins.legend.labels.usePointStyle = true;
+Chart.defaults.plugins.legend.labels.boxHeight = 8;
 
 export { Chart };
 
@@ -76,6 +79,20 @@ export function valueAxis(title, { log = false, stacked = false, min, max, perce
     axis.grace = '6%';
   }
   return axis;
+}
+
+/// A 0-100 % axis with room above and below, labelled every 20 %.
+export function percentAxis(title) {
+  return {
+    type: 'linear',
+    min: -4,
+    max: 104,
+    title: axisTitle(title),
+    ticks: { callback: (v) => `${v}%` },
+    afterBuildTicks: (scale) => {
+      scale.ticks = [0, 20, 40, 60, 80, 100].map((value) => ({ value }));
+    },
+  };
 }
 
 /// An x axis of integer problem sizes (objects, robots, ...): half a step of room at each end, ticks

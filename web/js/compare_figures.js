@@ -4,7 +4,7 @@
 // of two configurations, and Planner Arena's fraction solved against time and time-to-solve
 // distributions. Colours follow the series (planner configuration and split value) on every plot;
 // line dashes and point shapes tell layers and phases apart.
-import { drawChart, valueAxis, sizeAxis, axisTitle, logTicks } from './charts.js';
+import { drawChart, valueAxis, sizeAxis, axisTitle, logTicks, percentAxis } from './charts.js';
 import { fmtNumber, fmtSeconds } from './dom.js';
 import { colour } from './palette.js';
 import { summary, cellValues, successOf, ratios, solvedCurve, groupKey } from './compare_data.js';
@@ -154,7 +154,7 @@ export function drawSuccess(box, ctx) {
         plugins: { tooltip: { callbacks: { label: (c) => `${c.dataset.label}: ${fmtNumber(c.raw.y)}% (${c.raw.s.solved} of ${c.raw.s.finished} solved)` } } },
         scales: {
           x: sizeAxis(`${ctx.x} (count)`, ctx.grouped.xs),
-          y: { type: 'linear', min: -4, max: 104, title: axisTitle('success rate (% of finished runs)'), ticks: { stepSize: 20, callback: (v) => (v >= 0 && v <= 100 ? `${v}%` : '') } },
+          y: percentAxis('success rate (% of finished runs)'),
         },
       },
     },
@@ -309,7 +309,7 @@ export function drawSolvedCurve(box, ctx) {
         plugins: { tooltip: { callbacks: { label: (c) => `${c.dataset.label}: ${fmtNumber(c.raw.y)}% solved by ${fmtSeconds(c.raw.x)}` } } },
         scales: {
           x: { ...valueAxis('time (s, log scale)', { log: true }), min: all.length ? Math.min(...all) / 1.3 : undefined, afterBuildTicks: (scale) => (scale.ticks = logTicks(scale.min, scale.max).map((value) => ({ value }))) },
-          y: { type: 'linear', min: 0, max: 102, title: axisTitle('runs solved (% of finished runs)'), ticks: { stepSize: 20, callback: (v) => (v <= 100 ? `${v}%` : '') } },
+          y: percentAxis('runs solved (% of finished runs)'),
         },
       },
     },

@@ -18,14 +18,18 @@ export function parseHash(hash = location.hash) {
   return { page, args: decoded, params: new URLSearchParams(q < 0 ? '' : text.slice(q + 1)) };
 }
 
+function asText(v) {
+  return Array.isArray(v) ? v.join(',') : typeof v === 'boolean' ? (v ? '1' : '0') : String(v);
+}
+
 /// Replaces the current page's query with `state` (empty, null and default values are left out).
 export function writeState(state, defaults = {}) {
   const { page, args } = parseHash();
   const q = new URLSearchParams();
   for (const [k, v] of Object.entries(state)) {
     if (v === undefined || v === null || v === '' || (Array.isArray(v) && v.length === 0)) continue;
-    const text = Array.isArray(v) ? v.join(',') : typeof v === 'boolean' ? (v ? '1' : '0') : String(v);
-    if (k in defaults && String(defaults[k]) === text) continue;
+    const text = asText(v);
+    if (k in defaults && asText(defaults[k]) === text) continue;
     q.set(k, text);
   }
   const path = [page, ...args.map(encodeURIComponent)].join('/');

@@ -26,7 +26,7 @@ export function mount(root, args, params = new URLSearchParams()) {
   const state = {
     family: readString(params, 'family'),
     x: readString(params, 'x'),
-    split: params.has('split') ? params.get('split') : null, // null: choose a default
+    split: params.has('split') ? (params.get('split') === 'none' ? '' : params.get('split')) : null, // null: choose a default
     group: readString(params, 'group', 'config'),
     q: readString(params, 'q'),
     batch: readString(params, 'batch'),
@@ -43,7 +43,7 @@ export function mount(root, args, params = new URLSearchParams()) {
     diff: readBool(params, 'diff', true),
   };
   function save() {
-    writeState({ ...state, phases: state.phases.join(',') }, { group: 'config', unsolved: false, ext: false, phases: Object.keys(TIME_PARTS).join(','), metric: 'total_time', style: 'band', log: true, ratio: 'total_time', diff: true });
+    writeState({ ...state, split: state.split === '' ? 'none' : state.split, phases: state.phases.join(',') }, { group: 'config', unsolved: false, ext: false, phases: Object.keys(TIME_PARTS).join(','), metric: 'total_time', style: 'band', log: true, ratio: 'total_time', diff: true });
   }
 
   const familySelect = el('select', { 'data-testid': 'compare-family' });
@@ -61,14 +61,14 @@ export function mount(root, args, params = new URLSearchParams()) {
   const info = el('span', { class: 'muted', 'data-testid': 'compare-info' });
 
   const extBox = el('input', { type: 'checkbox', checked: state.ext });
-  const sizesV = chartPanel({ title: 'Representation sizes: vertices', testid: 'chart-task-sizes', name: 'sizes-vertices', help: 'Median across seeds; H_T solid circles, H_M dashed squares (extended layers: dotted), log scale. Click a point for its runs.', controls: [el('label', {}, extBox, 'extended layers (H_TE, H_ME)')] });
-  const sizesH = chartPanel({ title: 'Representation sizes: hyperarcs', testid: 'chart-motion-sizes', name: 'sizes-hyperarcs', help: 'Median across seeds, the same series and styles, log scale.' });
+  const sizesV = chartPanel({ tall: true, title: 'Representation sizes: vertices', testid: 'chart-task-sizes', name: 'sizes-vertices', help: 'Median across seeds; H_T solid circles, H_M dashed squares (extended layers: dotted), log scale. Click a point for its runs.', controls: [el('label', {}, extBox, 'extended layers (H_TE, H_ME)')] });
+  const sizesH = chartPanel({ tall: true, title: 'Representation sizes: hyperarcs', testid: 'chart-motion-sizes', name: 'sizes-hyperarcs', help: 'Median across seeds, the same series and styles, log scale.' });
   const phaseBoxes = Object.entries(TIME_PARTS).map(([k, p]) => {
     const box = el('input', { type: 'checkbox', checked: state.phases.includes(k), 'data-phase': k });
     return el('label', {}, box, p.label);
   });
-  const times = chartPanel({ title: 'Planning time by phase', testid: 'chart-times', name: 'time-breakdown', help: 'Median across seeds of construction (task + motion), query (task + motion), conflict detection and resolution, and total; log scale. Colour: series; line style: phase.', controls: phaseBoxes });
-  const success = chartPanel({ title: 'Success rate', testid: 'chart-success', name: 'success-rate', help: 'Solved runs out of finished runs (timeouts, infeasible and crashed runs count as failures). 0 % is a point on the axis; no runs is a gap.' });
+  const times = chartPanel({ title: 'Planning time by phase', testid: 'chart-times', name: 'time-breakdown', help: 'Median across seeds of construction (task + motion), query (task + motion), conflict detection and resolution, and total; log scale. Colour: series; line style and point shape: phase.', controls: phaseBoxes, tall: true });
+  const success = chartPanel({ tall: true, title: 'Success rate', testid: 'chart-success', name: 'success-rate', help: 'Solved runs out of finished runs (timeouts, infeasible and crashed runs count as failures). 0 % is a point on the axis; no runs is a gap.' });
 
   const metricSelect = el('select', { 'data-testid': 'builder-metric' });
   const styleSelect = select('builder-style', [{ value: 'band', text: 'median and interquartile band' }, { value: 'box', text: 'box plots' }], state.style);
@@ -160,12 +160,14 @@ export function mount(root, args, params = new URLSearchParams()) {
   function drawRatioPanel() {
     if (!ctx) return;
     const groups = [...new Set(ctx.runs.map((r) => groupKey(r, state.group)))].sort();
-    for (const [sel, key, fallback] of [[numSelect, 'num', groups.find((g) => g === 'dash') || groups[0]], [denSelect, 'den', groups.find((g) => g === 'lazy-dash') || groups[1] || groups[0]]]) {
+    const fill = (sel, key, preferred, not) => {
       clear(sel);
       for (const g of groups) sel.append(el('option', { value: g, text: g }));
-      if (!groups.includes(state[key])) state[key] = fallback || '';
+      if (!groups.includes(state[key])) state[key] = groups.includes(preferred) && preferred !== not ? preferred : groups.find((g) => g !== not) || groups[0] || '';
       sel.value = state[key];
-    }
+    };
+    fill(numSelect, 'num', 'dash', null);
+    fill(denSelect, 'den', 'lazy-dash', state.num);
     drawRatio(ratio.box, ctx, { metric: state.ratio, label: labelOf(state.ratio), numerator: state.num, denominator: state.den });
   }
 
@@ -340,6 +342,11 @@ export function mount(root, args, params = new URLSearchParams()) {
         return;
       }
       for (const f of overview) familySelect.append(el('option', { value: f.family, text: `${f.family} (${f.runs} runs)` }));
+      if (state.batch && !state.family) {
+        // "compare this batch": the batch's family.
+        const first = await api.get(`/api/runs?limit=1&q=${encodeURIComponent(`batch = "${state.batch.replace(/"/g, '')}"`)}`);
+        if (first.runs.length) state.family = first.runs[0].family;
+      }
       if (!overview.some((f) => f.family === state.family)) state.family = overview.some((f) => f.family === 'sorting') ? 'sorting' : overview[0].family;
       familySelect.value = state.family;
       fillX();
