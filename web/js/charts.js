@@ -107,20 +107,25 @@ export function sizeAxis(title, values) {
     min: lo - pad,
     max: hi + pad,
     title: axisTitle(title),
-    ticks: { precision: 0, callback: (v) => fmtNumber(v) },
+    ticks: { autoSkip: false, callback: (v) => fmtNumber(v) },
     afterBuildTicks: (scale) => {
-      scale.ticks = scale.ticks.filter((t) => Number.isInteger(t.value));
+      // Integers only, at most about 10 (Chart.js would put ticks on the padded ends and skip some
+      // integers next to them).
+      const step = Math.max(1, Math.round(niceStep(Math.max(1, (hi - lo) / 8))));
+      const ticks = [];
+      for (let v = Math.ceil(lo / step) * step; v <= hi; v += step) ticks.push({ value: v });
+      if (ticks.length === 0 || ticks[0].value > lo) ticks.unshift({ value: lo });
+      scale.ticks = ticks;
     },
   };
 }
 
-/// A panel with a title, a help line, controls, the chart box and its export buttons.
-export function chartPanel({ title, testid, help = '', controls = [], name = testid, tall = false }) {
-  const box = el('div', { class: `chart-box${tall ? ' tall' : ''}`, 'data-testid': testid, 'data-points': '0' });
+/// SVG, PNG and CSV buttons and a size for the chart in `box` (data-testid TESTID-svg, ...).
+export function exportButtons(box, testid, name) {
   const size = el('select', { title: 'export size', 'data-testid': `${testid}-size` }, Object.entries(EXPORT_SIZES).map(([k, s]) => el('option', { value: k, text: s.label })));
   const stem = () => fileStem(name, box.dataset.exportName);
   const button = (text, what, help) => el('button', { type: 'button', class: 'small secondary', title: help, 'data-testid': `${testid}-${what}`, onclick: () => exportBox(box, what, size.value, stem()) }, text);
-  const exports = el(
+  return el(
     'span',
     { class: 'exports' },
     button('SVG', 'svg', 'the plot as vector graphics at publication size'),
@@ -128,7 +133,12 @@ export function chartPanel({ title, testid, help = '', controls = [], name = tes
     button('CSV', 'csv', 'the aggregated data behind the plot'),
     size,
   );
-  const head = el('div', { class: 'panel-head' }, el('h2', { text: title }), exports);
+}
+
+/// A panel with a title, a help line, controls, the chart box and its export buttons.
+export function chartPanel({ title, testid, help = '', controls = [], name = testid, tall = false }) {
+  const box = el('div', { class: `chart-box${tall ? ' tall' : ''}`, 'data-testid': testid, 'data-points': '0' });
+  const head = el('div', { class: 'panel-head' }, el('h2', { text: title }), exportButtons(box, testid, name));
   const panel = el('div', { class: 'panel' }, head, help ? el('div', { class: 'muted', text: help }) : null, controls.length ? el('div', { class: 'toolbar' }, controls) : null, box);
   return { panel, box, head };
 }

@@ -4,7 +4,8 @@
 // of two configurations, and Planner Arena's fraction solved against time and time-to-solve
 // distributions. Colours follow the series (planner configuration and split value) on every plot;
 // line dashes and point shapes tell layers and phases apart.
-import { drawChart, valueAxis, sizeAxis, axisTitle, logTicks, percentAxis } from './charts.js';
+import { drawChart, valueAxis, sizeAxis, axisTitle, logTicks, percentAxis, exportButtons, destroyCharts } from './charts.js';
+import { el, clear } from './dom.js';
 import { fmtNumber, fmtSeconds } from './dom.js';
 import { colour } from './palette.js';
 import { summary, cellValues, successOf, ratios, solvedCurve, groupKey } from './compare_data.js';
@@ -54,12 +55,14 @@ function cellsOf(ctx, label) {
 
 const SUMMARY_COLUMNS = ['series', 'x', 'n', 'median', 'q1', 'q3', 'min', 'max'];
 
-/// Lines of medians: one per (series, part); `parts` {metric: style}.
-function medianLines(box, ctx, parts, { yTitle, log, fmt = fmtNumber, unit = '', empty }) {
+/// Lines of medians: one per (series, part); `parts` {metric: style}; `only`: one series' label;
+/// `yRange` [min, max]: the same y range as other panels.
+function medianLines(box, ctx, parts, { yTitle, log, fmt = fmtNumber, unit = '', empty, only = null, yRange = null }) {
   const datasets = [];
   const rows = [];
   let points = 0;
   for (const label of ctx.grouped.series) {
+    if (only !== null && label !== only) continue;
     for (const [metric, style] of Object.entries(parts)) {
       const data = [];
       for (const cell of cellsOf(ctx, label)) {
@@ -72,7 +75,7 @@ function medianLines(box, ctx, parts, { yTitle, log, fmt = fmtNumber, unit = '',
       points += data.length;
       const c = seriesColour(ctx, label);
       datasets.push({
-        label: Object.keys(parts).length > 1 ? `${label} · ${style.label}` : label,
+        label: only !== null ? style.label : Object.keys(parts).length > 1 ? `${label} · ${style.label}` : label,
         data,
         borderColor: c,
         backgroundColor: c,
@@ -97,7 +100,7 @@ function medianLines(box, ctx, parts, { yTitle, log, fmt = fmtNumber, unit = '',
             },
           },
         },
-        scales: { x: sizeAxis(`${ctx.x} (count)`, ctx.grouped.xs), y: valueAxis(yTitle, { log, fmt }) },
+        scales: { x: sizeAxis(`${ctx.x} (count)`, ctx.grouped.xs), y: valueAxis(yTitle, { log, fmt, min: yRange?.[0], max: yRange?.[1] }) },
       },
     },
     points,
@@ -116,10 +119,37 @@ export function drawSizes(box, ctx, count, extended) {
   medianLines(box, ctx, parts, { yTitle: `${count} (count, log scale)`, log: true, empty: 'no sizes for this selection' });
 }
 
-/// (b) Planning time by phase: construction, query, conflict resolution and total, log scale.
-export function drawTimes(box, ctx, shown) {
+/// (b) Planning time by phase: one small panel per series (the same y range on all of them), with
+/// construction, query, conflict resolution and total as lines; log scale. `container` gets the
+/// panels and data-points (all of them).
+export function drawTimes(container, ctx, shown) {
+  destroyCharts(container);
+  clear(container);
   const parts = Object.fromEntries(Object.entries(TIME_PARTS).filter(([k]) => shown.includes(k)));
-  medianLines(box, ctx, parts, { yTitle: 'time (s, log scale)', log: true, fmt: secondsTick, empty: 'no times for this selection' });
+  let lo = Infinity;
+  let hi = 0;
+  for (const cell of ctx.grouped.cells.values()) {
+    for (const metric of Object.keys(parts)) {
+      const m = summary(cellValues(cell, metric, ctx.includeUnsolved)).median;
+      if (m > 0) {
+        lo = Math.min(lo, m);
+        hi = Math.max(hi, m);
+      }
+    }
+  }
+  const pad = hi > lo ? 10 ** (0.06 * Math.log10(hi / lo)) : 1.5;
+  const yRange = hi > 0 ? [lo / pad, hi * pad] : null;
+  let points = 0;
+  ctx.grouped.series.forEach((label, k) => {
+    const testid = `chart-times-${k}`;
+    const box = el('div', { class: 'chart-box small', 'data-testid': testid, 'data-points': '0', 'data-series': label });
+    box.dataset.exportName = `${ctx.family}-${label}`;
+    container.append(el('div', { class: 'multiple' }, el('div', { class: 'panel-head' }, el('h3', { text: label }), exportButtons(box, testid, 'time-breakdown')), box));
+    medianLines(box, ctx, parts, { yTitle: 'time (s, log scale)', log: true, fmt: secondsTick, empty: 'no times', only: label, yRange });
+    points += Number(box.dataset.points);
+  });
+  container.dataset.points = String(points);
+  if (ctx.grouped.series.length === 0) container.append(el('div', { class: 'muted', text: 'no times for this selection' }));
 }
 
 function secondsTick(v) {

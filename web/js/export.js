@@ -12,6 +12,7 @@ export const EXPORT_SIZES = {
   page: { label: 'page width (7 × 3.2 in)', width: 7, height: 3.2 },
 };
 const FONT_PX = 8 * (CSS_PX_PER_INCH / 72); // 8 pt
+const LEGEND_FONT_PX = 7 * (CSS_PX_PER_INCH / 72); // 7 pt
 const LINE_PX = 1.2 * (CSS_PX_PER_INCH / 72); // about 1.2 pt
 const POINT_RADIUS_PX = 2.6;
 
@@ -26,15 +27,17 @@ export function cloneConfig(value) {
   return value;
 }
 
-/// The config adjusted for print: thinner lines, smaller points, no animation, fixed size.
-function printConfig(config, dpr) {
+/// The config adjusted for print: thinner lines, smaller points, a compact legend (beside the plot at
+/// page width), no animation, fixed size.
+function printConfig(config, dpr, size) {
   const c = cloneConfig(config);
   c.options = c.options || {};
   Object.assign(c.options, { responsive: false, maintainAspectRatio: false, animation: false, devicePixelRatio: dpr, events: [] });
   c.options.plugins = { ...(c.options.plugins || {}) };
   c.options.plugins.tooltip = { enabled: false };
   c.options.plugins.legend = { ...(c.options.plugins.legend || {}) };
-  c.options.plugins.legend.labels = { boxWidth: 14, boxHeight: 7, padding: 6, ...(c.options.plugins.legend.labels || {}), font: { size: FONT_PX } };
+  c.options.plugins.legend.labels = { ...(c.options.plugins.legend.labels || {}), boxWidth: 6, boxHeight: 6, padding: 4, font: { size: LEGEND_FONT_PX } };
+  if (size === 'page') c.options.plugins.legend.position = 'right';
   for (const axis of Object.values(c.options.scales || {})) {
     axis.ticks = { ...(axis.ticks || {}), font: { size: FONT_PX } };
     if (axis.title) axis.title = { ...axis.title, font: { size: FONT_PX, weight: '600' } };
@@ -46,13 +49,17 @@ function printConfig(config, dpr) {
     if (typeof ds.pointRadius === 'number') ds.pointRadius = Math.min(ds.pointRadius, POINT_RADIUS_PX);
     if (Array.isArray(ds.borderDash)) ds.borderDash = ds.borderDash.map((d) => d * 0.6);
     if (typeof ds.outlierRadius === 'number') ds.outlierRadius = Math.min(ds.outlierRadius, 2);
+    // Lines drawn segment by segment: Chart.js otherwise strokes a cached Path2D, which the SVG
+    // recorder cannot read.
+    if (!ds.segment) ds.segment = {};
   }
   return c;
 }
 
 /// Draws `config` once on a detached canvas of the given CSS size; `getContext` may substitute the
 /// 2D context (the SVG recorder). Returns what `read(chart, canvas)` returns.
-function renderOffscreen(config, widthPx, heightPx, dpr, read, context = null) {
+function renderOffscreen(config, size, dpr, read, context = null) {
+  const { widthPx, heightPx } = sizeOf(size);
   const holder = document.createElement('div');
   holder.style.cssText = `position:fixed;left:-20000px;top:0;width:${widthPx}px;height:${heightPx}px;`;
   const canvas = document.createElement('canvas');
@@ -70,7 +77,7 @@ function renderOffscreen(config, widthPx, heightPx, dpr, read, context = null) {
   Chart.defaults.font.size = FONT_PX;
   let chart = null;
   try {
-    chart = new Chart(canvas, printConfig(config, dpr));
+    chart = new Chart(canvas, printConfig(config, dpr, size));
     return read(chart, canvas);
   } finally {
     Chart.defaults.font.size = fontSize;
@@ -90,8 +97,7 @@ export function chartSvg(config, size = 'column') {
   let recorder = null;
   return renderOffscreen(
     config,
-    s.widthPx,
-    s.heightPx,
+    size,
     1,
     () => recorder.serialize(`${s.width}in`, `${s.height}in`),
     (canvas) => (recorder = new SvgContext(s.widthPx, s.heightPx, canvas)),
@@ -111,7 +117,7 @@ export function chartPng(config, size = 'column') {
     ctx.restore();
   } };
   const withWhite = { ...config, plugins: [...(config.plugins || []), white] };
-  const url = renderOffscreen(withWhite, s.widthPx, s.heightPx, dpr, (chart, canvas) => canvas.toDataURL('image/png'));
+  const url = renderOffscreen(withWhite, size, dpr, (chart, canvas) => canvas.toDataURL('image/png'));
   const bytes = atob(url.split(',')[1]);
   const out = new Uint8Array(bytes.length);
   for (let i = 0; i < bytes.length; i++) out[i] = bytes.charCodeAt(i);

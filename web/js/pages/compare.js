@@ -67,7 +67,18 @@ export function mount(root, args, params = new URLSearchParams()) {
     const box = el('input', { type: 'checkbox', checked: state.phases.includes(k), 'data-phase': k });
     return el('label', {}, box, p.label);
   });
-  const times = chartPanel({ title: 'Planning time by phase', testid: 'chart-times', name: 'time-breakdown', help: 'Median across seeds of construction (task + motion), query (task + motion), conflict detection and resolution, and total; log scale. Colour: series; line style and point shape: phase.', controls: phaseBoxes, tall: true });
+  const timesBox = el('div', { class: 'multiples', 'data-testid': 'chart-times', 'data-points': '0' });
+  const times = {
+    box: timesBox,
+    panel: el(
+      'div',
+      { class: 'panel wide' },
+      el('h2', { text: 'Planning time by phase' }),
+      el('div', { class: 'muted', text: 'One panel per series, the same y range on all: median across seeds of construction (task + motion), query (task + motion), conflict detection and resolution, and total; log scale. Line style and point shape: phase. Each panel exports on its own.' }),
+      el('div', { class: 'toolbar' }, phaseBoxes),
+      timesBox,
+    ),
+  };
   const success = chartPanel({ tall: true, title: 'Success rate', testid: 'chart-success', name: 'success-rate', help: 'Solved runs out of finished runs (timeouts, infeasible and crashed runs count as failures). 0 % is a point on the axis; no runs is a gap.' });
 
   const metricSelect = el('select', { 'data-testid': 'builder-metric' });
@@ -101,7 +112,9 @@ export function mount(root, args, params = new URLSearchParams()) {
       status,
     ),
     el('h2', { class: 'section', text: 'The paper\u2019s figures' }),
-    el('div', { class: 'grid2' }, sizesV.panel, sizesH.panel, times.panel, success.panel),
+    el('div', { class: 'grid2' }, sizesV.panel, sizesH.panel),
+    times.panel,
+    el('div', { class: 'grid2' }, success.panel),
     el('h2', { class: 'section', text: 'Plot builder' }),
     el('div', { class: 'grid2' }, builder.panel, ratio.panel),
     el('h2', { class: 'section', text: 'Planner Arena' }),

@@ -25,15 +25,15 @@ function saveSelected(list) {
 const PAGE_SIZES = [25, 50, 100, 250, 1000];
 const MAX_COMPARE_SELECTION = 40; // runs a "compare selected" link names one by one
 
-export function mount(root, args, params = new URLSearchParams()) {
+export function mount(root, args, urlParams = new URLSearchParams()) {
   const state = {
     columns: [],
     shown: null,
-    filter: readString(params, 'q', args[0] || ''),
-    sort: readString(params, 'sort', 'id'),
-    order: readString(params, 'order', 'desc') === 'asc' ? 'asc' : 'desc',
-    limit: PAGE_SIZES.includes(readNumber(params, 'limit', 50)) ? readNumber(params, 'limit', 50) : 50,
-    offset: Math.max(0, Math.floor(readNumber(params, 'offset', 0))),
+    filter: readString(urlParams, 'q', args[0] || ''),
+    sort: readString(urlParams, 'sort', 'id'),
+    order: readString(urlParams, 'order', 'desc') === 'asc' ? 'asc' : 'desc',
+    limit: PAGE_SIZES.includes(readNumber(urlParams, 'limit', 50)) ? readNumber(urlParams, 'limit', 50) : 50,
+    offset: Math.max(0, Math.floor(readNumber(urlParams, 'offset', 0))),
     total: 0,
     selected: new Set(selectedRuns()),
     families: new Map(), // uuid -> family of the runs seen, for the compare link
