@@ -238,10 +238,14 @@ async function main() {
       const before = await time();
       await page.keyboard.press('Shift+ArrowRight');
       const after = await time();
-      const points = await page.evaluate(async (uuid) => {
-        const plan = await (await fetch(`/api/runs/${uuid}/plan`)).json();
-        return Object.values(plan.robots).flatMap((r) => r.points.map((p) => p.t));
-      }, solved[0].uuid);
+      const points = await page.evaluate(async (uuids) => {
+        const out = [];
+        for (const uuid of uuids) {
+          const plan = await (await fetch(`/api/runs/${uuid}/plan`)).json();
+          out.push(...Object.values(plan.robots).flatMap((r) => r.points.map((p) => p.t)));
+        }
+        return out;
+      }, solved.map((r) => r.uuid)); // both plans on the clock
       expect(after > before && points.some((t) => Math.abs(t - after) < 2e-3), `Shift+ArrowRight went ${before} -> ${after}, not to a plan point`);
       await page.locator('[data-testid=tag-input]').fill('keyboard-tag');
       await page.locator('[data-testid=tag-input]').press('Enter');
@@ -263,6 +267,20 @@ async function main() {
       provoking = false;
       const status = await page.textContent('[data-testid=query-status]');
       expect(!/refused:\s*refused/i.test(status), `doubled prefix: ${status}`);
+    });
+
+    await step('Launch: the spec lives in the URL', async () => {
+      await page.goto(`${url}/#/launch`);
+      await page.waitForSelector('[data-testid=run-count][data-runs]');
+      await page.locator('input[data-param=objects]').fill('2, 4');
+      await page.locator('[data-testid=seed-count]').fill('3');
+      await page.locator('[data-testid=batch-name]').fill('shared');
+      await page.waitForSelector('[data-testid=run-count][data-runs="6"]');
+      await page.waitForFunction(() => decodeURIComponent(location.hash).includes('"name":"shared"'));
+      await page.reload();
+      await page.waitForSelector('[data-testid=run-count][data-runs="6"]');
+      const v = await page.evaluate(() => [document.querySelector('input[data-param=objects]').value, document.querySelector('[data-testid=batch-name]').value]);
+      expect(v[0] === '2, 4' && v[1] === 'shared', `after a reload: ${v}`);
     });
 
     await step('Launch: one batch per click however fast, the line follows the batch, a running run gets its 3D plan at the end', async () => {
@@ -310,6 +328,7 @@ async function main() {
       const line = page.locator('[data-testid=launch-result]');
       await page.locator('input[data-param=objects]').fill('2');
       await page.locator('input[data-param=robots]').fill('2');
+      await page.locator('[data-testid=seed-count]').fill('1');
       await page.waitForSelector('[data-testid=run-count][data-runs="1"]');
       await page.waitForSelector('[data-testid=submit]:not([disabled])');
       await page.locator('[data-testid=submit]').click();

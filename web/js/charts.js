@@ -20,7 +20,7 @@ export { Chart };
 
 const LOG_PAD_DECADES = 0.06; // room above and below the data on a log axis, as a share of its span
 const LOG_PAD_MIN = 0.04; // ...at least this many decades
-const NICE_STEPS = [1, 2, 2.5, 5, 10];
+const NICE_STEPS = [1, 2, 5, 10];
 
 export function axisTitle(text) {
   return { display: true, text, font: { weight: '600' } };
@@ -46,10 +46,15 @@ export function logTicks(min, max) {
     if (decades > 5) return out.filter((v, i) => i % Math.ceil(decades / 5) === 0);
     if (out.length >= 2) return out;
   }
-  const step = niceStep((max - min) / 5);
-  const out = [];
-  for (let v = Math.ceil(min / step) * step; v <= max * (1 + 1e-9); v += step) out.push(Number(v.toPrecision(12)));
-  return out;
+  // Below a decade: round numbers evenly spaced, the widest 1-2-5 step that still gives 4 ticks.
+  let step = 10 ** Math.ceil(Math.log10(max - min));
+  const evenly = (st) => {
+    const out = [];
+    for (let v = Math.ceil(min / st) * st; v <= max * (1 + 1e-9); v += st) out.push(Number(v.toPrecision(12)));
+    return out;
+  };
+  for (let k = 0; k < 12 && evenly(step).length < 4; k++) step /= [2, 2.5, 2][k % 3];
+  return evenly(step);
 }
 
 /// A value axis: linear or logarithmic, with a title that names the unit. `fmt` formats tick labels.
