@@ -96,8 +96,8 @@ async function main() {
       await page.locator('button:has-text("Columns")').click();
       await page.locator('[data-testid=columns-panel] input[data-column=makespan]').uncheck();
       await page.locator('[data-testid=columns-panel] input[data-column=time_task_query]').check();
-      await page.waitForSelector('[data-testid=runs-table] th[title=time_task_query]');
-      expect((await page.locator('[data-testid=runs-table] th[title=makespan]').count()) === 0, 'makespan column still shown');
+      await page.waitForSelector('[data-testid=runs-table] th[data-column=time_task_query]');
+      expect((await page.locator('[data-testid=runs-table] th[data-column=makespan]').count()) === 0, 'makespan column still shown');
       await page.locator('button:has-text("Columns")').click();
       await filter.fill('robots = 2 and objects >= 4');
       await filter.press('Enter');

@@ -269,6 +269,16 @@ async function main() {
       expect(!/refused:\s*refused/i.test(status), `doubled prefix: ${status}`);
     });
 
+    await step('Dispatch: a run page links to dispatching its plan, the run is in the URL', async () => {
+      await page.goto(`${url}/#/run/${solved[0].uuid}`);
+      await page.locator('[data-testid=dispatch-link]').click();
+      await page.waitForSelector('[data-testid=dispatch-run], [data-testid=dispatch-missing]');
+      if (await page.locator('[data-testid=dispatch-missing]').count()) return;
+      expect((await page.locator('[data-testid=dispatch-run]').inputValue()) === solved[0].uuid, 'the run did not reach the Dispatch page');
+      await page.locator('[data-testid=time-scale]').fill('2');
+      await page.waitForFunction(() => location.hash.includes('scale=2'));
+    });
+
     await step('Launch: the spec lives in the URL', async () => {
       await page.goto(`${url}/#/launch`);
       await page.waitForSelector('[data-testid=run-count][data-runs]');

@@ -100,15 +100,18 @@ TEST(Recorder, ProgressSnapshotsFollowALongPhase) {
   const std::string uuid = db.beginRun(testing::sampleMeta());
   {
     auto recorder = db.recorder(uuid, RecorderOptions{.progress_interval = 0.05});
-    recorder->onEvent(Event{0.0, 0, PhaseEvent{.phase = Phase::MotionConstruction}});
+    // Event times start at kStart so that finishRun's last snapshot (at the wall-clock time since
+    // beginRun, a fraction of a second here) stays out of the window checked below.
+    constexpr double kStart = 1000.0;
+    recorder->onEvent(Event{kStart, 0, PhaseEvent{.phase = Phase::MotionConstruction}});
     for (int k = 0; k < 200; ++k) {
-      recorder->onEvent(Event{0.01 * k, 0, RepresentationEvent{.layer = Layer::Motion, .kind = ElementKind::Vertex,
-                                                                .id = static_cast<std::uint32_t>(k)}});
+      recorder->onEvent(Event{kStart + 0.01 * k, 0, RepresentationEvent{.layer = Layer::Motion, .kind = ElementKind::Vertex,
+                                                                         .id = static_cast<std::uint32_t>(k)}});
     }
-    recorder->onEvent(Event{2.0, 0, PhaseEvent{Phase::MotionConstruction, PhaseBoundary::End, 2.0}});
+    recorder->onEvent(Event{kStart + 2.0, 0, PhaseEvent{Phase::MotionConstruction, PhaseBoundary::End, 2.0}});
     db.finishRun(uuid, RunSummary{.status = RunStatus::Solved});
   }
-  const SqlRows rows = db.select("SELECT t, motion_vertices FROM dash_progress WHERE run_id = ? AND t < 1.99 ORDER BY t",
+  const SqlRows rows = db.select("SELECT t, motion_vertices FROM dash_progress WHERE run_id = ? AND t >= 1000 AND t < 1001.99 ORDER BY t",
                                  {db.getRun(uuid)->id});
   ASSERT_GE(rows.rows.size(), 30u);
   ASSERT_LE(rows.rows.size(), 41u);  // at most one per interval

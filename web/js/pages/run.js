@@ -127,7 +127,9 @@ export function mount(root, args, params = new URLSearchParams()) {
       'span',
       {},
       el('a', { href: `/api/runs/${uuid}/scene`, download: `scene-${uuid.slice(0, 8)}.json`, 'data-testid': 'download-scene' }, 'scene JSON'),
-      r.has_plan ? [' · ', el('a', { href: `/api/runs/${uuid}/plan`, download: `plan-${uuid.slice(0, 8)}.json`, 'data-testid': 'download-plan' }, 'plan JSON')] : el('span', { class: 'muted', text: ' · no plan' }),
+      r.has_plan
+        ? [' · ', el('a', { href: `/api/runs/${uuid}/plan`, download: `plan-${uuid.slice(0, 8)}.json`, 'data-testid': 'download-plan' }, 'plan JSON'), ' · ', el('a', { href: `#/dispatch?run=${uuid}`, 'data-testid': 'dispatch-link' }, 'dispatch this plan to arms')]
+        : el('span', { class: 'muted', text: ' · no plan' }),
     );
     const kv = [
       ['uuid', r.uuid],
