@@ -194,6 +194,24 @@ async function main() {
       await shot(page, 'runs-error');
     });
 
+    await step('Runs: the selection is in the URL and narrows Compare', async () => {
+      await page.goto(`${url}/#/runs?q=${encodeURIComponent('family = sorting and status = solved')}`);
+      await page.waitForSelector('[data-testid=runs-table] tbody tr');
+      const boxes = page.locator('[data-testid=runs-table] tbody tr input[type=checkbox]');
+      for (let i = 0; i < (await boxes.count()); i++) await boxes.nth(i).uncheck();
+      await boxes.nth(0).check();
+      await boxes.nth(1).check();
+      const uuids = await page.evaluate(() => [...document.querySelectorAll('[data-testid=runs-table] tbody tr')].slice(0, 2).map((r) => r.dataset.uuid));
+      await page.waitForFunction((u) => decodeURIComponent(location.hash).includes(`sel=${u.join(',')}`) || decodeURIComponent(location.hash).includes(`sel=${[...u].reverse().join(',')}`), uuids);
+      await page.reload();
+      await page.waitForSelector('[data-testid=runs-table] tbody tr');
+      const checked = await page.evaluate(() => [...document.querySelectorAll('[data-testid=runs-table] tbody tr')].filter((r) => r.querySelector('input').checked).map((r) => r.dataset.uuid));
+      expect(checked.length === 2 && uuids.every((u) => checked.includes(u)), `after a reload: ${checked}`);
+      await page.locator('[data-testid=compare-selected]').click();
+      await page.waitForSelector('[data-testid=compare-info][data-runs="2"]');
+      await page.waitForSelector('[data-testid=diff-table] tbody tr');
+    });
+
     const solved = (await api(`/api/runs?limit=2&sort=id&order=asc&q=${encodeURIComponent('has_plan = 1 and robots = 2')}`)).runs;
     await step('Run detail: batch link, scene and plan downloads, the URL keeps the overlay', async () => {
       expect(solved.length === 2, 'the demo database needs two solved 2-robot runs');

@@ -114,12 +114,11 @@ export function mount(root, args, params = new URLSearchParams()) {
     el('h2', { class: 'section', text: 'The paper\u2019s figures' }),
     el('div', { class: 'grid2' }, sizesV.panel, sizesH.panel),
     times.panel,
-    el('div', { class: 'grid2' }, success.panel),
+    el('div', { class: 'grid2' }, success.panel, solved.panel),
     el('h2', { class: 'section', text: 'Plot builder' }),
     el('div', { class: 'grid2' }, builder.panel, ratio.panel),
-    el('h2', { class: 'section', text: 'Planner Arena' }),
-    el('div', { class: 'grid2' }, solved.panel, tts.panel),
-    el('div', { class: 'panel' }, el('h2', { text: 'Runs side by side' }), el('div', { class: 'toolbar' }, diffInput, el('label', {}, diffOnly, 'differences only')), diffBox),
+    el('h2', { class: 'section', text: 'Distributions and runs' }),
+    el('div', { class: 'grid2' }, tts.panel, el('div', { class: 'panel' }, el('h2', { text: 'Runs side by side' }), el('div', { class: 'toolbar' }, diffInput, el('label', {}, diffOnly, 'differences only')), diffBox)),
   );
 
   let overview = [];

@@ -5,7 +5,7 @@
 import { api, query } from '../api.js';
 import { on, debounce } from '../events.js';
 import { el, clear, badge, fmtNumber, fmtSeconds, errorBox } from '../dom.js';
-import { writeState, readString, readNumber } from '../url_state.js';
+import { writeState, readString, readNumber, readList } from '../url_state.js';
 
 const COLUMNS_KEY = 'dashbench.runs.columns';
 export const SELECTED_KEY = 'dashbench.selected';
@@ -24,6 +24,7 @@ function saveSelected(list) {
 
 const PAGE_SIZES = [25, 50, 100, 250, 1000];
 const MAX_COMPARE_SELECTION = 40; // runs a "compare selected" link names one by one
+const MAX_URL_SELECTION = 50; // selected runs kept in the URL
 
 export function mount(root, args, urlParams = new URLSearchParams()) {
   const state = {
@@ -35,7 +36,7 @@ export function mount(root, args, urlParams = new URLSearchParams()) {
     limit: PAGE_SIZES.includes(readNumber(urlParams, 'limit', 50)) ? readNumber(urlParams, 'limit', 50) : 50,
     offset: Math.max(0, Math.floor(readNumber(urlParams, 'offset', 0))),
     total: 0,
-    selected: new Set(selectedRuns()),
+    selected: new Set(urlParams.has('sel') ? readList(urlParams, 'sel').slice(0, MAX_URL_SELECTION) : selectedRuns()),
     families: new Map(), // uuid -> family of the runs seen, for the compare link
   };
   const filterInput = el('input', {
@@ -81,6 +82,7 @@ export function mount(root, args, urlParams = new URLSearchParams()) {
   function updateSelectionInfo() {
     selectionInfo.textContent = state.selected.size ? `${state.selected.size} selected` : '';
     saveSelected([...state.selected]);
+    saveState();
     const uuids = [...state.selected];
     const family = state.families.get(uuids[0]);
     let href = `#/compare?runs=${uuids.slice(0, 50).join(',')}`;
@@ -92,7 +94,8 @@ export function mount(root, args, urlParams = new URLSearchParams()) {
   }
 
   function saveState() {
-    writeState({ q: state.filter, sort: state.sort, order: state.order, limit: state.limit, offset: state.offset }, { sort: 'id', order: 'desc', limit: 50, offset: 0 });
+    const sel = [...state.selected];
+    writeState({ q: state.filter, sort: state.sort, order: state.order, limit: state.limit, offset: state.offset, sel: sel.length <= MAX_URL_SELECTION ? sel : [] }, { sort: 'id', order: 'desc', limit: 50, offset: 0 });
   }
 
   /// The chosen columns; by default the usual ones, less parameters that none of the listed runs has
