@@ -65,7 +65,7 @@ async function main() {
       await shot('run-overlay');
     }
 
-    const sql = 'SELECT family, config, status, count(*) AS runs, round(avg(total_time), 3) AS mean_s FROM dash_runs GROUP BY 1, 2, 3 ORDER BY 1, 2, 3';
+    const sql = 'SELECT family, planner, planner_settings AS settings, status, count(*) AS runs, round(avg(total_time), 3) AS mean_s FROM dash_runs GROUP BY 1, 2, 3, 4 ORDER BY 1, 2, 3, 4';
     await page.goto(`${url}/#/query?sql=${encodeURIComponent(sql)}`);
     await page.waitForSelector('[data-testid=query-status].ok');
     await shot('query');
