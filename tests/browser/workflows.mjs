@@ -316,9 +316,9 @@ async function main() {
       await page.waitForSelector('[data-testid=run-count][data-runs]');
       const before = (await api('/api/batches')).batches.length;
       await page.locator('input[data-param=robots]').fill('4');
-      await page.locator('input[data-param=objects]').fill('6');
+      await page.locator('input[data-param=objects]').fill('4');
       await page.locator('[data-testid=seed-count]').fill('1');
-      await page.locator('[data-testid=time-limit]').fill('60');
+      await page.locator('[data-testid=time-limit]').fill('120');
       await page.locator('[data-testid=batch-name]').fill('live');
       await page.selectOption('[data-testid=planner-row] select', 'dash'); // the slower planner: the page must catch the run running
       await page.waitForSelector('[data-testid=run-count][data-runs="1"]');
@@ -344,7 +344,7 @@ async function main() {
       await page.waitForSelector('[data-testid=viewer][data-ready="1"]', { timeout: 60000 });
       const header = await page.textContent('[data-testid=run-header] h1');
       const early = await page.getAttribute('[data-testid=viewer]', 'data-has-plan');
-      await page.waitForSelector('[data-testid=viewer][data-has-plan="1"]', { timeout: 120000 });
+      await page.waitForSelector('[data-testid=viewer][data-has-plan="1"]', { timeout: 180000 });
       expect(!(await page.locator('[data-testid=play]').isDisabled()), 'Play stays disabled after the run ended');
       await page.waitForSelector('[data-testid=run-header] .badge.solved');
       console.log(`  (the page opened the run ${/running/.test(header) ? 'while it ran' : 'after it ended'}; plan at open: ${early})`);
