@@ -45,7 +45,7 @@ test('runs group into series per configuration and split value, x sorted numeric
 
 test('success counts finished runs only; skipped and running runs are not failures', () => {
   const cell = { runs: [run({}), run({ status: 'timeout' }), run({ status: 'running', end_time: null }), run({ status: 'skipped' })] };
-  assert.deepEqual(data.successOf(cell), { finished: 2, solved: 1, rate: 0.5 });
+  assert.deepEqual(data.successOf(cell), { finished: 2, solved: 1, skipped: 1, rate: 0.5 });
 });
 
 test('solved against time keeps unsolved runs in the denominator and runs on to the time limit', () => {

@@ -94,7 +94,8 @@ export function cellValues(cell, metric, includeUnsolved) {
 export function successOf(cell) {
   const finished = cell.runs.filter(isFinished);
   const solved = finished.filter((r) => r.status === 'solved').length;
-  return { finished: finished.length, solved, rate: finished.length ? solved / finished.length : null };
+  const skipped = cell.runs.filter((r) => r.status === 'skipped').length;
+  return { finished: finished.length, solved, skipped, rate: finished.length ? solved / finished.length : null };
 }
 
 /// The scene a run planned: family, parameters and seed (the same scene for every planner).

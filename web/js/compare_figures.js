@@ -167,13 +167,30 @@ export function drawSuccess(box, ctx) {
       const cell = ctx.grouped.cells.get(`${label}|${x}`);
       if (!cell) return { x, y: null };
       const s = successOf(cell);
+      if (s.rate === null && s.skipped > 0) {
+        // A size the batch skipped (its axis stopped after every seed failed a smaller one): a cross
+        // on the axis, not a line point.
+        rows.push({ series: label, x, finished: 0, solved: 0, skipped: s.skipped, rate: '' });
+        points += 1;
+        return { x, y: 0, s, skippedPoint: true, filter: cellFilter(ctx, cell) };
+      }
       if (s.rate === null) return { x, y: null };
-      rows.push({ series: label, x, finished: s.finished, solved: s.solved, rate: s.rate });
+      rows.push({ series: label, x, finished: s.finished, solved: s.solved, skipped: s.skipped, rate: s.rate });
       points += 1;
       return { x, y: 100 * s.rate, s, filter: cellFilter(ctx, cell) };
     });
     const c = seriesColour(ctx, label);
-    datasets.push({ label, data, borderColor: c, backgroundColor: c, pointRadius: 4, borderWidth: 2, spanGaps: false });
+    datasets.push({
+      label,
+      data,
+      borderColor: c,
+      backgroundColor: c,
+      pointRadius: (p) => (p.raw && p.raw.skippedPoint ? 6 : 4),
+      pointStyle: (p) => (p.raw && p.raw.skippedPoint ? 'crossRot' : 'circle'),
+      segment: { borderDash: (sg) => (sg.p1.raw && sg.p1.raw.skippedPoint ? [2, 3] : undefined) },
+      borderWidth: 2,
+      spanGaps: false,
+    });
   }
   drawChart(
     box,
@@ -181,7 +198,7 @@ export function drawSuccess(box, ctx) {
       type: 'line',
       data: { datasets },
       options: {
-        plugins: { tooltip: { callbacks: { label: (c) => `${c.dataset.label}: ${fmtNumber(c.raw.y)}% (${c.raw.s.solved} of ${c.raw.s.finished} solved)` } } },
+        plugins: { tooltip: { callbacks: { label: (c) => (c.raw.skippedPoint ? `${c.dataset.label}: skipped (${c.raw.s.skipped} runs not run: a smaller size failed on every seed)` : `${c.dataset.label}: ${fmtNumber(c.raw.y)}% (${c.raw.s.solved} of ${c.raw.s.finished} solved)`) } } },
         scales: {
           x: sizeAxis(`${ctx.x} (count)`, ctx.grouped.xs),
           y: percentAxis('success rate (% of finished runs)'),
@@ -190,7 +207,7 @@ export function drawSuccess(box, ctx) {
     },
     points,
     'no finished runs for this selection',
-    { csv: () => ({ columns: ['series', 'x', 'finished', 'solved', 'rate'], rows }), onPoint: (raw) => raw.filter && ctx.open(raw.filter) },
+    { csv: () => ({ columns: ['series', 'x', 'finished', 'solved', 'skipped', 'rate'], rows }), onPoint: (raw) => raw.filter && ctx.open(raw.filter) },
   );
 }
 

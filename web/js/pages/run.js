@@ -273,10 +273,15 @@ export function mount(root, args, params = new URLSearchParams()) {
   }
 
   /// A viewer of run `id` in `box`; plan only when the run has one (no request that must fail).
-  async function buildViewer(box, id, run) {
+  async function buildViewer(box, id, run, stale = () => false) {
     const [scene, models] = await Promise.all([api.get(`/api/runs/${id}/scene`), api.get('/api/robots')]);
     const plan = run.has_plan ? await api.get(`/api/runs/${id}/plan`) : null;
     const { PlanViewer } = await import('../viewer3d.js');
+    if (stale()) return null;
+    if (box === viewerBox && viewer) {
+      viewer.dispose();
+      viewer = null;
+    }
     clear(box);
     const v = new PlanViewer(box, scene, plan, models.models);
     box.dataset.ready = '1';
@@ -284,13 +289,14 @@ export function mount(root, args, params = new URLSearchParams()) {
     return { viewer: v, scene, plan };
   }
 
+  let viewerSeq = 0; // the latest loadViewer wins (a run that ends while its page is loading)
   async function loadViewer(d) {
+    const seq = ++viewerSeq;
     viewerStatus = d.run.status;
     try {
-      if (viewer) viewer.dispose();
-      viewer = null;
-      const built = await buildViewer(viewerBox, uuid, d.run);
-      viewer = built.viewer;
+      const built = await buildViewer(viewerBox, uuid, d.run, () => seq !== viewerSeq);
+      if (!built) return;
+      viewer = built.viewer; // buildViewer disposed the one before
       let note = built.plan
         ? `${built.scene.name}: ${built.scene.robots.length} robots, ${built.scene.objects.length} objects; makespan ${fmtNumber(viewer.player.duration)} s.`
         : `This run has no motion plan (${d.run.status}${d.settings && d.settings.task_only ? ', task only' : ''}): the robots stand at home.${d.run.status === 'running' ? ' The plan appears here when the run ends.' : ''}`;
@@ -300,7 +306,8 @@ export function mount(root, args, params = new URLSearchParams()) {
       const first = overlays.find((u) => others.get(u)?.detail?.run.has_plan);
       if (first) {
         overlayBox.hidden = false;
-        const o = await buildViewer(overlayBox, first, others.get(first).detail.run);
+        const o = await buildViewer(overlayBox, first, others.get(first).detail.run, () => seq !== viewerSeq);
+        if (!o) return;
         overlayViewer = o.viewer;
         note += ` Right: ${first.slice(0, 8)} (makespan ${fmtNumber(overlayViewer.player.duration)} s), on the same clock.`;
       }
@@ -352,7 +359,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       if (overlays.length) await loadOverlays();
       renderTimeline(await api.get(`/api/runs/${uuid}/timeline`));
       await loadEvents();
-      await loadViewer(d);
+      await loadViewer(detail || d); // the latest detail: the run may have ended meanwhile
     } catch (e) {
       root.prepend(errorBox(e.message));
     }
