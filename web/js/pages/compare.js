@@ -9,7 +9,8 @@ import { on, debounce } from '../events.js';
 import { el, clear, fmtNumber, errorBox, badge } from '../dom.js';
 import { chartPanel, destroyCharts } from '../charts.js';
 import { fetchRuns, groupRuns, parametersOf, groupKey, DERIVED_METRICS } from '../compare_data.js';
-import { drawSizes, drawTimes, drawSuccess, drawBuilder, drawRatio, drawSolvedCurve, drawTimeToSolve, TIME_PARTS } from '../compare_figures.js';
+import { drawSizes, drawTimes, drawSuccess, drawBuilder, drawRatio, TIME_PARTS } from '../compare_figures.js';
+import { drawSolvedCurve, drawTimeToSolve } from '../arena_figures.js';
 import { writeState, readString, readBool, readList } from '../url_state.js';
 import { selectedRuns } from './runs.js';
 
