@@ -348,6 +348,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       if (m.uuid !== uuid) return;
       const d = await loadDetail();
       renderTimeline(await api.get(`/api/runs/${uuid}/timeline`));
+      if (d.run.status !== 'running') loadEvents().catch(() => {}); // the events written since
       // A run opened while running: build the 3D view again once it has ended (with its plan).
       if (d.run.status !== 'running' && viewerStatus !== d.run.status) await loadViewer(d);
     }),
