@@ -375,6 +375,7 @@ async function main() {
         expect(status === 'solved', `the run ended ${status}`);
         await page.waitForSelector('[data-testid=viewer][data-has-plan="1"]', { timeout: 60000 });
         expect(!(await page.locator('[data-testid=play]').isDisabled()), 'Play stays disabled after the run ended');
+        await page.waitForFunction(() => !/0–0 of 0/.test(document.querySelector('[data-testid=events]').textContent), null, { timeout: 30000 });
         await shot(page, 'run-live-ended');
         break;
       }

@@ -20,8 +20,13 @@ export function drawSolvedCurve(box, ctx) {
     bySeries.get(key).push(...cell.runs);
   }
   const labels = [...bySeries.keys()].sort();
+  const curves = new Map(labels.map((label) => [label, solvedCurve(bySeries.get(label))]));
+  const starts = [...curves.values()].filter((c) => c.points.length).map((c) => c.points[0].x).filter((x) => x > 0);
+  const start = starts.length ? Math.min(...starts) : null;
   for (const label of labels) {
-    const curve = solvedCurve(bySeries.get(label));
+    const curve = curves.get(label);
+    // A series that solved nothing is a line at 0 % (it must not vanish from the plot).
+    if (!curve.points.length && curve.finished > 0 && start !== null && curve.end > start) curve.points = [{ x: start, y: 0 }, { x: curve.end, y: 0 }];
     if (!curve.points.length) continue;
     points += curve.points.length;
     for (const p of curve.points) rows.push({ series: label, time: p.x, percent_solved: p.y, finished: curve.finished });
