@@ -366,7 +366,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       actions.append(
         ' ',
         el('a', { href: `#/runs?q=${encodeURIComponent(`batch = "${b.id}"`)}`, text: 'runs' }),
-        ' ',
+        ' · ',
         el('a', { href: `#/compare?batch=${encodeURIComponent(b.id)}`, 'data-testid': 'compare-batch', text: 'compare this batch' }),
       );
       body.append(
