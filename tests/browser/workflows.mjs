@@ -99,6 +99,15 @@ async function main() {
       const csv = await downloadOf(page, () => page.locator('[data-testid=chart-success-csv]').click());
       const lines = csvRows(csv.bytes.toString('utf8'));
       expect(lines[0] === 'series,x,finished,solved,skipped,rate' && lines.length > 3, `success CSV: ${lines.slice(0, 3).join(' / ')}`);
+      const panels = await page.evaluate(() => [...document.querySelectorAll('[data-testid=chart-times] .chart-box')].filter((b) => Number(b.dataset.points) > 0).length);
+      const figure = (await downloadOf(page, () => page.locator('[data-testid=figure-times-svg]').click())).bytes.toString('utf8');
+      const nested = (figure.match(/<svg x="/g) || []).length;
+      const ids = [...figure.matchAll(/id="([^"]+)"/g)].map((m) => m[1]);
+      expect(nested === panels && panels >= 2, `the time figure has ${nested} panels, the page ${panels}`);
+      expect(new Set(ids).size === ids.length, 'clip ids repeat across the panels');
+      expect(await page.evaluate((t) => !new DOMParser().parseFromString(t, 'image/svg+xml').querySelector('parsererror'), figure), 'the figure SVG does not parse');
+      const both = pngSize((await downloadOf(page, () => page.locator('[data-testid=figure-sizes-png]').click())).bytes);
+      expect(both.width === 2100 && Math.abs(both.height - 780) <= 2, `the sizes figure PNG is ${both.width} x ${both.height}`);
       const sizes = await downloadOf(page, () => page.locator('[data-testid=chart-task-sizes-csv]').click());
       const rows = csvRows(sizes.bytes.toString('utf8'));
       expect(rows[0].startsWith('series,part,metric,x,n,median') && rows.length > 5, `sizes CSV: ${rows[0]}`);

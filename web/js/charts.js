@@ -6,7 +6,7 @@
 import { Chart, registerables } from 'chart.js';
 import { BoxPlotController, BoxAndWiskers } from '@sgratzl/chartjs-chart-boxplot';
 import { el, clear, fmtNumber } from './dom.js';
-import { chartSvg, chartPng, cloneConfig, toCsv, download, fileStem, EXPORT_SIZES } from './export.js';
+import { chartSvg, chartPng, cloneConfig, toCsv, download, fileStem, figureSvg, figurePng, EXPORT_SIZES } from './export.js';
 
 Chart.register(...registerables, BoxPlotController, BoxAndWiskers);
 Chart.defaults.font.family = 'system-ui, -apple-system, "Segoe UI", Roboto, sans-serif';
@@ -146,6 +146,26 @@ export function chartPanel({ title, testid, help = '', controls = [], name = tes
   const head = el('div', { class: 'panel-head' }, el('h2', { text: title }), exportButtons(box, testid, name));
   const panel = el('div', { class: 'panel' }, head, help ? el('div', { class: 'muted', text: help }) : null, controls.length ? el('div', { class: 'toolbar' }, controls) : null, box);
   return { panel, box, head };
+}
+
+/// Buttons that export the plots in `boxes()` as one figure (panels in a grid), SVG or PNG.
+export function figureButtons(testid, name, boxes, columns = (n) => Math.min(3, n)) {
+  const size = el('select', { title: 'panel size', 'data-testid': `${testid}-size` }, Object.entries(EXPORT_SIZES).map(([k, s]) => el('option', { value: k, text: `panels: ${s.label}` })));
+  const run = async (what) => {
+    const configs = boxes().filter((b) => b._config).map((b) => b._config);
+    if (!configs.length) return;
+    const stem = fileStem(name, boxes()[0]?.dataset.exportName);
+    if (what === 'svg') download(`${stem}.svg`, figureSvg(configs, size.value, columns(configs.length)), 'image/svg+xml');
+    else download(`${stem}.png`, await figurePng(configs, size.value, columns(configs.length)));
+  };
+  return el(
+    'span',
+    { class: 'exports' },
+    el('span', { class: 'muted', text: 'whole figure:' }),
+    el('button', { type: 'button', class: 'small secondary', 'data-testid': `${testid}-svg`, title: 'every panel in one SVG', onclick: () => run('svg') }, 'SVG'),
+    el('button', { type: 'button', class: 'small secondary', 'data-testid': `${testid}-png`, title: 'every panel in one 300 dpi PNG', onclick: () => run('png') }, 'PNG'),
+    size,
+  );
 }
 
 function exportBox(box, what, size, stem) {

@@ -91,6 +91,7 @@ function medianLines(box, ctx, parts, { yTitle, log, fmt = fmtNumber, unit = '',
       data: { datasets },
       options: {
         plugins: {
+          title: { display: only !== null, text: only || '', font: { weight: '600' }, padding: { top: 2, bottom: 4 } },
           tooltip: {
             callbacks: {
               label: (c) => `${c.dataset.label}: ${fmt(c.raw.y)}${unit} (median of ${c.raw.s.n}; IQR ${fmt(c.raw.s.q1)}–${fmt(c.raw.s.q3)})`,
@@ -142,7 +143,8 @@ export function drawTimes(container, ctx, shown) {
     const testid = `chart-times-${k}`;
     const box = el('div', { class: 'chart-box small', 'data-testid': testid, 'data-points': '0', 'data-series': label });
     box.dataset.exportName = `${ctx.family}-${label}`;
-    container.append(el('div', { class: 'multiple' }, el('div', { class: 'panel-head' }, el('h3', { text: label }), exportButtons(box, testid, 'time-breakdown')), box));
+    // The series is the chart's own title (it goes into the exports too).
+    container.append(el('div', { class: 'multiple' }, el('div', { class: 'panel-head' }, el('span', { class: 'grow-space' }), exportButtons(box, testid, 'time-breakdown')), box));
     medianLines(box, ctx, parts, { yTitle: 'time (s, log scale)', log: true, fmt: secondsTick, empty: 'no times', only: label, yRange });
     points += Number(box.dataset.points);
   });

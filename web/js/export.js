@@ -153,3 +153,42 @@ export function download(filename, content, type = 'text/plain') {
 export function fileStem(...parts) {
   return parts.filter(Boolean).join('-').replace(/[^A-Za-z0-9_.-]+/g, '_').slice(0, 120) || 'plot';
 }
+
+/// Several plots as one figure (panels in a grid, `columns` wide), each panel at `size`: one SVG with
+/// a nested <svg> per panel (their clip ids made unique), or one 300 dpi PNG.
+export function figureSvg(configs, size = 'column', columns = 2) {
+  const s = sizeOf(size);
+  const rows = Math.ceil(configs.length / columns);
+  const panels = configs.map((config, k) => {
+    const one = chartSvg(config, size)
+      .replace(/^<\?xml[^>]*>\s*/, '')
+      .replace(/id="clip(\d+)"/g, `id="p${k}clip$1"`)
+      .replace(/url\(#clip(\d+)\)/g, `url(#p${k}clip$1)`);
+    const x = (k % columns) * s.widthPx;
+    const y = Math.floor(k / columns) * s.heightPx;
+    return one.replace(/^<svg[^>]*>/, `<svg x="${x}" y="${y}" width="${s.widthPx}" height="${s.heightPx}" viewBox="0 0 ${s.widthPx} ${s.heightPx}">`);
+  });
+  const width = columns * s.widthPx;
+  const height = rows * s.heightPx;
+  return (
+    `<?xml version="1.0" encoding="UTF-8"?>\n<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="${columns * s.width}in" height="${rows * s.height}in" viewBox="0 0 ${width} ${height}">\n` +
+    `<rect width="100%" height="100%" fill="#ffffff"/>\n${panels.join('\n')}\n</svg>\n`
+  );
+}
+
+export async function figurePng(configs, size = 'column', columns = 2) {
+  const s = sizeOf(size);
+  const dpr = PNG_DPI / CSS_PX_PER_INCH;
+  const rows = Math.ceil(configs.length / columns);
+  const canvas = document.createElement('canvas');
+  canvas.width = Math.round(columns * s.widthPx * dpr);
+  canvas.height = Math.round(rows * s.heightPx * dpr);
+  const ctx = canvas.getContext('2d');
+  ctx.fillStyle = '#ffffff';
+  ctx.fillRect(0, 0, canvas.width, canvas.height);
+  for (let k = 0; k < configs.length; k++) {
+    const bitmap = await createImageBitmap(chartPng(configs[k], size));
+    ctx.drawImage(bitmap, Math.round((k % columns) * s.widthPx * dpr), Math.round(Math.floor(k / columns) * s.heightPx * dpr));
+  }
+  return new Promise((resolve) => canvas.toBlob(resolve, 'image/png'));
+}

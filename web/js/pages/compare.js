@@ -7,7 +7,7 @@
 import { api } from '../api.js';
 import { on, debounce } from '../events.js';
 import { el, clear, fmtNumber, errorBox, badge } from '../dom.js';
-import { chartPanel, destroyCharts } from '../charts.js';
+import { chartPanel, destroyCharts, figureButtons } from '../charts.js';
 import { fetchRuns, groupRuns, parametersOf, groupKey, DERIVED_METRICS } from '../compare_data.js';
 import { drawSizes, drawTimes, drawSuccess, drawBuilder, drawRatio, TIME_PARTS } from '../compare_figures.js';
 import { drawSolvedCurve, drawTimeToSolve } from '../arena_figures.js';
@@ -74,7 +74,7 @@ export function mount(root, args, params = new URLSearchParams()) {
     panel: el(
       'div',
       { class: 'panel wide' },
-      el('h2', { text: 'Planning time by phase' }),
+      el('div', { class: 'panel-head' }, el('h2', { text: 'Planning time by phase' }), figureButtons('figure-times', 'time-breakdown', () => [...timesBox.querySelectorAll('.chart-box')])),
       el('div', { class: 'muted', text: 'One panel per series, the same y range on all: median across seeds of construction (task + motion), query (task + motion), conflict detection and resolution, and total; log scale. Line style and point shape: phase. Each panel exports on its own.' }),
       el('div', { class: 'toolbar' }, phaseBoxes),
       timesBox,
@@ -112,7 +112,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       info,
       status,
     ),
-    el('h2', { class: 'section', text: 'The paper\u2019s figures' }),
+    el('div', { class: 'panel-head' }, el('h2', { class: 'section', text: 'The paper\u2019s figures' }), figureButtons('figure-sizes', 'sizes', () => [sizesV.box, sizesH.box], () => 2)),
     el('div', { class: 'grid2' }, sizesV.panel, sizesH.panel),
     times.panel,
     el('div', { class: 'grid2' }, success.panel, solved.panel),
