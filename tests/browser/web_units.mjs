@@ -10,6 +10,7 @@ import { fileURLToPath, pathToFileURL } from 'node:url';
 const WEB = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..', 'web', 'js');
 const data = await import(pathToFileURL(path.join(WEB, 'compare_data.js')));
 const svg = await import(pathToFileURL(path.join(WEB, 'svg_context.js')));
+const url = await import(pathToFileURL(path.join(WEB, 'url_state.js')));
 
 let failed = 0;
 function test(name, fn) {
@@ -108,6 +109,29 @@ test('SVG recorder: transforms, dashes, clipping and text become SVG', () => {
   assert.match(out, /<text x="50" y="40" font-family="sans-serif" font-size="12" font-weight="600" text-anchor="middle"[^>]*>a &lt; b<\/text>/);
   assert.match(out, /<path d="M23 20A3 3 0 0 1 17 20A3 3 0 0 1 23 20" fill="#000000" stroke="none"\/>/);
   assert.equal((out.match(/<g /g) || []).length, (out.match(/<\/g>/g) || []).length);
+});
+
+test('URL state: a page\u2019s settings round-trip through the hash, defaults and empty values left out', () => {
+  globalThis.location = { hash: '#/run/ab%2Fc?overlay=x,y&q=a%20%3D%201' };
+  globalThis.history = { state: null, replaceState: (s, t, h) => (globalThis.location.hash = h) };
+  const { page, args, params } = url.parseHash();
+  assert.equal(page, 'run');
+  assert.deepEqual(args, ['ab/c']);
+  assert.deepEqual(url.readList(params, 'overlay'), ['x', 'y']);
+  assert.equal(url.readString(params, 'q'), 'a = 1');
+  url.writeState({ q: 'robots = 2 or robots = 4', log: true, unsolved: false, empty: '', none: null, runs: ['u1', 'u2'], sort: 'id' }, { sort: 'id', unsolved: false });
+  const back = url.parseHash();
+  assert.equal(back.page, 'run');
+  assert.deepEqual(back.args, ['ab/c']);
+  assert.deepEqual([...back.params.keys()].sort(), ['log', 'q', 'runs']);
+  assert.equal(url.readString(back.params, 'q'), 'robots = 2 or robots = 4');
+  assert.equal(url.readBool(back.params, 'log'), true);
+  assert.equal(url.readNumber(back.params, 'missing', 7), 7);
+  const before = globalThis.location.hash;
+  url.writeState({ q: 'x'.repeat(9000) });
+  assert.equal(globalThis.location.hash, before, 'a state too long for a link is not written');
+  globalThis.location = { hash: '#/runs/%E0%A4%A' };
+  assert.deepEqual(url.parseHash().args, ['%E0%A4%A'], 'a malformed escape does not throw');
 });
 
 console.log(failed ? `${failed} failed` : 'all passed');
