@@ -133,6 +133,8 @@ void ResultsDb::Impl::writeEventLocked(std::int64_t run_id, RunState& s, const E
         writeIds(e.tail, row.tail);
       }
       if (pending_rows == kRowsPerInsert) flushEventRowsLocked();
+      // Within a long phase too (DaSH builds H_M for many seconds in one phase), not only at its end.
+      if (e.t - s.last_progress_t >= s.progress_interval) writeProgressLocked(run_id, s, e.t, e.iteration);
       break;
     }
     case 1: {

@@ -2,7 +2,8 @@
 // The event sink that records one run into a ResultsDb: representation elements to dash_events,
 // constraints, task space expansions, phase intervals and counters to their tables, and a
 // snapshot of the representation sizes to dash_progress (Planner Arena's `progress`) at phase
-// ends, at most every `progress_interval` seconds of run time, plus a last one at finishRun.
+// ends and as representation events arrive, at most every `progress_interval` seconds of run time,
+// plus a last one at finishRun.
 //
 // The planner's thread only copies each event's fields into a flat batch buffer (event_batch.h: no
 // allocation per event); the ResultsDb's writer thread turns full batches (DbOptions::batch_events,

@@ -102,9 +102,10 @@ void registerDataRoutes(httplib::Server& server, ApiContext& ctx) {
                   out["max_rows"] = max_rows;
                   replyJson(res, 200, out.dump());
                 } catch (const log::QueryRefused& e) {
-                  replyJson(
-                      res, 403,
-                      Json{{"error", std::string("refused: ") + e.what()}, {"guard", guardName(e.guard())}}.dump());
+                  // QueryRefused's messages start with "refused:" already.
+                  const std::string what = e.what();
+                  const std::string message = what.rfind("refused:", 0) == 0 ? what : "refused: " + what;
+                  replyJson(res, 403, Json{{"error", message}, {"guard", guardName(e.guard())}}.dump());
                 }
               }));
 }

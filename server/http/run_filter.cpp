@@ -10,7 +10,7 @@ namespace dash::http {
 namespace {
 
 struct Token {
-  enum Kind { kWord, kString, kOperator, kEnd } kind = kEnd;
+  enum Kind { kWord, kString, kOperator, kOpen, kClose, kEnd } kind = kEnd;
   std::string text;
   std::size_t pos = 0;
 };
@@ -34,6 +34,12 @@ class Lexer {
       ++i_;
       return t;
     }
+    if (ch == '(' || ch == ')') {
+      t.kind = ch == '(' ? Token::kOpen : Token::kClose;
+      t.text = std::string(1, ch);
+      ++i_;
+      return t;
+    }
     static const char* const kOps[] = {"!=", "<>", "<=", ">=", "==", "!~", "=", "<", ">", "~"};
     for (const char* op : kOps) {
       const std::string o(op);
@@ -46,7 +52,7 @@ class Lexer {
     }
     t.kind = Token::kWord;
     while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_])) == 0 &&
-           std::string("=!<>~\"'").find(s_[i_]) == std::string::npos) {
+           std::string("=!<>~\"'()").find(s_[i_]) == std::string::npos) {
       t.text += s_[i_++];
     }
     return t;
@@ -144,32 +150,82 @@ void SqlCondition::andWith(const std::string& condition, std::vector<log::SqlVal
   andWith(SqlCondition{.sql = condition, .params = std::move(values)});
 }
 
-SqlCondition parseRunFilter(const std::string& text, const RunTable& table) {
-  DASH_THROW_UNLESS(text.size() <= 4000, "filter: longer than 4000 characters");
-  Lexer lex(text);
-  SqlCondition out;
-  Token t = lex.next();
-  if (t.kind == Token::kEnd) return out;
-  while (true) {
-    if (t.kind != Token::kWord) throw InputError("filter: expected a field name" + at(t));
-    const Token field = t;
-    const Token op = lex.next();
+namespace {
+
+constexpr int kMaxFilterDepth = 16;  // nested parentheses: a filter is typed by people
+
+/// expression := conjunction ("or" conjunction)*; conjunction := factor ("and" factor)*;
+/// factor := "(" expression ")" | FIELD OP VALUE. "and" binds tighter than "or".
+class FilterParser {
+ public:
+  FilterParser(const std::string& text, const RunTable& table) : lex_(text), table_(table) { t_ = lex_.next(); }
+
+  SqlCondition parse() {
+    if (t_.kind == Token::kEnd) return {};
+    SqlCondition out = expression(0);
+    if (t_.kind == Token::kClose) throw InputError("filter: ')' without '('" + at(t_));
+    if (t_.kind != Token::kEnd) throw InputError("filter: expected 'and' or 'or' between clauses" + at(t_));
+    return out;
+  }
+
+ private:
+  static bool isWord(const Token& t, const char* word, const char* symbol) {
+    return t.kind == Token::kWord && (lower(t.text) == word || t.text == symbol);
+  }
+
+  SqlCondition expression(int depth) {
+    SqlCondition out = conjunction(depth);
+    while (isWord(t_, "or", "||")) {
+      t_ = lex_.next();
+      const SqlCondition rhs = conjunction(depth);
+      out.sql = "(" + out.sql + ") OR (" + rhs.sql + ")";
+      out.params.insert(out.params.end(), rhs.params.begin(), rhs.params.end());
+    }
+    return out;
+  }
+
+  SqlCondition conjunction(int depth) {
+    SqlCondition out = factor(depth);
+    while (isWord(t_, "and", "&&")) {
+      t_ = lex_.next();
+      out.andWith(factor(depth));
+    }
+    return out;
+  }
+
+  SqlCondition factor(int depth) {
+    if (t_.kind == Token::kOpen) {
+      if (depth >= kMaxFilterDepth) throw InputError("filter: parentheses nested deeper than 16" + at(t_));
+      t_ = lex_.next();
+      SqlCondition inner = expression(depth + 1);
+      if (t_.kind != Token::kClose) throw InputError("filter: expected ')'" + at(t_));
+      t_ = lex_.next();
+      return inner;
+    }
+    if (t_.kind != Token::kWord) throw InputError("filter: expected a field name" + at(t_));
+    const Token field = t_;
+    const Token op = lex_.next();
     if (op.kind != Token::kOperator) {
       throw InputError("filter: expected an operator (= != < <= > >= ~ !~) after '" + field.text + "'" + at(op));
     }
-    const Token value = lex.next();
+    const Token value = lex_.next();
     if (value.kind != Token::kWord && value.kind != Token::kString) {
       throw InputError("filter: expected a value after '" + field.text + " " + op.text + "'" + at(value));
     }
-    out.andWith(clause(field, op, value, table));
-    t = lex.next();
-    if (t.kind == Token::kEnd) break;
-    if (t.kind != Token::kWord || (lower(t.text) != "and" && t.text != "&&")) {
-      throw InputError("filter: expected 'and' between clauses" + at(t));
-    }
-    t = lex.next();
+    t_ = lex_.next();
+    return clause(field, op, value, table_);
   }
-  return out;
+
+  Lexer lex_;
+  const RunTable& table_;
+  Token t_;
+};
+
+}  // namespace
+
+SqlCondition parseRunFilter(const std::string& text, const RunTable& table) {
+  DASH_THROW_UNLESS(text.size() <= 4000, "filter: longer than 4000 characters");
+  return FilterParser(text, table).parse();
 }
 
 }  // namespace dash::http

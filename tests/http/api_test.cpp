@@ -200,6 +200,7 @@ TEST_F(ApiTest, ReadOnlySqlConsole) {
     const Reply refused = http->post("/api/query", Json{{"sql", sql}}.dump(), "");
     EXPECT_EQ(refused.status, 403) << sql << ": " << refused.body;
     EXPECT_NE(refused.json()["error"].get<std::string>().find("refused"), std::string::npos) << sql;
+    EXPECT_EQ(refused.json()["error"].get<std::string>().find("refused: refused"), std::string::npos) << sql;
   }
   EXPECT_EQ(http->get("/api/info").json()["runs"], 3) << "nothing was deleted";
   EXPECT_EQ(http->post("/api/query", R"({"sql":"SELECT * FROM no_such_table"})", "").status, 400);

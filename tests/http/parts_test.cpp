@@ -56,8 +56,25 @@ TEST_F(FilterTest, ErrorsNameTheProblem) {
   EXPECT_NE(message("robots 4").find("expected an operator"), std::string::npos);
   EXPECT_NE(message("robots >= many").find("is a number"), std::string::npos);
   EXPECT_NE(message("planner = \"lazy").find("not closed"), std::string::npos);
-  EXPECT_NE(message("robots = 2 or robots = 4").find("expected 'and'"), std::string::npos);
+  EXPECT_NE(message("robots = 2 robots = 4").find("expected 'and' or 'or'"), std::string::npos);
   EXPECT_NE(message("status =").find("expected a value"), std::string::npos);
+  EXPECT_NE(message("(robots = 2 or robots = 4").find("expected ')'"), std::string::npos);
+  EXPECT_NE(message("robots = 2)").find("')' without '('"), std::string::npos);
+  EXPECT_NE(message("()").find("expected a field name"), std::string::npos);
+  // Hostile nesting is refused before it costs anything.
+  EXPECT_NE(message(std::string(5000, '(')).find("longer than 4000"), std::string::npos);
+  EXPECT_NE(message(std::string(200, '(') + "robots = 2" + std::string(200, ')')).find("nested deeper"), std::string::npos);
+}
+
+TEST_F(FilterTest, OrBindsLooserThanAndAndParenthesesGroup) {
+  const SqlCondition flat = parseRunFilter("planner = dash or robots = 2 and status = solved", table());
+  ASSERT_EQ(flat.params.size(), 3u);
+  EXPECT_EQ(flat.sql.rfind("(r.planner IS ?) OR ((", 0), 0u) << flat.sql;
+  const SqlCondition grouped = parseRunFilter("(planner = dash or robots = 2) and status = solved", table());
+  ASSERT_EQ(grouped.params.size(), 3u);
+  EXPECT_EQ(grouped.sql.rfind("((r.planner IS ?) OR (", 0), 0u) << grouped.sql;
+  EXPECT_NE(grouped.sql.find(") AND (r.status IS ?)"), std::string::npos) << grouped.sql;
+  EXPECT_EQ(parseRunFilter("robots = 2 || robots = 4", table()).params.size(), 2u);
 }
 
 class StaticTest : public ::testing::Test {

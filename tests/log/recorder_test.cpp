@@ -92,6 +92,38 @@ TEST(Recorder, ProgressSnapshotsGrowAndEndAtTheFinalSizes) {
   EXPECT_EQ(std::get<std::int64_t>(rows.rows.back()[1]), mirror.count(Layer::Motion, ElementKind::Vertex));
 }
 
+TEST(Recorder, ProgressSnapshotsFollowALongPhase) {
+  // One 2 s phase that adds a vertex every 10 ms (DaSH's motion construction): the snapshots must
+  // show the growth during the phase, not only its end.
+  testing::TempDir dir;
+  ResultsDb db(dir.file("r.db"));
+  const std::string uuid = db.beginRun(testing::sampleMeta());
+  {
+    auto recorder = db.recorder(uuid, RecorderOptions{.progress_interval = 0.05});
+    // Event times start at kStart so that finishRun's last snapshot (at the wall-clock time since
+    // beginRun, a fraction of a second here) stays out of the window checked below.
+    constexpr double kStart = 1000.0;
+    recorder->onEvent(Event{kStart, 0, PhaseEvent{.phase = Phase::MotionConstruction}});
+    for (int k = 0; k < 200; ++k) {
+      recorder->onEvent(Event{kStart + 0.01 * k, 0, RepresentationEvent{.layer = Layer::Motion, .kind = ElementKind::Vertex,
+                                                                         .id = static_cast<std::uint32_t>(k)}});
+    }
+    recorder->onEvent(Event{kStart + 2.0, 0, PhaseEvent{Phase::MotionConstruction, PhaseBoundary::End, 2.0}});
+    db.finishRun(uuid, RunSummary{.status = RunStatus::Solved});
+  }
+  const SqlRows rows = db.select("SELECT t, motion_vertices FROM dash_progress WHERE run_id = ? AND t >= 1000 AND t < 1001.99 ORDER BY t",
+                                 {db.getRun(uuid)->id});
+  ASSERT_GE(rows.rows.size(), 30u);
+  ASSERT_LE(rows.rows.size(), 41u);  // at most one per interval
+  std::int64_t previous = -1;
+  for (const auto& row : rows.rows) {
+    const std::int64_t v = std::get<std::int64_t>(row[1]);
+    EXPECT_GT(v, previous);
+    previous = v;
+  }
+  EXPECT_GT(previous, 150);
+}
+
 TEST(Recorder, ReportedFiguresWinOverDerivedOnes) {
   testing::TempDir dir;
   ResultsDb db(dir.file("r.db"));

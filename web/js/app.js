@@ -1,4 +1,5 @@
-// The dashboard's shell: hash routes (#/launch, #/runs, #/compare, #/run/UUID, #/query, #/dispatch),
+// The dashboard's shell: hash routes (#/launch, #/runs, #/compare, #/run/UUID, #/query, #/dispatch;
+// each page's settings follow a '?', see url_state.js),
 // the token box, the live-updates indicator, and error banners.
 import { getToken, setToken } from './api.js';
 import { connectEvents } from './events.js';
@@ -9,6 +10,7 @@ import * as compare from './pages/compare.js';
 import * as run from './pages/run.js';
 import * as queryPage from './pages/query.js';
 import * as dispatch from './pages/dispatch.js';
+import { parseHash } from './url_state.js';
 
 const PAGES = { launch, runs, compare, run, query: queryPage, dispatch };
 let unmount = null;
@@ -20,8 +22,7 @@ function banner(message) {
 }
 
 function route() {
-  const hash = location.hash.replace(/^#\/?/, '');
-  const [name, ...rest] = hash.split('/');
+  const { page: name, args, params } = parseHash();
   const page = PAGES[name] ? name : 'runs';
   for (const a of document.querySelectorAll('#nav a')) a.classList.toggle('active', a.dataset.page === page);
   if (unmount) {
@@ -36,7 +37,7 @@ function route() {
   const root = clear(document.getElementById('page'));
   root.dataset.page = page;
   try {
-    unmount = PAGES[page].mount(root, rest.map(decodeURIComponent)) || null;
+    unmount = PAGES[page].mount(root, args, params) || null;
   } catch (e) {
     root.append(errorBox(String(e)));
   }

@@ -23,13 +23,20 @@ export function clear(node) {
   return node;
 }
 
+/// A number for people: integers with thousands separators, others with `digits` significant digits
+/// and no trailing zeros ("0.0015", "7.022", never "0.00150" or "7.02200").
 export function fmtNumber(v, digits = 3) {
   if (v === null || v === undefined || v === '') return '';
   if (typeof v !== 'number') return String(v);
+  if (!Number.isFinite(v)) return String(v);
   if (Number.isInteger(v)) return v.toLocaleString('en-US');
-  if (Math.abs(v) >= 1000) return v.toFixed(0);
-  if (Math.abs(v) >= 1) return v.toFixed(Math.max(0, digits - 1));
-  return v.toPrecision(digits);
+  if (Math.abs(v) >= 10 ** digits) return Math.round(v).toLocaleString('en-US');
+  return trimZeros(v.toPrecision(digits));
+}
+
+function trimZeros(text) {
+  if (/e/i.test(text)) return text.replace(/\.?0+e/, 'e');
+  return text.includes('.') ? text.replace(/\.?0+$/, '') : text;
 }
 
 export function fmtSeconds(s) {

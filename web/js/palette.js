@@ -5,12 +5,6 @@ export function colour(i) {
   return OKABE_ITO[i % OKABE_ITO.length];
 }
 
-/// The same name always gets the same colour on every page (planner configurations).
-export function colourFor(name, names) {
-  const i = names.indexOf(name);
-  return colour(i < 0 ? 0 : i);
-}
-
 // Phases: task ones in blues and green, motion ones in oranges and purple, "other" grey.
 export const PHASE_COLOURS = {
   task_construction: '#0072B2',

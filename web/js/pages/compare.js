@@ -1,52 +1,101 @@
-// Compare: the paper's plots from the results database, per planner configuration. Representation
-// sizes (task and motion) against a scenario parameter on a log scale; the planning time broken
-// down by phase as stacked bars with the total; box plots across seeds with an outlier toggle;
-// success rates; and a "diff only" table of runs selected on the Runs page.
-import { api, query } from '../api.js';
+// Compare: plots of one scenario family's runs, per planner configuration, all from the runs table.
+// The paper's figures (representation sizes H_T and H_M, planning time by phase, success rate), a
+// plot builder (any metric against any scenario parameter, as medians with interquartile bands or as
+// box plots), per-scene ratios of two configurations, Planner Arena's fraction solved against time
+// and time-to-solve distributions, and runs side by side. Every setting is in the URL; every plot
+// exports SVG, PNG and CSV; a click on a point opens its runs.
+import { api } from '../api.js';
 import { on, debounce } from '../events.js';
-import { el, clear, fmtNumber, fmtSeconds, errorBox, badge } from '../dom.js';
-import { drawChart, valueAxis, axisTitle, destroyCharts } from '../charts.js';
-import { colourFor, PHASE_COLOURS, PHASE_LABELS, LAYER_STYLES } from '../palette.js';
+import { el, clear, fmtNumber, errorBox, badge } from '../dom.js';
+import { chartPanel, destroyCharts, figureButtons } from '../charts.js';
+import { fetchRuns, groupRuns, parametersOf, groupKey, DERIVED_METRICS } from '../compare_data.js';
+import { drawSizes, drawTimes, drawSuccess, drawBuilder, drawRatio, TIME_PARTS } from '../compare_figures.js';
+import { drawSolvedCurve, drawTimeToSolve } from '../arena_figures.js';
+import { writeState, readString, readBool, readList } from '../url_state.js';
 import { selectedRuns } from './runs.js';
 
-const PHASES = Object.keys(PHASE_COLOURS);
+const METRIC_GROUPS = ['time', 'size', 'count', 'outcome'];
 
-function chartPanel(title, testid, help, controls = []) {
-  const box = el('div', { class: 'chart-box', 'data-testid': testid, 'data-points': '0' });
-  const panel = el('div', { class: 'panel' }, el('h2', { text: title }), help ? el('div', { class: 'muted', text: help }) : null, controls.length ? el('div', { class: 'toolbar' }, controls) : null, box);
-  return { panel, box };
+function select(testid, options, value, title) {
+  const s = el('select', { 'data-testid': testid, title });
+  for (const o of options) s.append(el('option', { value: o.value, text: o.text }));
+  if (value !== undefined && options.some((o) => o.value === value)) s.value = value;
+  return s;
 }
 
-function median(g, metric) {
-  const m = g.metrics[metric];
-  return m && m.median !== null && m.median !== undefined ? m.median : null;
-}
+export function mount(root, args, params = new URLSearchParams()) {
+  const state = {
+    family: readString(params, 'family'),
+    x: readString(params, 'x'),
+    split: params.has('split') ? (params.get('split') === 'none' ? '' : params.get('split')) : null, // null: choose a default
+    group: readString(params, 'group', 'config'),
+    q: readString(params, 'q'),
+    batch: readString(params, 'batch'),
+    unsolved: readBool(params, 'unsolved'),
+    ext: readBool(params, 'ext'),
+    phases: params.has('phases') ? readList(params, 'phases') : Object.keys(TIME_PARTS),
+    metric: readString(params, 'metric', 'total_time'),
+    style: readString(params, 'style', 'band'),
+    log: readBool(params, 'log', true),
+    num: readString(params, 'num'),
+    den: readString(params, 'den'),
+    ratio: readString(params, 'ratio', 'total_time'),
+    runs: params.has('runs') ? readList(params, 'runs') : selectedRuns(),
+    diff: readBool(params, 'diff', true),
+  };
+  function save() {
+    writeState({ ...state, split: state.split === '' ? 'none' : state.split, phases: state.phases.join(',') }, { group: 'config', unsolved: false, ext: false, phases: Object.keys(TIME_PARTS).join(','), metric: 'total_time', style: 'band', log: true, ratio: 'total_time', diff: true });
+  }
 
-export function mount(root) {
   const familySelect = el('select', { 'data-testid': 'compare-family' });
   const xSelect = el('select', { 'data-testid': 'compare-x' });
-  const groupSelect = el('select', {}, el('option', { value: 'config', text: 'planner configuration' }), el('option', { value: 'planner', text: 'planner' }));
   const splitSelect = el('select', { 'data-testid': 'compare-split', title: 'one series per value of another parameter' });
-  const filterInput = el('input', { type: 'text', size: 44, placeholder: 'optional filter, e.g. robots = 4' });
-  const unsolved = el('input', { type: 'checkbox' });
-  const status = el('div', { class: 'error' });
-  const countSelect = el('select', {}, el('option', { value: 'vertices', text: 'vertices' }), el('option', { value: 'hyperarcs', text: 'hyperarcs' }));
-  const boxMetric = el('select', { 'data-testid': 'box-metric' });
-  const boxLog = el('input', { type: 'checkbox', checked: true });
-  const outliers = el('input', { type: 'checkbox', checked: true, 'data-testid': 'outliers' });
+  const groupSelect = select('compare-group', [
+    { value: 'config', text: 'planner configuration' },
+    { value: 'planner', text: 'planner' },
+    { value: 'settings', text: 'configuration and its settings (sweeps)' },
+  ], state.group);
+  const filterInput = el('input', { type: 'text', size: 40, value: state.q, placeholder: 'optional filter, e.g. robots = 4 or robots = 8', 'data-testid': 'compare-filter' });
+  const batchInput = el('input', { type: 'text', size: 22, value: state.batch, placeholder: 'batch id (optional)', 'data-testid': 'compare-batch' });
+  const unsolved = el('input', { type: 'checkbox', checked: state.unsolved, 'data-testid': 'compare-unsolved' });
+  const status = el('div', { class: 'error', 'data-testid': 'compare-status' });
+  const info = el('span', { class: 'muted', 'data-testid': 'compare-info' });
 
-  const task = chartPanel('Task representation sizes', 'chart-task-sizes', 'Median across seeds of H_T and H_TE, log scale.', [el('label', {}, 'count', countSelect)]);
-  const motion = chartPanel('Motion representation sizes', 'chart-motion-sizes', 'Median across seeds of H_M and H_ME, log scale (task-only runs have none).');
-  const times = chartPanel('Planning time breakdown', 'chart-times', 'Median time of each phase (task phases in blues and green, motion phases in oranges and purple); the black mark is the median total.');
-  const boxes = chartPanel('Across seeds', 'chart-box', 'Box: quartiles; whiskers: 1.5 × IQR; dots: outliers.', [
-    el('label', {}, 'metric', boxMetric),
-    el('label', {}, boxLog, 'log scale'),
-    el('label', {}, outliers, 'show outliers'),
-  ]);
-  const success = chartPanel('Success rate', 'chart-success', 'Solved runs out of finished runs (timeouts, infeasible and crashed runs count as failures).');
+  const extBox = el('input', { type: 'checkbox', checked: state.ext });
+  const sizesV = chartPanel({ tall: true, title: 'Representation sizes: vertices', testid: 'chart-task-sizes', name: 'sizes-vertices', help: 'Median across seeds; H_T solid circles, H_M dashed squares (extended layers: dotted), log scale. Click a point for its runs.', controls: [el('label', {}, extBox, 'extended layers (H_TE, H_ME)')] });
+  const sizesH = chartPanel({ tall: true, title: 'Representation sizes: hyperarcs', testid: 'chart-motion-sizes', name: 'sizes-hyperarcs', help: 'Median across seeds, the same series and styles, log scale.' });
+  const phaseBoxes = Object.entries(TIME_PARTS).map(([k, p]) => {
+    const box = el('input', { type: 'checkbox', checked: state.phases.includes(k), 'data-phase': k });
+    return el('label', {}, box, p.label);
+  });
+  const timesBox = el('div', { class: 'multiples', 'data-testid': 'chart-times', 'data-points': '0' });
+  const times = {
+    box: timesBox,
+    panel: el(
+      'div',
+      { class: 'panel wide' },
+      el('div', { class: 'panel-head' }, el('h2', { text: 'Planning time by phase' }), figureButtons('figure-times', 'time-breakdown', () => [...timesBox.querySelectorAll('.chart-box')])),
+      el('div', { class: 'muted', text: 'One panel per series, the same y range on all: median across seeds of construction (task + motion), query (task + motion), conflict detection and resolution, and total; log scale. Line style and point shape: phase. Each panel exports on its own.' }),
+      el('div', { class: 'toolbar' }, phaseBoxes),
+      timesBox,
+    ),
+  };
+  const success = chartPanel({ tall: true, title: 'Success rate', testid: 'chart-success', name: 'success-rate', help: 'Solved runs out of finished runs (timeouts, infeasible and crashed runs count as failures). 0 % is a point on the axis; no runs is a gap; a cross on the axis marks a size the batch skipped.' });
+
+  const metricSelect = el('select', { 'data-testid': 'builder-metric' });
+  const styleSelect = select('builder-style', [{ value: 'band', text: 'median and interquartile band' }, { value: 'box', text: 'box plots' }], state.style);
+  const logBox = el('input', { type: 'checkbox', checked: state.log, 'data-testid': 'builder-log' });
+  const builder = chartPanel({ title: 'Plot builder', testid: 'chart-builder', name: 'builder', help: 'Any metric against the x axis parameter, per series. Box: quartiles; whiskers: 1.5 × IQR; dots: outliers.', controls: [el('label', {}, 'metric', metricSelect), el('label', {}, 'as', styleSelect), el('label', {}, logBox, 'log scale')], tall: true });
+  const numSelect = el('select', { 'data-testid': 'ratio-num' });
+  const denSelect = el('select', { 'data-testid': 'ratio-den' });
+  const ratioMetric = el('select', { 'data-testid': 'ratio-metric' });
+  const ratio = chartPanel({ title: 'Ratio per scene', testid: 'chart-ratio', name: 'ratio', help: 'For each scene (same parameters and seed) solved by both: the first series\u2019 value over the second\u2019s; the line is the median per x.', controls: [el('label', {}, ratioMetric), numSelect, el('span', { text: '/' }), denSelect] });
+  const solved = chartPanel({ title: 'Runs solved against time (Planner Arena)', testid: 'chart-solved-time', name: 'solved-vs-time', help: 'Share of finished runs solved within t. Runs that time out or fail stay in the count (censored, never dropped): a curve ends below 100 % if some runs were not solved.' });
+  const tts = chartPanel({ title: 'Time to solve (Planner Arena)', testid: 'chart-time-to-solve', name: 'time-to-solve', help: 'Distribution of solved runs\u2019 total time per series; the label says how many of the runs were solved.' });
+
   const diffBox = el('div', { 'data-testid': 'diff' });
-  const diffOnly = el('input', { type: 'checkbox', checked: true, 'data-testid': 'diff-only' });
-  const diffInput = el('input', { type: 'text', size: 60, placeholder: 'run uuids, comma separated (or select runs on the Runs page)' });
+  const diffOnly = el('input', { type: 'checkbox', checked: state.diff, 'data-testid': 'diff-only' });
+  const diffInput = el('input', { type: 'text', size: 60, value: state.runs.join(', '), placeholder: 'run uuids, comma separated (or select runs on the Runs page)', 'data-testid': 'diff-input' });
 
   root.append(
     el('h1', { text: 'Compare' }),
@@ -55,267 +104,141 @@ export function mount(root) {
       { class: 'panel toolbar' },
       el('label', {}, 'family', familySelect),
       el('label', {}, 'x axis', xSelect),
-      el('label', {}, 'group by', groupSelect),
-      el('label', {}, 'series per', splitSelect),
+      el('label', {}, 'series per', groupSelect),
+      el('label', {}, 'and per', splitSelect),
       filterInput,
+      batchInput,
       el('label', { title: 'medians over timeouts and infeasible runs too' }, unsolved, 'include unsolved runs'),
+      info,
       status,
     ),
-    el('div', { class: 'grid2' }, task.panel, motion.panel, times.panel, boxes.panel, success.panel),
-    el('div', { class: 'panel' }, el('h2', { text: 'Runs side by side' }), el('div', { class: 'toolbar' }, diffInput, el('label', {}, diffOnly, 'differences only')), diffBox),
+    el('div', { class: 'panel-head' }, el('h2', { class: 'section', text: 'The paper\u2019s figures' }), figureButtons('figure-sizes', 'sizes', () => [sizesV.box, sizesH.box], () => 2)),
+    el('div', { class: 'grid2' }, sizesV.panel, sizesH.panel),
+    times.panel,
+    el('div', { class: 'grid2' }, success.panel, solved.panel),
+    el('h2', { class: 'section', text: 'Plot builder' }),
+    el('div', { class: 'grid2' }, builder.panel, ratio.panel),
+    el('h2', { class: 'section', text: 'Distributions and runs' }),
+    el('div', { class: 'grid2' }, tts.panel, el('div', { class: 'panel' }, el('h2', { text: 'Runs side by side' }), el('div', { class: 'toolbar' }, diffInput, el('label', {}, diffOnly, 'differences only')), diffBox)),
   );
 
   let overview = [];
-  let series = null;
+  let columns = [];
+  let data = null; // {runs, truncated}
+  let ctx = null;
 
-  function configs() {
-    return [...new Set(series.groups.map((g) => g.group))].sort();
+  function open(filter) {
+    location.hash = `#/runs?q=${encodeURIComponent(filter)}`;
   }
-  function xs() {
-    return [...new Set(series.groups.map((g) => g.x))].sort((a, b) => a - b);
-  }
-  function group(cfg, x) {
-    return series.groups.find((g) => g.group === cfg && g.x === x);
-  }
-  const xName = () => series.x;
 
-  function drawSizes(target, layers, title) {
-    const cfgs = configs();
-    const count = countSelect.value;
-    const datasets = [];
-    let points = 0;
-    for (const cfg of cfgs) {
-      for (const layer of layers) {
-        const metric = `${layer}_${count}`;
-        const data = [];
-        for (const x of xs()) {
-          const g = group(cfg, x);
-          const y = g ? median(g, metric) : null;
-          if (y !== null && y > 0) data.push({ x, y, n: g.metrics[metric].n });
-        }
-        if (data.length === 0) continue;
-        points += data.length;
-        const style = LAYER_STYLES[layer];
-        datasets.push({
-          label: `${cfg} · ${style.label}`,
-          data,
-          borderColor: colourFor(cfg, cfgs),
-          backgroundColor: colourFor(cfg, cfgs),
-          pointStyle: style.point,
-          pointRadius: 5,
-          borderDash: style.dash,
-        });
-      }
+  function metricOptions() {
+    const out = [];
+    for (const g of METRIC_GROUPS) {
+      for (const c of columns.filter((c) => c.group === g && c.type !== 'text')) out.push({ value: c.name, text: c.label });
+      if (g === 'time') for (const m of DERIVED_METRICS) out.push({ value: m.name, text: m.label });
     }
-    drawChart(
-      target.box,
-      {
-        type: 'line',
-        data: { datasets },
-        options: {
-          plugins: {
-            title: { display: false, text: title },
-            tooltip: { callbacks: { label: (c) => `${c.dataset.label}: ${fmtNumber(c.raw.y)} ${count} (median of ${c.raw.n})` } },
-          },
-          scales: {
-            x: { type: 'linear', title: axisTitle(`${xName()} (count)`), ticks: { precision: 0 } },
-            y: valueAxis(`${count} (count, log scale)`, { log: true }),
-          },
-        },
-      },
-      points,
-    );
+    return out;
   }
-
-  function drawTimes() {
-    const cfgs = configs();
-    const cats = [];
-    for (const cfg of cfgs) for (const x of xs()) if (group(cfg, x)) cats.push(group(cfg, x));
-    const labels = cats.map((g) => [g.group, `${xName()}=${g.x}`]);
-    const datasets = PHASES.map((p) => ({
-      type: 'bar',
-      label: PHASE_LABELS[p],
-      data: cats.map((g) => median(g, `time_${p}`) ?? 0),
-      backgroundColor: PHASE_COLOURS[p],
-      stack: 'phases',
-    }));
-    datasets.push({
-      type: 'line',
-      label: 'total (median)',
-      data: cats.map((g) => median(g, 'total_time')),
-      showLine: false,
-      pointStyle: 'line',
-      pointRadius: 14,
-      pointBorderWidth: 3,
-      borderColor: '#000000',
-      backgroundColor: '#000000',
-    });
-    const points = cats.filter((g) => median(g, 'total_time') !== null).length;
-    drawChart(
-      times.box,
-      {
-        type: 'bar',
-        data: { labels, datasets },
-        options: {
-          plugins: {
-            tooltip: {
-              mode: 'index',
-              callbacks: {
-                label: (c) => `${c.dataset.label}: ${fmtSeconds(c.raw)}`,
-                footer: (items) => {
-                  const g = cats[items[0].dataIndex];
-                  return `task ${fmtSeconds(median(g, 'time_task'))} · motion ${fmtSeconds(median(g, 'time_motion'))} · n=${g.metrics.total_time.n}`;
-                },
-              },
-            },
-          },
-          scales: { x: { stacked: true, title: axisTitle(`planner configuration and ${xName()}`) }, y: valueAxis('time (s)', { stacked: true }) },
-        },
-      },
-      points,
-    );
-  }
-
-  function drawBoxes() {
-    const cfgs = configs();
-    const metric = boxMetric.value || 'total_time';
-    const meta = series.metrics.find((m) => m.name === metric);
-    const log = boxLog.checked;
-    let points = 0;
-    const datasets = cfgs.map((cfg) => {
-      const data = xs().map((x) => {
-        const g = group(cfg, x);
-        const values = g ? g.metrics[metric].values.filter((v) => !log || v > 0) : [];
-        points += values.length;
-        return values;
-      });
-      return {
-        label: cfg,
-        data,
-        backgroundColor: `${colourFor(cfg, cfgs)}55`,
-        borderColor: colourFor(cfg, cfgs),
-        borderWidth: 1.5,
-        outlierBackgroundColor: colourFor(cfg, cfgs),
-        outlierRadius: outliers.checked ? 3.5 : 0,
-        itemRadius: 0,
-        coef: 1.5,
-      };
-    });
-    drawChart(
-      boxes.box,
-      {
-        type: 'boxplot',
-        data: { labels: xs().map(String), datasets },
-        options: {
-          plugins: { tooltip: { callbacks: {} } },
-          scales: {
-            x: { title: axisTitle(`${xName()} (count)`) },
-            y: valueAxis(`${meta.label} (${meta.unit}${log ? ', log scale' : ''})`, { log }),
-          },
-        },
-      },
-      points,
-    );
-  }
-
-  function drawSuccess() {
-    const cfgs = configs();
-    let points = 0;
-    const datasets = cfgs.map((cfg) => ({
-      label: cfg,
-      data: xs().map((x) => {
-        const g = group(cfg, x);
-        if (!g || g.success_rate === null) return null;
-        points += 1;
-        return 100 * g.success_rate;
-      }),
-      backgroundColor: colourFor(cfg, cfgs),
-    }));
-    drawChart(
-      success.box,
-      {
-        type: 'bar',
-        data: { labels: xs().map(String), datasets },
-        options: {
-          plugins: {
-            tooltip: {
-              callbacks: {
-                label: (c) => {
-                  const g = group(c.dataset.label, xs()[c.dataIndex]);
-                  return `${c.dataset.label}: ${c.raw.toFixed(0)}% (${g.solved} of ${g.finished} solved)`;
-                },
-              },
-            },
-          },
-          scales: { x: { title: axisTitle(`${xName()} (count)`) }, y: valueAxis('success rate (%)', { min: 0, max: 100, percent: true }) },
-        },
-      },
-      points,
-    );
-  }
+  const labelOf = (name) => metricOptions().find((o) => o.value === name)?.text || name;
 
   function drawAll() {
-    if (!series) return;
-    drawSizes(task, ['task', 'task_extended'], 'task sizes');
-    drawSizes(motion, ['motion', 'motion_extended'], 'motion sizes');
-    drawTimes();
-    drawBoxes();
-    drawSuccess();
+    if (!data) return;
+    const params = parametersOf(data.runs, columns);
+    ctx = {
+      runs: data.runs,
+      grouped: groupRuns(data.runs, { x: state.x, split: state.split, groupBy: state.group }),
+      x: state.x,
+      split: state.split,
+      groupBy: state.group,
+      family: state.family,
+      batch: state.batch,
+      filter: state.q,
+      includeUnsolved: state.unsolved,
+      params,
+      open,
+    };
+    for (const p of [sizesV, sizesH, times, success, builder, ratio, solved, tts]) p.box.dataset.exportName = state.family;
+    drawSizes(sizesV.box, ctx, 'vertices', state.ext);
+    drawSizes(sizesH.box, ctx, 'hyperarcs', state.ext);
+    drawTimes(times.box, ctx, state.phases);
+    drawSuccess(success.box, ctx);
+    drawBuilderPanel();
+    drawRatioPanel();
+    drawSolvedCurve(solved.box, ctx);
+    drawTimeToSolve(tts.box, ctx);
+  }
+  function drawBuilderPanel() {
+    if (ctx) drawBuilder(builder.box, ctx, { metric: state.metric, label: labelOf(state.metric), style: state.style, log: state.log });
+  }
+  function drawRatioPanel() {
+    if (!ctx) return;
+    const groups = [...new Set(ctx.runs.map((r) => groupKey(r, state.group)))].sort();
+    const fill = (sel, key, preferred, not) => {
+      clear(sel);
+      for (const g of groups) sel.append(el('option', { value: g, text: g }));
+      if (!groups.includes(state[key])) state[key] = groups.includes(preferred) && preferred !== not ? preferred : groups.find((g) => g !== not) || groups[0] || '';
+      sel.value = state[key];
+    };
+    fill(numSelect, 'num', 'dash', null);
+    fill(denSelect, 'den', 'lazy-dash', state.num);
+    drawRatio(ratio.box, ctx, { metric: state.ratio, label: labelOf(state.ratio), numerator: state.num, denominator: state.den });
   }
 
-  async function loadSeries() {
-    if (!familySelect.value || !xSelect.value) return;
+  async function load() {
+    save();
+    if (!state.family || !state.x) return;
+    info.textContent = 'loading…';
     try {
-      series = await api.get(
-        `/api/series${query({
-          family: familySelect.value,
-          x: xSelect.value,
-          group_by: groupSelect.value,
-          split: splitSelect.value,
-          q: filterInput.value.trim(),
-          include_unsolved: unsolved.checked ? 1 : '',
-        })}`,
-      );
+      data = await fetchRuns(state.family, state.q, state.batch);
       status.textContent = '';
-      if (boxMetric.options.length === 0) {
-        for (const m of series.metrics) boxMetric.append(el('option', { value: m.name, text: `${m.label} (${m.unit})` }));
-        boxMetric.value = 'total_time';
-      }
+      info.textContent = `${data.runs.length} runs${data.truncated ? ' (the first ones only: narrow the filter)' : ''}`;
+      info.dataset.runs = String(data.runs.length);
       drawAll();
     } catch (e) {
+      data = null;
+      info.textContent = '';
       status.textContent = e.message;
+      for (const p of [sizesV, sizesH, times, success, builder, ratio, solved, tts]) {
+        destroyCharts(p.panel);
+        clear(p.box).append(el('div', { class: 'chart-empty', text: 'no plot: see the error above' }));
+        p.box.dataset.points = '0';
+      }
     }
   }
 
   function fillX() {
-    const fam = overview.find((f) => f.family === familySelect.value);
+    const fam = overview.find((f) => f.family === state.family);
+    const ps = fam ? fam.parameters : [];
     clear(xSelect);
-    for (const p of fam ? fam.parameters : []) xSelect.append(el('option', { value: p, text: p }));
-    if (fam && fam.parameters.includes('objects')) xSelect.value = 'objects';
+    for (const p of ps) xSelect.append(el('option', { value: p, text: p }));
+    if (!ps.includes(state.x)) state.x = ps.includes('objects') ? 'objects' : ps[0] || '';
+    xSelect.value = state.x;
     fillSplit();
   }
 
   /// The other parameters; by default the first of them, so that runs of different sizes never mix.
   function fillSplit() {
-    const fam = overview.find((f) => f.family === familySelect.value);
-    const others = (fam ? fam.parameters : []).filter((p) => p !== xSelect.value);
-    clear(splitSelect).append(el('option', { value: '', text: '(none: all together)' }));
+    const fam = overview.find((f) => f.family === state.family);
+    const others = (fam ? fam.parameters : []).filter((p) => p !== state.x);
+    clear(splitSelect).append(el('option', { value: '', text: '(nothing else)' }));
     for (const p of others) splitSelect.append(el('option', { value: p, text: p }));
-    splitSelect.value = others.includes('robots') ? 'robots' : others[0] || '';
+    if (state.split === null || (state.split && !others.includes(state.split))) state.split = others.includes('robots') ? 'robots' : others[0] || '';
+    splitSelect.value = state.split;
   }
 
   async function loadDiff() {
-    const uuids = diffInput.value.split(',').map((s) => s.trim()).filter(Boolean);
+    state.runs = diffInput.value.split(',').map((s) => s.trim()).filter(Boolean).slice(0, 50);
+    save();
     clear(diffBox);
-    if (uuids.length < 2) {
+    if (state.runs.length < 2) {
       diffBox.append(el('div', { class: 'muted', text: 'Select two or more runs on the Runs page (or paste their uuids) to compare them field by field.' }));
       return;
     }
     try {
-      const [cols, list] = await Promise.all([api.get('/api/runs/columns'), api.get(`/api/runs${query({ uuids: uuids.join(','), limit: 100, sort: 'id', order: 'asc' })}`)]);
+      const list = await api.get(`/api/runs?uuids=${encodeURIComponent(state.runs.join(','))}&limit=100&sort=id&order=asc`);
       const runs = list.runs;
       const rows = [];
-      for (const c of cols.columns) {
+      for (const c of columns) {
         const values = runs.map((r) => r[c.name]);
         const same = values.every((v) => JSON.stringify(v) === JSON.stringify(values[0]));
         if (diffOnly.checked && same) continue;
@@ -328,53 +251,124 @@ export function mount(root) {
           ),
         );
       }
+      const overlay = runs.length > 1 ? el('a', { href: `#/run/${runs[0].uuid}?overlay=${runs.slice(1).map((r) => r.uuid).join(',')}`, 'data-testid': 'open-overlay' }, 'overlay these runs on one run page') : null;
       const head = el('tr', {}, el('th', { text: 'field' }), runs.map((r) => el('th', {}, el('a', { href: `#/run/${r.uuid}`, class: 'mono', text: r.uuid.slice(0, 8) }))));
-      diffBox.append(el('div', { class: 'table-wrap' }, el('table', { class: 'data', 'data-testid': 'diff-table' }, el('thead', {}, head), el('tbody', {}, rows))));
+      diffBox.append(el('div', { class: 'toolbar' }, overlay), el('div', { class: 'table-wrap' }, el('table', { class: 'data', 'data-testid': 'diff-table' }, el('thead', {}, head), el('tbody', {}, rows))));
     } catch (e) {
       diffBox.append(errorBox(e.message));
     }
   }
 
   familySelect.addEventListener('change', () => {
+    state.family = familySelect.value;
+    state.split = null;
     fillX();
-    loadSeries();
+    load();
   });
   xSelect.addEventListener('change', () => {
+    state.x = xSelect.value;
     fillSplit();
-    loadSeries();
+    save();
+    drawAll();
   });
-  for (const c of [splitSelect, groupSelect, unsolved]) c.addEventListener('change', loadSeries);
-  filterInput.addEventListener('keydown', (e) => {
-    if (e.key === 'Enter') loadSeries();
+  splitSelect.addEventListener('change', () => {
+    state.split = splitSelect.value;
+    save();
+    drawAll();
   });
-  countSelect.addEventListener('change', () => {
-    drawSizes(task, ['task', 'task_extended'], 'task sizes');
-    drawSizes(motion, ['motion', 'motion_extended'], 'motion sizes');
+  groupSelect.addEventListener('change', () => {
+    state.group = groupSelect.value;
+    save();
+    drawAll();
   });
-  for (const c of [boxMetric, boxLog, outliers]) c.addEventListener('change', drawBoxes);
-  diffOnly.addEventListener('change', loadDiff);
+  unsolved.addEventListener('change', () => {
+    state.unsolved = unsolved.checked;
+    save();
+    drawAll();
+  });
+  for (const input of [filterInput, batchInput]) {
+    input.addEventListener('keydown', (e) => {
+      if (e.key !== 'Enter') return;
+      state.q = filterInput.value.trim();
+      state.batch = batchInput.value.trim();
+      load();
+    });
+  }
+  extBox.addEventListener('change', () => {
+    state.ext = extBox.checked;
+    save();
+    drawSizes(sizesV.box, ctx, 'vertices', state.ext);
+    drawSizes(sizesH.box, ctx, 'hyperarcs', state.ext);
+  });
+  for (const label of phaseBoxes) {
+    label.querySelector('input').addEventListener('change', () => {
+      state.phases = phaseBoxes.map((l) => l.querySelector('input')).filter((i) => i.checked).map((i) => i.dataset.phase);
+      save();
+      if (ctx) drawTimes(times.box, ctx, state.phases);
+    });
+  }
+  metricSelect.addEventListener('change', () => {
+    state.metric = metricSelect.value;
+    save();
+    drawBuilderPanel();
+  });
+  styleSelect.addEventListener('change', () => {
+    state.style = styleSelect.value;
+    save();
+    drawBuilderPanel();
+  });
+  logBox.addEventListener('change', () => {
+    state.log = logBox.checked;
+    save();
+    drawBuilderPanel();
+  });
+  for (const [sel, key] of [[numSelect, 'num'], [denSelect, 'den'], [ratioMetric, 'ratio']]) {
+    sel.addEventListener('change', () => {
+      state[key] = sel.value;
+      save();
+      drawRatioPanel();
+    });
+  }
+  diffOnly.addEventListener('change', () => {
+    state.diff = diffOnly.checked;
+    loadDiff();
+  });
   diffInput.addEventListener('change', loadDiff);
-  diffInput.value = selectedRuns().join(', ');
 
-  const reload = debounce(loadSeries, 1000);
+  const reload = debounce(load, 1500);
   const offs = [on('run', (m) => m.status !== 'running' && reload())];
 
   (async () => {
     try {
-      overview = (await api.get('/api/compare/overview')).families;
+      const [ov, cols] = await Promise.all([api.get('/api/compare/overview'), api.get('/api/runs/columns')]);
+      overview = ov.families;
+      columns = cols.columns;
+      for (const o of metricOptions()) {
+        metricSelect.append(el('option', { value: o.value, text: o.text }));
+        ratioMetric.append(el('option', { value: o.value, text: o.text }));
+      }
+      if (!metricOptions().some((o) => o.value === state.metric)) state.metric = 'total_time';
+      metricSelect.value = state.metric;
+      ratioMetric.value = metricOptions().some((o) => o.value === state.ratio) ? state.ratio : 'total_time';
       if (overview.length === 0) {
         status.textContent = 'No runs in the database yet: launch a batch first.';
         return;
       }
       for (const f of overview) familySelect.append(el('option', { value: f.family, text: `${f.family} (${f.runs} runs)` }));
-      familySelect.value = overview.some((f) => f.family === 'sorting') ? 'sorting' : overview[0].family;
+      if (state.batch && !state.family) {
+        // "compare this batch": the batch's family.
+        const first = await api.get(`/api/runs?limit=1&q=${encodeURIComponent(`batch = "${state.batch.replace(/"/g, '')}"`)}`);
+        if (first.runs.length) state.family = first.runs[0].family;
+      }
+      if (!overview.some((f) => f.family === state.family)) state.family = overview.some((f) => f.family === 'sorting') ? 'sorting' : overview[0].family;
+      familySelect.value = state.family;
       fillX();
-      await loadSeries();
+      await load();
+      await loadDiff();
     } catch (e) {
       status.textContent = e.message;
     }
   })();
-  loadDiff();
   return () => {
     offs.forEach((off) => off());
     destroyCharts(root);

@@ -5,6 +5,7 @@
 // (GET /api/dispatch/stream, read with fetch because it needs the token). Only when the server was
 // built with the dispatch library; otherwise the page says so.
 import { api, getToken, query } from '../api.js';
+import { writeState } from '../url_state.js';
 import { el, clear, badge, fmtNumber, fmtSeconds, errorBox, table } from '../dom.js';
 
 const USER_KEY = 'dashbench.dispatch.user';
@@ -41,7 +42,7 @@ function progressBar(fraction, cls) {
   return el('div', { class: 'progress' }, el('div', { class: cls, style: `width:${(100 * Math.max(0, Math.min(1, fraction))).toFixed(1)}%` }));
 }
 
-export function mount(root) {
+export function mount(root, args, params = new URLSearchParams()) {
   root.append(el('h1', { text: 'Dispatch to arms' }));
   const body = el('div', {});
   root.append(body);
@@ -108,6 +109,13 @@ export function mount(root) {
         table(['name', 'robot', 'passed', 'message'], report.checks || [], { cell: (c, v) => (c === 'passed' ? (v ? '✓' : '✗') : v) }),
       );
     }
+
+    // The run and the time scale are in the URL (#/dispatch?run=UUID&scale=2): a link from a run's page.
+    if (params.get('run')) runInput.value = params.get('run').slice(0, 64);
+    if (Number(params.get('scale')) > 0) scale.value = params.get('scale');
+    const saveUrl = () => writeState({ run: runInput.value.trim(), scale: scale.value }, { scale: '1' });
+    runInput.addEventListener('input', saveUrl);
+    scale.addEventListener('input', saveUrl);
 
     let checkedFor = '';
     runInput.addEventListener('input', () => {

@@ -4,6 +4,9 @@
 import { api, ApiError, getToken } from '../api.js';
 import { on, debounce } from '../events.js';
 import { el, clear, badge, fmtSeconds, errorBox } from '../dom.js';
+import { writeState } from '../url_state.js';
+
+const MAX_SPEC_URL_CHARS = 4000;
 
 /// "4, 8, 16" or "2..8" or "2..16:2" -> [numbers]; throws Error with a message for people.
 export function parseValues(text) {
@@ -45,7 +48,22 @@ function progressBar(p) {
   return [bar, el('div', { class: 'progress-label', text: parts.join(' · ') })];
 }
 
-export function mount(root) {
+/// The spec from the URL (#/launch?spec=JSON), or null.
+function specFromUrl(params) {
+  const text = params.get('spec');
+  if (!text || text.length > MAX_SPEC_URL_CHARS) return null;
+  try {
+    const spec = JSON.parse(text);
+    return spec && typeof spec === 'object' && Array.isArray(spec.scenarios) ? spec : null;
+  } catch {
+    return null;
+  }
+}
+
+const listText = (v) => (Array.isArray(v) ? v.join(', ') : String(v));
+
+export function mount(root, args, params = new URLSearchParams()) {
+  const fromUrl = specFromUrl(params);
   const state = { families: [], planners: [], family: null, lastSpec: null };
   const form = el('div', { class: 'panel grow', 'data-testid': 'launch-form' });
   const batchesBox = el('div', { class: 'panel grow', 'data-testid': 'batches' });
@@ -245,9 +263,11 @@ export function mount(root) {
         return;
       }
       state.lastSpec = spec;
+      writeState({ spec: JSON.stringify(spec).length <= MAX_SPEC_URL_CHARS ? JSON.stringify(spec) : '' });
+      if (launching) return;
       runCount.textContent = `runs: ${r.runs} (${r.runs} processes, up to ${fmtSeconds(r.runs * r.time_limit)} of planning in total)`;
       runCount.dataset.runs = r.runs;
-      submit.disabled = false;
+      submit.disabled = launching;
     } catch (e) {
       if (seq !== validateSeq) return;
       runCount.textContent = 'runs: —';
@@ -260,6 +280,7 @@ export function mount(root) {
     submit.disabled = true;
     validate();
   }
+  let launching = false; // one launch at a time: a second click while the first is in flight does nothing
   for (const i of [nameInput, seedFrom, seedCount, timeLimit, memoryLimit]) i.addEventListener('input', changed);
   familySelect.addEventListener('change', () => {
     renderParams();
@@ -267,13 +288,16 @@ export function mount(root) {
   });
 
   submit.addEventListener('click', async () => {
+    if (launching) return;
     submitted.textContent = '';
+    delete submitted.dataset.batch;
     clearErrors();
     if (!getToken()) {
       formError.textContent = 'Launching needs the server token: use the Token button (top right).';
       return;
     }
     submit.disabled = true;
+    launching = true;
     try {
       const body =
         backendSelect.value === 'slurm'
@@ -284,15 +308,26 @@ export function mount(root) {
             }
           : { spec: buildSpec(), workers: Number(workers.value) };
       const r = await api.post('/api/batches', body);
-      submitted.textContent = `batch ${r.batch_id} ${r.status}: ${r.runs} runs`;
       submitted.dataset.batch = r.batch_id;
+      submitted.dataset.runs = r.runs;
+      showSubmitted(r.batch_id, r.status, null);
       loadBatches();
     } catch (e) {
       showError(e instanceof ApiError ? e.message : String(e));
     } finally {
-      submit.disabled = false;
+      launching = false;
+      submit.disabled = !state.lastSpec;
     }
   });
+
+  /// The line under Launch follows the batch it launched until that batch ends.
+  function showSubmitted(id, status, progress) {
+    if (submitted.dataset.batch !== id) return;
+    const runs = submitted.dataset.runs;
+    const done = progress ? ` · ${progress.done}/${progress.total} done` : '';
+    submitted.textContent = `batch ${id} ${status}: ${runs} runs${done}`;
+    submitted.dataset.status = status;
+  }
 
   // ---- batches ----
   const rows = new Map(); // batch id -> {progressCell, statusCell}
@@ -328,7 +363,12 @@ export function mount(root) {
           el('button', { type: 'button', class: 'small', 'data-testid': 'resume', onclick: () => act(b.id, 'resume') }, 'Resume'),
         );
       }
-      actions.append(' ', el('a', { href: `#/runs/${encodeURIComponent(`batch = "${b.id}"`)}`, text: 'runs' }));
+      actions.append(
+        ' ',
+        el('a', { href: `#/runs?q=${encodeURIComponent(`batch = "${b.id}"`)}`, text: 'runs' }),
+        ' · ',
+        el('a', { href: `#/compare?batch=${encodeURIComponent(b.id)}`, 'data-testid': 'compare-batch', text: 'compare this batch' }),
+      );
       body.append(
         el(
           'tr',
@@ -356,6 +396,7 @@ export function mount(root) {
   const reload = debounce(loadBatches, 300);
   const offs = [
     on('batch', (m) => {
+      if (m.status) showSubmitted(m.id, m.status, m.progress);
       const r = rows.get(m.id);
       if (!r) return reload();
       if (m.progress) clear(r.progressCell).append(...progressBar(m.progress));
@@ -390,8 +431,24 @@ export function mount(root) {
       state.planners = cat.planners;
       for (const f of cat.families) familySelect.append(el('option', { value: f.name, text: f.name }));
       familySelect.value = cat.families.some((f) => f.name === 'sorting') ? 'sorting' : cat.families[0]?.name;
+      const scenario = fromUrl && fromUrl.scenarios[0];
+      if (scenario && cat.families.some((f) => f.name === scenario.family)) familySelect.value = scenario.family;
       renderParams();
-      plannersBox.append(plannerRow({ name: 'lazy-dash', label: 'lazy-dash', task_only: false }), addPlanner);
+      if (fromUrl) {
+        // A shared link: the form as the spec in the URL says (what it does not say stays default).
+        for (const [k, v] of Object.entries((scenario && scenario.params) || {})) {
+          const input = paramsBox.querySelector(`input[data-param="${CSS.escape(k)}"]`);
+          if (input) input.value = listText(v);
+        }
+        if (typeof fromUrl.name === 'string') nameInput.value = fromUrl.name;
+        if (Number.isFinite(fromUrl.time_limit)) timeLimit.value = fromUrl.time_limit;
+        if (Number.isFinite(fromUrl.memory_limit)) memoryLimit.value = fromUrl.memory_limit;
+        if (fromUrl.seeds && Number.isFinite(fromUrl.seeds.from)) seedFrom.value = fromUrl.seeds.from;
+        if (fromUrl.seeds && Number.isFinite(fromUrl.seeds.count)) seedCount.value = fromUrl.seeds.count;
+      }
+      const planners = fromUrl && Array.isArray(fromUrl.planners) && fromUrl.planners.length ? fromUrl.planners.slice(0, 20) : [{ name: 'lazy-dash', label: 'lazy-dash' }];
+      for (const p of planners) plannersBox.append(plannerRow({ name: String(p.name), label: String(p.label || ''), task_only: Boolean(p.settings && p.settings.task_only) }));
+      plannersBox.append(addPlanner);
       changed();
     } catch (e) {
       form.append(errorBox(e.message));

@@ -1,13 +1,19 @@
 // Query: a read-only SQL console on the results database (the same guards as `dashbench db query`:
-// writes, ATTACH, transactions and setting PRAGMAs are refused), with saved example queries.
+// writes, ATTACH, transactions and setting PRAGMAs are refused), with saved example queries. The
+// statement is in the URL (#/query?sql=...), and the result downloads as CSV.
 import { api } from '../api.js';
 import { el, clear, fmtNumber } from '../dom.js';
+import { toCsv, download } from '../export.js';
+import { writeState, readString } from '../url_state.js';
 
 const LAST_KEY = 'dashbench.query.last';
 
-export function mount(root) {
+export function mount(root, args, params = new URLSearchParams()) {
   const sql = el('textarea', { rows: 7, 'data-testid': 'sql', spellcheck: 'false' });
-  sql.value = localStorage.getItem(LAST_KEY) || 'SELECT status, count(*) AS runs FROM dash_runs GROUP BY status';
+  sql.value = readString(params, 'sql') || localStorage.getItem(LAST_KEY) || 'SELECT status, count(*) AS runs FROM dash_runs GROUP BY status';
+  let last = null; // the last result, for the CSV
+  const csv = el('button', { type: 'button', class: 'secondary', disabled: true, 'data-testid': 'query-csv', title: 'the rows shown, as CSV' }, 'Download CSV');
+  csv.addEventListener('click', () => last && download('query.csv', toCsv(last.columns, last.rows), 'text/csv'));
   const run = el('button', { type: 'button', 'data-testid': 'run-query' }, 'Run (Ctrl+Enter)');
   const maxRows = el('select', {}, [100, 1000, 10000].map((n) => el('option', { value: n, text: `at most ${n} rows`, selected: n === 1000 })));
   const status = el('div', { 'data-testid': 'query-status' });
@@ -23,7 +29,7 @@ export function mount(root) {
         { class: 'panel grow', style: 'flex:3' },
         el('div', { class: 'muted', text: 'One read-only SQL statement over the results database. Tables: dash_runs, dash_events, dash_constraints, dash_expansions, dash_phases, dash_counters, dash_progress, dash_batches, dash_run_tags; views: dash_timeline and Planner Arena\u2019s experiments, plannerConfigs, runs, progress.' }),
         sql,
-        el('div', { class: 'toolbar', style: 'margin-top:6px' }, run, maxRows, status),
+        el('div', { class: 'toolbar', style: 'margin-top:6px' }, run, maxRows, csv, status),
         result,
       ),
       el('div', { class: 'panel grow', style: 'flex:1' }, el('h2', { text: 'Examples' }), examples),
@@ -32,6 +38,9 @@ export function mount(root) {
 
   async function execute() {
     localStorage.setItem(LAST_KEY, sql.value);
+    writeState({ sql: sql.value.length <= 4000 ? sql.value : '' });
+    last = null;
+    csv.disabled = true;
     status.className = 'muted';
     status.textContent = 'running…';
     clear(result);
@@ -41,6 +50,8 @@ export function mount(root) {
       const ms = (performance.now() - started).toFixed(0);
       status.className = 'ok';
       status.textContent = `${r.rows.length} rows${r.truncated ? ' (stopped at the row limit)' : ''} in ${ms} ms`;
+      last = r;
+      csv.disabled = false;
       const head = el('tr', {}, r.columns.map((c) => el('th', { text: c })));
       const body = el(
         'tbody',
@@ -50,7 +61,7 @@ export function mount(root) {
       result.append(el('table', { class: 'data' }, el('thead', {}, head), body));
     } catch (e) {
       status.className = 'error';
-      status.textContent = e.message;
+      status.textContent = e.message.replace(/^(refused:\s*)+/i, 'refused: ');
     }
   }
   run.addEventListener('click', execute);
@@ -80,5 +91,6 @@ export function mount(root) {
       }
     })
     .catch((e) => examples.append(el('li', { class: 'error', text: e.message })));
+  if (params.get('sql')) execute();
   return null;
 }

@@ -1,16 +1,21 @@
-// Run detail: one run's metadata, tags and note; its phase breakdown; a timeline of what the planner
-// added when (representation sizes over time, constraints with the conflict that caused each, task
-// space expansions); its events, paged; and a 3D view of its plan with a time scrubber. A running
-// run's sizes grow live.
+// Run detail: one run's metadata, tags and note, links to its batch and downloads of its scene and
+// plan; its phase breakdown; a timeline of what the planner added when (representation sizes over
+// time, constraints with the conflict that caused each, task space expansions); its events, paged;
+// and a 3D view of its plan with a time scrubber. Other runs can be overlaid (#/run/UUID?overlay=A,B):
+// their sizes and marks join the plots and the first one's plan plays beside this one on the same
+// clock. A running run's sizes grow live, and its plan appears when it ends. Keys: Space plays or
+// pauses, arrows step 1 % (Shift: to the next plan point), Enter in the tag box adds the tag.
 import { api, query } from '../api.js';
 import { on } from '../events.js';
 import { el, clear, badge, fmtNumber, fmtSeconds, paramsText, errorBox, table } from '../dom.js';
-import { drawChart, valueAxis, axisTitle, destroyCharts } from '../charts.js';
-import { PHASE_COLOURS, PHASE_LABELS, LAYER_STYLES, OKABE_ITO } from '../palette.js';
+import { drawChart, valueAxis, axisTitle, destroyCharts, chartPanel } from '../charts.js';
+import { PHASE_COLOURS, PHASE_LABELS, LAYER_STYLES } from '../palette.js';
+import { drawSizesOverTime, drawMarks, LAYERS } from '../run_timeline.js';
+import { readList, writeState } from '../url_state.js';
+import { PlaybackControls } from '../run_playback.js';
 
-const LAYERS = ['task', 'task_extended', 'motion', 'motion_extended'];
-const LAYER_COLOURS = { task: '#0072B2', task_extended: '#56B4E9', motion: '#D55E00', motion_extended: '#E69F00' };
-const MARK_ROWS = ['frontier', 'history', 'motion', 'interaction', 'task space expansion'];
+const MAX_OVERLAYS = 5;
+const UUID_RE = /^[0-9A-Fa-f-]{8,64}$/;
 
 async function pickRun(root) {
   root.append(el('h1', { text: 'Run detail' }), el('p', { class: 'muted', text: 'Pick a run (or open one from the Runs page).' }));
@@ -26,61 +31,57 @@ async function pickRun(root) {
   );
 }
 
-export function mount(root, args) {
+export function mount(root, args, params = new URLSearchParams()) {
   const uuid = args[0];
   if (!uuid) {
     pickRun(root).catch((e) => root.append(errorBox(e.message)));
     return null;
   }
+  let overlays = readList(params, 'overlay').filter((u) => UUID_RE.test(u) && u !== uuid).slice(0, MAX_OVERLAYS);
   let viewer = null;
-  let playing = false;
-  let raf = 0;
+  let overlayViewer = null;
+  let viewerStatus = null; // the run status the 3D view was built for
   let progress = null; // the timeline's size series, extended live
+  let timeline = null;
+  let detail = null;
+  const others = new Map(); // overlaid uuid -> {progress, timeline, end}
+  const playback = new PlaybackControls();
+
   const header = el('div', { class: 'panel', 'data-testid': 'run-header' });
-  const phasesBox = el('div', { class: 'chart-box', 'data-testid': 'chart-phases', 'data-points': '0' });
+  const phases = chartPanel({ title: 'Phase breakdown', testid: 'chart-phases', name: `run-${uuid.slice(0, 8)}-phases`, help: 'Seconds per phase in each planning iteration (stacked).' });
   const phaseTable = el('div', {});
-  const sizesBox = el('div', { class: 'chart-box', 'data-testid': 'chart-timeline', 'data-points': '0' });
-  const marksBox = el('div', { class: 'chart-box', 'data-testid': 'chart-marks', 'data-points': '0', style: 'height:230px' });
+  phases.panel.append(phaseTable);
+  const sizes = chartPanel({ title: 'Representation sizes over time', testid: 'chart-timeline', name: `run-${uuid.slice(0, 8)}-sizes`, help: 'Vertices of each representation at each stored progress snapshot (log scale); overlaid runs in their own colours, layers by line style.' });
+  const marks = chartPanel({ title: 'Timeline: constraints and expansions', testid: 'chart-marks', name: `run-${uuid.slice(0, 8)}-constraints`, help: 'Each mark is a constraint (by kind) or a task space expansion; hover for what it says and the conflict that caused it.' });
+  marks.box.style.height = '260px';
   const constraintsBox = el('div', {});
+  marks.panel.append(constraintsBox);
+  const overlayInput = el('input', { type: 'text', size: 44, placeholder: 'uuids of runs to overlay, comma separated', 'data-testid': 'overlay-input', value: overlays.join(', ') });
+  const overlayApply = el('button', { type: 'button', class: 'small', 'data-testid': 'overlay-apply' }, 'Overlay');
+  const overlayStatus = el('span', { class: 'error', 'data-testid': 'overlay-status' });
   const eventsBox = el('div', { 'data-testid': 'events' });
   const viewerBox = el('div', { class: 'viewer', 'data-testid': 'viewer' });
-  const viewerNote = el('div', { class: 'muted' });
-  const scrub = el('input', { type: 'range', min: 0, max: 1000, value: 0, step: 1, 'data-testid': 'scrubber' });
-  const play = el('button', { type: 'button', 'data-testid': 'play' }, 'Play');
-  const speed = el('select', {}, [0.5, 1, 2, 5, 10].map((s) => el('option', { value: s, text: `${s}×`, selected: s === 2 })));
-  const timeLabel = el('span', { class: 'mono', 'data-testid': 'time-label', text: 't = 0.00 s' });
+  const overlayBox = el('div', { class: 'viewer', 'data-testid': 'viewer-overlay', hidden: true });
+  const viewers = el('div', { class: 'viewers' }, viewerBox, overlayBox);
+  const viewerNote = el('div', { class: 'muted', 'data-testid': 'viewer-note' });
+  // The dispatch panel (run_dispatch.js) mounts here.
+  const dispatchSlot = el('div', { 'data-testid': 'run-dispatch-slot' });
 
   root.append(
     header,
-    el(
-      'div',
-      { class: 'grid2' },
-      el('div', { class: 'panel' }, el('h2', { text: 'Phase breakdown' }), el('div', { class: 'muted', text: 'Seconds per phase in each planning iteration (stacked).' }), phasesBox, phaseTable),
-      el(
-        'div',
-        { class: 'panel' },
-        el('h2', { text: 'Representation sizes over time' }),
-        el('div', { class: 'muted', text: 'Vertices of each representation at each progress snapshot (log scale).' }),
-        sizesBox,
-      ),
-    ),
-    el(
-      'div',
-      { class: 'panel' },
-      el('h2', { text: 'Timeline: constraints and expansions' }),
-      el('div', { class: 'muted', text: 'Each mark is a constraint (by kind) or a task space expansion; hover for what it says and the conflict that caused it.' }),
-      marksBox,
-      constraintsBox,
-    ),
+    el('div', { class: 'panel toolbar' }, el('strong', { text: 'Overlay other runs' }), overlayInput, overlayApply, overlayStatus),
+    el('div', { class: 'grid2' }, phases.panel, sizes.panel),
+    marks.panel,
     el(
       'div',
       { class: 'panel' },
       el('h2', { text: 'Plan in 3D' }),
       viewerNote,
-      viewerBox,
-      el('div', { class: 'scrubber' }, play, el('label', {}, 'speed', speed), scrub, timeLabel),
-      el('div', { class: 'muted', text: 'Drag to orbit, scroll to zoom, right-drag to pan. Robots are drawn from their collision bodies (data/robots); outlines mark object goals.' }),
+      viewers,
+      playback.element,
+      el('div', { class: 'muted', text: 'Drag to orbit, scroll to zoom, right-drag to pan. Space plays or pauses; ← → step 1 %, Shift+← → to the next plan point. Robots are drawn from their collision bodies (data/robots); outlines mark object goals.' }),
     ),
+    dispatchSlot,
     el('div', { class: 'panel' }, el('h2', { text: 'Events' }), eventsBox),
   );
 
@@ -88,13 +89,18 @@ export function mount(root, args) {
     const r = d.run;
     const tags = el('span', { 'data-testid': 'tags' });
     for (const t of d.tags) {
-      tags.append(
-        el('span', { class: 'chip' }, t, el('button', { type: 'button', title: `remove ${t}`, onclick: () => editTags([], [t]) }, '×')),
-      );
+      tags.append(el('span', { class: 'chip' }, t, el('button', { type: 'button', title: `remove ${t}`, onclick: () => editTags([], [t]) }, '×')));
     }
-    const tagInput = el('input', { type: 'text', size: 12, placeholder: 'new tag', 'data-testid': 'tag-input' });
+    const tagInput = el('input', { type: 'text', size: 12, placeholder: 'new tag (Enter)', 'data-testid': 'tag-input' });
     const tagAdd = el('button', { type: 'button', class: 'small', 'data-testid': 'tag-add' }, 'Add tag');
-    tagAdd.addEventListener('click', () => tagInput.value.trim() && editTags([tagInput.value.trim()], []));
+    const addTag = () => tagInput.value.trim() && editTags([tagInput.value.trim()], []);
+    tagAdd.addEventListener('click', addTag);
+    tagInput.addEventListener('keydown', (e) => {
+      if (e.key === 'Enter') {
+        e.preventDefault();
+        addTag();
+      }
+    });
     const note = el('textarea', { rows: 2, 'data-testid': 'note', placeholder: 'a note about this run' });
     note.value = d.note || '';
     const noteSave = el('button', { type: 'button', class: 'small', 'data-testid': 'note-save' }, 'Save note');
@@ -107,22 +113,41 @@ export function mount(root, args) {
         noteStatus.textContent = e.message;
       }
     });
+    const settings = paramsText(d.settings);
+    const batch = r.batch
+      ? el(
+          'span',
+          {},
+          el('a', { href: `#/runs?q=${encodeURIComponent(`batch = "${r.batch}"`)}`, 'data-testid': 'batch-link', class: 'mono', text: r.batch }),
+          ' · ',
+          el('a', { href: `#/compare?family=${encodeURIComponent(r.family)}&batch=${encodeURIComponent(r.batch)}`, text: 'compare this batch' }),
+        )
+      : '—';
+    const downloads = el(
+      'span',
+      {},
+      el('a', { href: `/api/runs/${uuid}/scene`, download: `scene-${uuid.slice(0, 8)}.json`, 'data-testid': 'download-scene' }, 'scene JSON'),
+      r.has_plan
+        ? [' · ', el('a', { href: `/api/runs/${uuid}/plan`, download: `plan-${uuid.slice(0, 8)}.json`, 'data-testid': 'download-plan' }, 'plan JSON'), ' · ', el('a', { href: `#/dispatch?run=${uuid}`, 'data-testid': 'dispatch-link' }, 'dispatch this plan to arms')]
+        : el('span', { class: 'muted', text: ' · no plan' }),
+    );
     const kv = [
       ['uuid', r.uuid],
       ['status', r.status],
       ['family', `${r.family}  ${paramsText(d.params)}  seed ${r.seed}`],
-      ['planner', `${r.planner} (${r.config})  ${JSON.stringify(d.settings)}`],
-      ['batch', r.batch || '—'],
+      ['planner', `${r.planner} (${r.config})${settings ? `  ${settings}` : ''}`],
+      ['batch', batch],
       ['scene', r.scene || '—'],
       ['total time', r.total_time === null ? '—' : fmtSeconds(r.total_time)],
       ['makespan', r.makespan === null ? '—' : `${fmtNumber(r.makespan)} s`],
       ['sizes', LAYERS.map((l) => `${LAYER_STYLES[l].label} ${fmtNumber(r[`${l}_vertices`])}/${fmtNumber(r[`${l}_hyperarcs`])}`).join('  ')],
       ['events', Object.entries(d.event_counts).map(([k, v]) => `${k} ${v}`).join(', ')],
+      ['download', downloads],
     ];
     if (r.error) kv.push(['error', r.error]);
     clear(header).append(
       el('h1', {}, 'Run ', el('span', { class: 'mono', text: r.uuid.slice(0, 8) }), ' ', badge(r.status)),
-      el('dl', { class: 'kv' }, kv.map(([k, v]) => [el('dt', { text: k }), el('dd', { text: String(v) })])),
+      el('dl', { class: 'kv' }, kv.map(([k, v]) => [el('dt', { text: k }), el('dd', {}, v instanceof Node ? v : String(v))])),
       el('div', { class: 'toolbar', style: 'margin-top:8px' }, tags, tagInput, tagAdd),
       el('div', { class: 'toolbar' }, note, noteSave, noteStatus),
     );
@@ -132,6 +157,7 @@ export function mount(root, args) {
     try {
       await api.post(`/api/runs/${uuid}/tags`, { add, remove });
       await loadDetail();
+      header.querySelector('[data-testid=tag-input]')?.focus();
     } catch (e) {
       header.append(errorBox(e.message));
     }
@@ -139,16 +165,18 @@ export function mount(root, args) {
 
   function renderPhases(d) {
     const iterations = [...new Set(d.phase_iterations.map((p) => p.iteration))].sort((a, b) => a - b);
-    const phases = Object.keys(PHASE_COLOURS);
-    const datasets = phases
+    const names = Object.keys(PHASE_COLOURS);
+    const datasets = names
       .map((p) => ({
         label: PHASE_LABELS[p],
         backgroundColor: PHASE_COLOURS[p],
         data: iterations.map((it) => d.phase_iterations.filter((x) => x.iteration === it && x.phase === p).reduce((s, x) => s + x.seconds, 0)),
       }))
       .filter((ds) => ds.data.some((v) => v > 0));
+    const csvRows = [];
+    for (const ds of datasets) iterations.forEach((it, i) => csvRows.push({ iteration: it, phase: ds.label, seconds: ds.data[i] }));
     drawChart(
-      phasesBox,
+      phases.box,
       {
         type: 'bar',
         data: { labels: iterations.map(String), datasets },
@@ -158,78 +186,30 @@ export function mount(root, args) {
         },
       },
       datasets.reduce((n, ds) => n + ds.data.filter((v) => v > 0).length, 0),
+      'no phase times stored for this run',
+      { csv: () => ({ columns: ['iteration', 'phase', 'seconds'], rows: csvRows }) },
     );
     const total = d.run.total_time || 0;
-    const rows = phases.map((p) => ({ phase: PHASE_LABELS[p], seconds: d.phases[p], share: total && d.phases[p] !== null ? `${((100 * d.phases[p]) / total).toFixed(1)}%` : '' }));
+    const rows = names.map((p) => ({ phase: PHASE_LABELS[p], seconds: d.phases[p], share: total && d.phases[p] !== null ? `${((100 * d.phases[p]) / total).toFixed(1)}%` : '' }));
     rows.push({ phase: 'total', seconds: d.run.total_time, share: '' });
     clear(phaseTable).append(table(['phase', 'seconds', 'share'], rows, { cell: (c, v) => (c === 'seconds' && typeof v === 'number' ? fmtSeconds(v) : v) }));
   }
 
-  function drawSizes() {
-    const cols = progress.columns;
-    const ti = cols.indexOf('t');
-    const datasets = LAYERS.map((l) => {
-      const i = cols.indexOf(`${l}_vertices`);
-      return {
-        label: `${LAYER_STYLES[l].label} vertices`,
-        data: progress.rows.filter((row) => row[i] > 0).map((row) => ({ x: row[ti], y: row[i] })),
-        borderColor: LAYER_COLOURS[l],
-        backgroundColor: LAYER_COLOURS[l],
-        borderDash: LAYER_STYLES[l].dash,
-        pointRadius: 2,
-        stepped: 'before',
-      };
-    }).filter((ds) => ds.data.length > 0);
-    drawChart(
-      sizesBox,
-      {
-        type: 'line',
-        data: { datasets },
-        options: {
-          plugins: { tooltip: { callbacks: { label: (c) => `${c.dataset.label}: ${fmtNumber(c.raw.y)} at ${fmtSeconds(c.raw.x)}` } } },
-          scales: { x: { type: 'linear', title: axisTitle('time since the run started (s)') }, y: valueAxis('vertices (count, log scale)', { log: true }) },
-        },
-      },
-      datasets.reduce((n, ds) => n + ds.data.length, 0),
-    );
+  function runEnd() {
+    return detail && typeof detail.run.total_time === 'number' ? detail.run.total_time : 0;
+  }
+
+  function drawTimelines() {
+    if (!progress || !timeline) return;
+    const list = overlays.filter((u) => others.has(u)).map((u) => ({ uuid: u, ...others.get(u) }));
+    drawSizesOverTime(sizes.box, [{ uuid, progress, end: runEnd() }, ...list]);
+    drawMarks(marks.box, [{ uuid, timeline, end: runEnd() }, ...list]);
   }
 
   function renderTimeline(tl) {
+    timeline = tl;
     progress = tl.progress;
-    drawSizes();
-    const marks = [];
-    for (const c of tl.constraints) marks.push({ x: c.t, y: MARK_ROWS.indexOf(c.kind), item: c, what: `${c.kind} constraint ${c.action}: ${c.content || ''}`, cause: c.conflict });
-    for (const e of tl.expansions) marks.push({ x: e.t, y: 4, item: e, what: `expansion of ${e.object_label}: ${e.added || ''}`, cause: e.reason });
-    const datasets = MARK_ROWS.map((row, k) => ({
-      label: row,
-      data: marks.filter((m) => m.y === k),
-      backgroundColor: OKABE_ITO[k],
-      borderColor: OKABE_ITO[k],
-      pointStyle: k === 4 ? 'triangle' : 'circle',
-      pointRadius: 5,
-    })).filter((ds) => ds.data.length > 0);
-    drawChart(
-      marksBox,
-      {
-        type: 'scatter',
-        data: { datasets },
-        options: {
-          plugins: {
-            tooltip: {
-              callbacks: {
-                label: (c) => [`t = ${fmtSeconds(c.raw.x)}: ${c.raw.what}`.slice(0, 160), c.raw.cause ? `caused by: ${c.raw.cause}`.slice(0, 160) : ''].filter(Boolean),
-              },
-            },
-          },
-          scales: {
-            x: { type: 'linear', title: axisTitle('time since the run started (s)') },
-            y: { min: -0.5, max: 4.5, title: axisTitle('kind'), ticks: { stepSize: 1, callback: (v) => MARK_ROWS[v] || '' } },
-          },
-        },
-      },
-      marks.length,
-      'no constraints and no task space expansions in this run',
-    );
+    drawTimelines();
     clear(constraintsBox);
     if (tl.constraints.length) {
       constraintsBox.append(
@@ -255,6 +235,26 @@ export function mount(root, args) {
     }
   }
 
+  async function loadOverlays() {
+    overlayStatus.textContent = '';
+    writeState({ overlay: overlays });
+    const failed = [];
+    await Promise.all(
+      overlays.map(async (u) => {
+        if (others.has(u)) return;
+        try {
+          const [d, tl] = await Promise.all([api.get(`/api/runs/${u}`), api.get(`/api/runs/${u}/timeline`)]);
+          others.set(u, { progress: tl.progress, timeline: tl, end: d.run.total_time || 0, detail: d });
+        } catch (e) {
+          failed.push(`${u.slice(0, 8)}: ${e.message}`);
+        }
+      }),
+    );
+    overlays = overlays.filter((u) => others.has(u));
+    overlayStatus.textContent = failed.join('; ');
+    drawTimelines();
+  }
+
   const events = { type: 'all', offset: 0, limit: 100 };
   async function loadEvents() {
     const d = await api.get(`/api/runs/${uuid}/events${query(events)}`);
@@ -272,100 +272,105 @@ export function mount(root, args) {
     );
   }
 
+  /// A viewer of run `id` in `box`; plan only when the run has one (no request that must fail).
+  async function buildViewer(box, id, run, stale = () => false) {
+    const [scene, models] = await Promise.all([api.get(`/api/runs/${id}/scene`), api.get('/api/robots')]);
+    const plan = run.has_plan ? await api.get(`/api/runs/${id}/plan`) : null;
+    const { PlanViewer } = await import('../viewer3d.js');
+    if (stale()) return null;
+    if (box === viewerBox && viewer) {
+      viewer.dispose();
+      viewer = null;
+    }
+    clear(box);
+    const v = new PlanViewer(box, scene, plan, models.models);
+    box.dataset.ready = '1';
+    box.dataset.hasPlan = plan ? '1' : '0';
+    return { viewer: v, scene, plan };
+  }
+
+  let viewerSeq = 0; // the latest loadViewer wins (a run that ends while its page is loading)
   async function loadViewer(d) {
+    const seq = ++viewerSeq;
+    viewerStatus = d.run.status;
     try {
-      const [scene, models] = await Promise.all([api.get(`/api/runs/${uuid}/scene`), api.get('/api/robots')]);
-      let plan = null;
-      try {
-        plan = await api.get(`/api/runs/${uuid}/plan`);
-      } catch (e) {
-        if (e.status !== 404) throw e;
+      const built = await buildViewer(viewerBox, uuid, d.run, () => seq !== viewerSeq);
+      if (!built) return;
+      viewer = built.viewer; // buildViewer disposed the one before
+      let note = built.plan
+        ? `${built.scene.name}: ${built.scene.robots.length} robots, ${built.scene.objects.length} objects; makespan ${fmtNumber(viewer.player.duration)} s.`
+        : `This run has no motion plan (${d.run.status}${d.settings && d.settings.task_only ? ', task only' : ''}): the robots stand at home.${d.run.status === 'running' ? ' The plan appears here when the run ends.' : ''}`;
+      if (overlayViewer) overlayViewer.dispose();
+      overlayViewer = null;
+      overlayBox.hidden = true;
+      const first = overlays.find((u) => others.get(u)?.detail?.run.has_plan);
+      if (first) {
+        overlayBox.hidden = false;
+        const o = await buildViewer(overlayBox, first, others.get(first).detail.run, () => seq !== viewerSeq);
+        if (!o) return;
+        overlayViewer = o.viewer;
+        note += ` Right: ${first.slice(0, 8)} (makespan ${fmtNumber(overlayViewer.player.duration)} s), on the same clock.`;
       }
-      const { PlanViewer } = await import('../viewer3d.js');
-      viewer = new PlanViewer(viewerBox, scene, plan, models.models);
-      viewerBox.dataset.ready = '1';
-      viewerBox.dataset.hasPlan = plan ? '1' : '0';
-      if (!plan) {
-        viewerNote.textContent = `This run has no motion plan (${d.run.status}${d.settings && d.settings.task_only ? ', task only' : ''}): the robots stand at home.`;
-        scrub.disabled = true;
-        play.disabled = true;
-      } else {
-        viewerNote.textContent = `${scene.name}: ${scene.robots.length} robots, ${scene.objects.length} objects; makespan ${fmtNumber(viewer.player.duration)} s.`;
-      }
+      viewerNote.textContent = note;
+      playback.setViewers([viewer, overlayViewer]);
     } catch (e) {
       viewerNote.textContent = '';
       viewerBox.append(errorBox(`3D view: ${e.message}`));
     }
   }
 
-  function showTime(t) {
-    if (!viewer) return;
-    viewer.setTime(t);
-    timeLabel.textContent = `t = ${viewer.time.toFixed(2)} s / ${viewer.player.duration.toFixed(2)} s`;
-    scrub.value = String(Math.round((1000 * viewer.time) / Math.max(1e-9, viewer.player.duration)));
-  }
-  scrub.addEventListener('input', () => {
-    if (viewer) showTime((Number(scrub.value) / 1000) * viewer.player.duration);
-  });
-  play.addEventListener('click', () => {
-    if (!viewer) return;
-    playing = !playing;
-    play.textContent = playing ? 'Pause' : 'Play';
-    if (!playing) return;
-    if (viewer.time >= viewer.player.duration) showTime(0);
-    let last = performance.now();
-    const step = (now) => {
-      if (!playing) return;
-      showTime(viewer.time + ((now - last) / 1000) * Number(speed.value));
-      last = now;
-      if (viewer.time >= viewer.player.duration) {
-        playing = false;
-        play.textContent = 'Play';
-        return;
-      }
-      raf = requestAnimationFrame(step);
-    };
-    raf = requestAnimationFrame(step);
-  });
-
   async function loadDetail() {
     const d = await api.get(`/api/runs/${uuid}`);
+    detail = d;
     renderHeader(d);
     renderPhases(d);
     return d;
   }
 
+  overlayApply.addEventListener('click', async () => {
+    overlays = overlayInput.value.split(/[\s,]+/).map((s) => s.trim()).filter((u) => UUID_RE.test(u) && u !== uuid).slice(0, MAX_OVERLAYS);
+    await loadOverlays();
+    overlayInput.value = overlays.join(', ');
+    if (detail) await loadViewer(detail);
+  });
+  overlayInput.addEventListener('keydown', (e) => e.key === 'Enter' && overlayApply.click());
+
   const offs = [
     on('sizes', (m) => {
-      if (m.uuid !== uuid || !progress || m.t === null) return;
-      const row = progress.columns.map((c) => m[c] ?? null);
-      progress.rows.push(row);
-      drawSizes();
+      if (m.uuid !== uuid || !progress || m.t === null || m.t === undefined) return;
+      const ti = progress.columns.indexOf('t');
+      const last = progress.rows[progress.rows.length - 1];
+      if (last && last[ti] >= m.t) return; // the same snapshot again (its event count changed)
+      progress.rows.push(progress.columns.map((c) => m[c] ?? null));
+      drawTimelines();
     }),
     on('run', async (m) => {
       if (m.uuid !== uuid) return;
       const d = await loadDetail();
       renderTimeline(await api.get(`/api/runs/${uuid}/timeline`));
-      if (d.run.status !== 'running' && !viewer) loadViewer(d);
+      if (d.run.status !== 'running') loadEvents().catch(() => {}); // the events written since
+      // A run opened while running: build the 3D view again once it has ended (with its plan).
+      if (d.run.status !== 'running' && viewerStatus !== d.run.status) await loadViewer(d);
     }),
   ];
 
   (async () => {
     try {
       const d = await loadDetail();
+      if (overlays.length) await loadOverlays();
       renderTimeline(await api.get(`/api/runs/${uuid}/timeline`));
       await loadEvents();
-      await loadViewer(d);
+      await loadViewer(detail || d); // the latest detail: the run may have ended meanwhile
     } catch (e) {
       root.prepend(errorBox(e.message));
     }
   })();
 
   return () => {
-    playing = false;
-    cancelAnimationFrame(raf);
+    playback.dispose();
     offs.forEach((off) => off());
     destroyCharts(root);
     if (viewer) viewer.dispose();
+    if (overlayViewer) overlayViewer.dispose();
   };
 }

@@ -1,9 +1,11 @@
-// Runs: every run in one sortable, filterable table (text filter: `planner = lazy-dash and robots >= 8
-// and status = solved`), a column chooser, tags on the selected runs, CSV export of what is shown,
-// and live updates as runs start and finish. Selected runs go to Compare's "diff only" view.
+// Runs: every run in one sortable, filterable table (text filter: `planner = lazy-dash and (robots = 4
+// or robots = 8) and status = solved`), a column chooser, tags on the selected runs, CSV export of
+// what is shown, and live updates as runs start and finish. Filter, sort and page are in the URL
+// (#/runs?q=...&sort=total_time&order=asc). Selected runs go to Compare (plots and side by side).
 import { api, query } from '../api.js';
 import { on, debounce } from '../events.js';
 import { el, clear, badge, fmtNumber, fmtSeconds, errorBox } from '../dom.js';
+import { writeState, readString, readNumber, readList } from '../url_state.js';
 
 const COLUMNS_KEY = 'dashbench.runs.columns';
 export const SELECTED_KEY = 'dashbench.selected';
@@ -20,17 +22,22 @@ function saveSelected(list) {
   sessionStorage.setItem(SELECTED_KEY, JSON.stringify(list));
 }
 
-export function mount(root, args) {
+const PAGE_SIZES = [25, 50, 100, 250, 1000];
+const MAX_COMPARE_SELECTION = 40; // runs a "compare selected" link names one by one
+const MAX_URL_SELECTION = 50; // selected runs kept in the URL
+
+export function mount(root, args, urlParams = new URLSearchParams()) {
   const state = {
     columns: [],
     shown: null,
-    filter: args[0] || '',
-    sort: 'id',
-    order: 'desc',
-    limit: 50,
-    offset: 0,
+    filter: readString(urlParams, 'q', args[0] || ''),
+    sort: readString(urlParams, 'sort', 'id'),
+    order: readString(urlParams, 'order', 'desc') === 'asc' ? 'asc' : 'desc',
+    limit: PAGE_SIZES.includes(readNumber(urlParams, 'limit', 50)) ? readNumber(urlParams, 'limit', 50) : 50,
+    offset: Math.max(0, Math.floor(readNumber(urlParams, 'offset', 0))),
     total: 0,
-    selected: new Set(selectedRuns()),
+    selected: new Set(urlParams.has('sel') ? readList(urlParams, 'sel').slice(0, MAX_URL_SELECTION) : selectedRuns()),
+    families: new Map(), // uuid -> family of the runs seen, for the compare link
   };
   const filterInput = el('input', {
     type: 'text',
@@ -62,7 +69,7 @@ export function mount(root, args) {
       el(
         'div',
         { class: 'muted' },
-        'Filter: FIELD OP VALUE joined by "and"; OP is = != < <= > >= ~ (contains) !~. Fields are the columns (parameters too) and tag.',
+        'Filter: FIELD OP VALUE joined by "and" and "or", grouped with ( ); OP is = != < <= > >= ~ (contains) !~. Fields are the columns (parameters too) and tag. Click or press Enter on a column header to sort.',
       ),
       filterError,
       columnsPanel,
@@ -75,11 +82,27 @@ export function mount(root, args) {
   function updateSelectionInfo() {
     selectionInfo.textContent = state.selected.size ? `${state.selected.size} selected` : '';
     saveSelected([...state.selected]);
+    saveState();
+    const uuids = [...state.selected];
+    const family = state.families.get(uuids[0]);
+    let href = `#/compare?runs=${uuids.slice(0, 50).join(',')}`;
+    if (uuids.length && uuids.length <= MAX_COMPARE_SELECTION) {
+      href += `&q=${encodeURIComponent(uuids.map((u) => `uuid = "${u}"`).join(' or '))}`;
+      if (family) href += `&family=${encodeURIComponent(family)}`;
+    }
+    compareLink.href = href;
   }
 
-  function shownColumns() {
+  function saveState() {
+    const sel = [...state.selected];
+    writeState({ q: state.filter, sort: state.sort, order: state.order, limit: state.limit, offset: state.offset, sel: sel.length <= MAX_URL_SELECTION ? sel : [] }, { sort: 'id', order: 'desc', limit: 50, offset: 0 });
+  }
+
+  /// The chosen columns; by default the usual ones, less parameters that none of the listed runs has
+  /// (a parameter of another family) so that the table fits the screen.
+  function shownColumns(list = state.lastList) {
     if (state.shown) return state.columns.filter((c) => state.shown.includes(c.name));
-    return state.columns.filter((c) => c.shown);
+    return state.columns.filter((c) => c.shown && (c.group !== 'param' || !list || list.runs.some((r) => r[c.name] !== null && r[c.name] !== undefined)));
   }
 
   function renderColumnsPanel() {
@@ -114,12 +137,28 @@ export function mount(root, args) {
       {},
       el('th', {}, ''),
       cols.map((c) => {
-        const th = el('th', { class: `sortable ${state.sort === c.name ? `sorted-${state.order}` : ''}`, title: c.name, text: c.label });
-        th.addEventListener('click', () => {
+        const sorted = state.sort === c.name;
+        const th = el('th', {
+          class: `sortable ${sorted ? `sorted-${state.order}` : ''}`,
+          title: `${c.name}: click or Enter to sort`,
+          text: c.label,
+          tabindex: 0,
+          'data-column': c.name,
+          'aria-sort': sorted ? (state.order === 'asc' ? 'ascending' : 'descending') : 'none',
+        });
+        const sortBy = () => {
           state.order = state.sort === c.name && state.order === 'desc' ? 'asc' : 'desc';
           state.sort = c.name;
           state.offset = 0;
+          state.focus = c.name;
           load();
+        };
+        th.addEventListener('click', sortBy);
+        th.addEventListener('keydown', (e) => {
+          if (e.key === 'Enter' || e.key === ' ') {
+            e.preventDefault();
+            sortBy();
+          }
         });
         return th;
       }),
@@ -143,6 +182,12 @@ export function mount(root, args) {
       }),
     );
     clear(tableBox).append(el('table', { class: 'data' }, el('thead', {}, head), body));
+    if (state.focus) {
+      tableBox.querySelector(`th[data-column="${state.focus}"]`)?.focus();
+      state.focus = null;
+    }
+    for (const r of list.runs) state.families.set(r.uuid, r.family);
+    updateSelectionInfo();
     total.textContent = `${list.total} runs`;
     total.dataset.total = list.total;
     clear(pager);
@@ -158,7 +203,7 @@ export function mount(root, args) {
       state.offset += state.limit;
       load();
     });
-    const size = el('select', {}, [25, 50, 100, 250, 1000].map((n) => el('option', { value: n, text: `${n} per page`, selected: n === state.limit })));
+    const size = el('select', {}, PAGE_SIZES.map((n) => el('option', { value: n, text: `${n} per page`, selected: n === state.limit })));
     size.addEventListener('change', () => {
       state.limit = Number(size.value);
       state.offset = 0;
@@ -172,15 +217,23 @@ export function mount(root, args) {
   }
 
   async function load() {
-    csvLink.href = `/api/runs.csv${query({ ...params(), columns: shownColumns().map((c) => c.name).join(',') })}`;
+    saveState();
     try {
       const list = await api.get(`/api/runs${query({ ...params(), limit: state.limit, offset: state.offset })}`);
+      state.lastList = list;
+      csvLink.href = `/api/runs.csv${query({ ...params(), columns: shownColumns(list).map((c) => c.name).join(',') })}`;
       filterError.textContent = '';
       filterInput.classList.remove('invalid');
       render(list);
     } catch (e) {
+      // No table under an error: the old rows would look like the answer to the new filter.
+      state.lastList = null;
       filterError.textContent = e.message;
       filterInput.classList.add('invalid');
+      clear(tableBox);
+      clear(pager);
+      total.textContent = '';
+      delete total.dataset.total;
     }
   }
 
@@ -200,7 +253,6 @@ export function mount(root, args) {
   apply.addEventListener('click', () => {
     state.filter = filterInput.value.trim();
     state.offset = 0;
-    history.replaceState(null, '', `#/runs/${encodeURIComponent(state.filter)}`);
     load();
   });
   filterInput.addEventListener('keydown', (e) => {

@@ -1,0 +1,138 @@
+#!/usr/bin/env node
+// Unit tests of the dashboard's pure modules under Node (no browser): the Compare page's statistics
+// (quantiles, grouping into series, per-scene ratios, Planner Arena's solved-against-time curve with
+// unsolved runs kept in the denominator) and the SVG recorder's colour and path output.
+//   node tests/browser/web_units.mjs
+import assert from 'node:assert/strict';
+import path from 'node:path';
+import { fileURLToPath, pathToFileURL } from 'node:url';
+
+const WEB = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..', 'web', 'js');
+const data = await import(pathToFileURL(path.join(WEB, 'compare_data.js')));
+const svg = await import(pathToFileURL(path.join(WEB, 'svg_context.js')));
+const url = await import(pathToFileURL(path.join(WEB, 'url_state.js')));
+
+let failed = 0;
+function test(name, fn) {
+  try {
+    fn();
+    console.log(`PASS ${name}`);
+  } catch (e) {
+    failed += 1;
+    console.log(`FAIL ${name}: ${e.stack || e}`);
+  }
+}
+
+const run = (over) => ({ family: 'sorting', robots: 2, objects: 4, seed: 1, config: 'lazy-dash', planner: 'lazy-dash', settings: '{}', status: 'solved', end_time: 'x', time_limit: 10, ...over });
+
+test('quantiles follow type 7 (numpy linear)', () => {
+  assert.equal(data.quantile([1, 2, 3, 4], 0.5), 2.5);
+  assert.equal(data.quantile([1, 2, 3, 4], 0.25), 1.75);
+  assert.equal(data.quantile([7], 0.75), 7);
+  assert.equal(data.quantile([], 0.5), null);
+  const s = data.summary([3, null, 1, 'x', 2, NaN]);
+  assert.deepEqual([s.n, s.median, s.min, s.max], [3, 2, 1, 3]);
+});
+
+test('runs group into series per configuration and split value, x sorted numerically', () => {
+  const runs = [run({ objects: 10 }), run({ objects: 2 }), run({ robots: 4, objects: 2 }), run({ config: 'dash', planner: 'dash', objects: 2 })];
+  const g = data.groupRuns(runs, { x: 'objects', split: 'robots', groupBy: 'config' });
+  assert.deepEqual(g.xs, [2, 10]);
+  assert.deepEqual(g.series, ['dash · robots=2', 'lazy-dash · robots=2', 'lazy-dash · robots=4']);
+  assert.equal(g.cells.get('lazy-dash · robots=2|2').runs.length, 1);
+  const bySettings = data.groupRuns([run({ settings: '{"k":1}' }), run({})], { x: 'objects', split: '', groupBy: 'settings' });
+  assert.deepEqual(bySettings.series, ['lazy-dash', 'lazy-dash {"k":1}']);
+});
+
+test('success counts finished runs only; skipped and running runs are not failures', () => {
+  const cell = { runs: [run({}), run({ status: 'timeout' }), run({ status: 'running', end_time: null }), run({ status: 'skipped' })] };
+  assert.deepEqual(data.successOf(cell), { finished: 2, solved: 1, skipped: 1, rate: 0.5 });
+});
+
+test('solved against time keeps unsolved runs in the denominator and runs on to the time limit', () => {
+  const runs = [run({ total_time: 3 }), run({ total_time: 1 }), run({ status: 'timeout', total_time: 10 }), run({ status: 'crashed', total_time: 0.5 }), run({ total_time: 2 })];
+  const c = data.solvedCurve(runs);
+  assert.equal(c.finished, 5);
+  assert.equal(c.solved, 3);
+  assert.equal(c.censored, 2);
+  assert.deepEqual(c.points.map((p) => p.x), [1, 2, 3, 10]);
+  assert.deepEqual(c.points.map((p) => p.y), [20, 40, 60, 60]);
+});
+
+test('ratios pair the two configurations on the same scene only', () => {
+  const runs = [
+    run({ uuid: 'a', config: 'dash', total_time: 6 }),
+    run({ uuid: 'b', total_time: 2 }),
+    run({ uuid: 'c', config: 'dash', seed: 2, total_time: 5 }), // no lazy-dash on seed 2
+    run({ uuid: 'd', seed: 3, status: 'timeout', total_time: 10 }),
+    run({ uuid: 'e', config: 'dash', seed: 3, total_time: 4 }),
+  ];
+  const r = data.ratios(runs, { metric: 'total_time', numerator: 'dash', denominator: 'lazy-dash', x: 'objects', split: '', groupBy: 'config', params: ['robots', 'objects'], includeUnsolved: false });
+  assert.equal(r.length, 1);
+  assert.equal(r[0].ratio, 3);
+  assert.deepEqual(r[0].uuids.sort(), ['a', 'b']);
+});
+
+test('SVG colours: alpha goes to an opacity', () => {
+  assert.deepEqual(svg.splitColour('#0072B255'), { colour: '#0072B2', opacity: 0x55 / 255 });
+  assert.deepEqual(svg.splitColour('rgba(0, 114, 178, 0.25)'), { colour: '#0072b2', opacity: 0.25 });
+  assert.deepEqual(svg.splitColour('#abc'), { colour: '#aabbcc', opacity: 1 });
+  assert.equal(svg.splitColour('transparent').opacity, 0);
+});
+
+test('SVG recorder: transforms, dashes, clipping and text become SVG', () => {
+  globalThis.document = { createElement: () => ({ getContext: () => ({ measureText: (t) => ({ width: 6 * t.length }) }) }) };
+  const ctx = new svg.SvgContext(100, 50, {});
+  ctx.save();
+  ctx.translate(10, 5);
+  ctx.beginPath();
+  ctx.rect(0, 0, 20, 10);
+  ctx.clip();
+  ctx.strokeStyle = 'rgba(255,0,0,0.5)';
+  ctx.lineWidth = 2;
+  ctx.setLineDash([4, 2]);
+  ctx.beginPath();
+  ctx.moveTo(0, 0);
+  ctx.lineTo(5, 5);
+  ctx.stroke();
+  ctx.restore();
+  ctx.font = '600 12px sans-serif';
+  ctx.textAlign = 'center';
+  ctx.fillText('a < b', 50, 40);
+  ctx.beginPath();
+  ctx.arc(20, 20, 3, 0, 2 * Math.PI);
+  ctx.fill();
+  const out = ctx.serialize('3.5in', '1.75in');
+  assert.match(out, /<svg[^>]+width="3\.5in"[^>]+viewBox="0 0 100 50"/);
+  assert.match(out, /<clipPath id="clip1"><path d="M10 5L30 5L30 15L10 15Z"\/><\/clipPath>/);
+  assert.match(out, /<g clip-path="url\(#clip1\)">\n<path d="M10 5L15 10" fill="none" stroke="#ff0000" stroke-opacity="0\.5" stroke-width="2"[^>]*stroke-dasharray="4 2"\/>\n<\/g>/);
+  assert.match(out, /<text x="50" y="40" font-family="sans-serif" font-size="12" font-weight="600" text-anchor="middle"[^>]*>a &lt; b<\/text>/);
+  assert.match(out, /<path d="M23 20A3 3 0 0 1 17 20A3 3 0 0 1 23 20" fill="#000000" stroke="none"\/>/);
+  assert.equal((out.match(/<g /g) || []).length, (out.match(/<\/g>/g) || []).length);
+});
+
+test('URL state: a page\u2019s settings round-trip through the hash, defaults and empty values left out', () => {
+  globalThis.location = { hash: '#/run/ab%2Fc?overlay=x,y&q=a%20%3D%201' };
+  globalThis.history = { state: null, replaceState: (s, t, h) => (globalThis.location.hash = h) };
+  const { page, args, params } = url.parseHash();
+  assert.equal(page, 'run');
+  assert.deepEqual(args, ['ab/c']);
+  assert.deepEqual(url.readList(params, 'overlay'), ['x', 'y']);
+  assert.equal(url.readString(params, 'q'), 'a = 1');
+  url.writeState({ q: 'robots = 2 or robots = 4', log: true, unsolved: false, empty: '', none: null, runs: ['u1', 'u2'], sort: 'id' }, { sort: 'id', unsolved: false });
+  const back = url.parseHash();
+  assert.equal(back.page, 'run');
+  assert.deepEqual(back.args, ['ab/c']);
+  assert.deepEqual([...back.params.keys()].sort(), ['log', 'q', 'runs']);
+  assert.equal(url.readString(back.params, 'q'), 'robots = 2 or robots = 4');
+  assert.equal(url.readBool(back.params, 'log'), true);
+  assert.equal(url.readNumber(back.params, 'missing', 7), 7);
+  const before = globalThis.location.hash;
+  url.writeState({ q: 'x'.repeat(9000) });
+  assert.equal(globalThis.location.hash, before, 'a state too long for a link is not written');
+  globalThis.location = { hash: '#/runs/%E0%A4%A' };
+  assert.deepEqual(url.parseHash().args, ['%E0%A4%A'], 'a malformed escape does not throw');
+});
+
+console.log(failed ? `${failed} failed` : 'all passed');
+process.exit(failed ? 1 : 0);

@@ -1,0 +1,135 @@
+// The numbers behind the Compare page, computed in the browser from the runs table (/api/runs): runs
+// grouped into series (planner configuration, planner, or configuration with its settings; one
+// series per value of a second parameter) and x values (a scenario parameter), with quantiles per
+// group; per-scene ratios of one configuration to another; and Planner Arena's fraction of runs
+// solved against time, where runs that did not solve stay in the denominator (censored at their end).
+import { api, query } from './api.js';
+
+const PAGE = 5000;
+const MAX_RUNS = 50000; // beyond this the browser would hold too much; the page says so
+
+// Sums of phases the paper's time figure plots (construction, query, conflict resolution).
+export const DERIVED_METRICS = [
+  { name: 'time_construction', label: 'construction (task + motion) (s)', group: 'time', parts: ['time_task_construction', 'time_motion_construction'] },
+  { name: 'time_query', label: 'query (task + motion) (s)', group: 'time', parts: ['time_task_query', 'time_motion_query'] },
+  { name: 'time_conflicts', label: 'conflict detection and resolution (s)', group: 'time', parts: ['time_task_conflict_detection', 'time_conflict_resolution'] },
+];
+
+/// Runs of a family (and an optional filter), every column; resolves {runs, truncated}.
+export async function fetchRuns(family, filter, batch) {
+  const clauses = [`family = "${family.replace(/"/g, '')}"`];
+  if (batch) clauses.push(`batch = "${batch.replace(/"/g, '')}"`);
+  const q = filter ? `${clauses.join(' and ')} and (${filter})` : clauses.join(' and ');
+  const runs = [];
+  let total = 0;
+  for (let offset = 0; offset < MAX_RUNS; offset += PAGE) {
+    const page = await api.get(`/api/runs${query({ q, sort: 'id', order: 'asc', limit: PAGE, offset })}`);
+    total = page.total;
+    runs.push(...page.runs);
+    if (runs.length >= total || page.runs.length === 0) break;
+  }
+  for (const r of runs) {
+    for (const m of DERIVED_METRICS) {
+      const values = m.parts.map((p) => r[p]).filter((v) => typeof v === 'number');
+      r[m.name] = values.length ? values.reduce((a, b) => a + b, 0) : null;
+    }
+  }
+  return { runs, truncated: runs.length < total };
+}
+
+/// Type-7 quantile (R's default, numpy's linear) of sorted values.
+export function quantile(sorted, p) {
+  if (sorted.length === 0) return null;
+  const h = (sorted.length - 1) * p;
+  const lo = Math.floor(h);
+  const hi = Math.ceil(h);
+  return sorted[lo] + (h - lo) * (sorted[hi] - sorted[lo]);
+}
+
+export function summary(values) {
+  const v = values.filter((x) => typeof x === 'number' && Number.isFinite(x)).sort((a, b) => a - b);
+  return { n: v.length, values: v, median: quantile(v, 0.5), q1: quantile(v, 0.25), q3: quantile(v, 0.75), min: v[0] ?? null, max: v[v.length - 1] ?? null };
+}
+
+const FINISHED = new Set(['solved', 'timeout', 'infeasible', 'crashed', 'memory', 'error', 'out_of_memory']);
+export function isFinished(run) {
+  return run.status !== 'running' && run.status !== 'queued' && run.status !== 'cancelled' && run.status !== 'skipped' && (FINISHED.has(run.status) || run.end_time);
+}
+
+/// The series a run belongs to.
+export function groupKey(run, groupBy) {
+  if (groupBy === 'planner') return run.planner;
+  if (groupBy === 'settings') return run.settings && run.settings !== '{}' ? `${run.config} ${run.settings}` : run.config;
+  return run.config || run.planner;
+}
+
+/// Scenario parameters that some run of the list has (the family's parameters).
+export function parametersOf(runs, columns) {
+  return columns.filter((c) => c.group === 'param' && runs.some((r) => r[c.name] !== null && r[c.name] !== undefined)).map((c) => c.name);
+}
+
+/// {series: [label], xs: [values], cells: Map("label|x" -> {runs, solved, finished})} of the runs.
+export function groupRuns(runs, { x, split, groupBy }) {
+  const cells = new Map();
+  const series = new Set();
+  const xs = new Set();
+  for (const r of runs) {
+    const xv = r[x];
+    if (typeof xv !== 'number') continue;
+    const label = split && r[split] !== null && r[split] !== undefined ? `${groupKey(r, groupBy)} · ${split}=${r[split]}` : groupKey(r, groupBy);
+    series.add(label);
+    xs.add(xv);
+    const key = `${label}|${xv}`;
+    if (!cells.has(key)) cells.set(key, { series: label, x: xv, group: groupKey(r, groupBy), splitValue: split ? r[split] : null, runs: [] });
+    cells.get(key).runs.push(r);
+  }
+  return { series: [...series].sort(), xs: [...xs].sort((a, b) => a - b), cells };
+}
+
+/// Values of `metric` in a cell: solved runs only unless includeUnsolved.
+export function cellValues(cell, metric, includeUnsolved) {
+  return cell.runs.filter((r) => includeUnsolved || r.status === 'solved').map((r) => r[metric]);
+}
+
+export function successOf(cell) {
+  const finished = cell.runs.filter(isFinished);
+  const solved = finished.filter((r) => r.status === 'solved').length;
+  const skipped = cell.runs.filter((r) => r.status === 'skipped').length;
+  return { finished: finished.length, solved, skipped, rate: finished.length ? solved / finished.length : null };
+}
+
+/// The scene a run planned: family, parameters and seed (the same scene for every planner).
+export function sceneKey(run, params) {
+  return [run.family, ...params.map((p) => `${p}=${run[p]}`), `seed=${run.seed}`].join(' ');
+}
+
+/// Per scene where both configurations have a value of `metric`: {scene, x, split, a, b, ratio}.
+export function ratios(runs, { metric, numerator, denominator, x, split, groupBy, params, includeUnsolved }) {
+  const byScene = new Map();
+  for (const r of runs) {
+    if (!includeUnsolved && r.status !== 'solved') continue;
+    if (typeof r[metric] !== 'number' || r[metric] <= 0) continue;
+    const g = groupKey(r, groupBy);
+    if (g !== numerator && g !== denominator) continue;
+    const key = sceneKey(r, params);
+    if (!byScene.has(key)) byScene.set(key, { scene: key, x: r[x], split: split ? r[split] : null, uuids: [] });
+    const s = byScene.get(key);
+    s[g === numerator ? 'a' : 'b'] = r[metric];
+    s.uuids.push(r.uuid);
+  }
+  return [...byScene.values()].filter((s) => typeof s.a === 'number' && typeof s.b === 'number' && typeof s.x === 'number').map((s) => ({ ...s, ratio: s.a / s.b }));
+}
+
+/// Planner Arena's "fraction of runs solved against time": for each series, the share of its finished
+/// runs solved by time t. Runs that did not solve never count as solved, but stay in the denominator
+/// (right-censored at their end), so a planner that times out often ends below 100 %.
+export function solvedCurve(runs) {
+  const finished = runs.filter(isFinished);
+  const times = finished.filter((r) => r.status === 'solved' && typeof r.total_time === 'number').map((r) => r.total_time).sort((a, b) => a - b);
+  const n = finished.length;
+  const points = times.map((t, i) => ({ x: t, y: (100 * (i + 1)) / n }));
+  const limits = finished.map((r) => r.time_limit).filter((v) => typeof v === 'number');
+  const end = limits.length ? Math.max(...limits) : times[times.length - 1];
+  if (points.length && end > points[points.length - 1].x) points.push({ x: end, y: points[points.length - 1].y });
+  return { points, finished: n, solved: times.length, censored: n - times.length, end };
+}
