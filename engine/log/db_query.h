@@ -11,7 +11,8 @@
 // - a progress handler stops a query that runs past the time limit; a low cell size limit
 //   (SQLITE_LIMIT_LENGTH) bounds what one function call can build, which the progress handler
 //   cannot interrupt (printf('%.*c', 400000000, 'x') ran 16.7 s under a 64 MB limit);
-// - fts3_tokenizer (it reveals and takes raw pointers) and load_extension are refused;
+// - fts3_tokenizer (it reveals and takes raw pointers), load_extension, and printf/format (their
+//   width and precision loop inside one call) are refused;
 // - a row limit and a byte limit stop the output early (reported as truncated, not as an error).
 #include <cstdint>
 #include <string>

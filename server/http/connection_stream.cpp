@@ -32,13 +32,25 @@ void addressOf(const sockaddr_storage& address, socklen_t length, std::string& i
 
 }  // namespace
 
-ConnectionStream::ConnectionStream(int fd, std::string buffered, std::chrono::milliseconds read_timeout,
-                                   std::chrono::milliseconds write_timeout)
-    : fd_(fd), buffered_(std::move(buffered)), read_timeout_(read_timeout), write_timeout_(write_timeout) {}
+ConnectionStream::ConnectionStream(int fd, std::string buffered, std::size_t request_bytes,
+                                   std::chrono::milliseconds read_timeout, std::chrono::milliseconds write_timeout)
+    : fd_(fd),
+      buffered_(std::move(buffered)),
+      request_end_(std::min(request_bytes, buffered_.size())),
+      read_timeout_(read_timeout),
+      write_timeout_(write_timeout) {}
 
 bool ConnectionStream::is_readable() const { return offset_ < buffered_.size() || waitFor(fd_, POLLIN, read_timeout_); }
 
-bool ConnectionStream::is_writable() const { return waitFor(fd_, POLLOUT, write_timeout_); }
+bool ConnectionStream::is_writable() const {
+  if (!waitFor(fd_, POLLOUT, write_timeout_)) return false;
+  // As httplib's own stream: a peer that closed (readable, nothing to read) is gone. This is how an
+  // event stream notices a closed tab between two messages.
+  pollfd p{.fd = fd_, .events = POLLIN, .revents = 0};
+  if (::poll(&p, 1, 0) <= 0) return true;
+  char byte = 0;
+  return ::recv(fd_, &byte, 1, MSG_PEEK | MSG_DONTWAIT) > 0;
+}
 
 ssize_t ConnectionStream::read(char* ptr, std::size_t size) {
   if (offset_ < buffered_.size()) {
@@ -51,6 +63,7 @@ ssize_t ConnectionStream::read(char* ptr, std::size_t size) {
   constexpr std::size_t kChunk = 4096;
   buffered_.resize(kChunk);
   offset_ = 0;
+  request_end_ = 0;
   ssize_t n = -1;
   do {
     if (!waitFor(fd_, POLLIN, read_timeout_)) break;
@@ -88,7 +101,7 @@ void ConnectionStream::get_local_ip_and_port(std::string& ip, int& port) const {
 int ConnectionStream::socket() const { return fd_; }
 
 std::string ConnectionStream::takeBuffered() {
-  std::string rest = buffered_.substr(offset_);
+  std::string rest = buffered_.substr(std::max(offset_, request_end_));
   buffered_.clear();
   offset_ = 0;
   return rest;

@@ -13,7 +13,8 @@ namespace dash::http {
 
 class ConnectionStream : public httplib::Stream {
  public:
-  ConnectionStream(int fd, std::string buffered, std::chrono::milliseconds read_timeout,
+  /// `buffered` holds one whole request in its first `request_bytes`, then what came after it.
+  ConnectionStream(int fd, std::string buffered, std::size_t request_bytes, std::chrono::milliseconds read_timeout,
                    std::chrono::milliseconds write_timeout);
 
   bool is_readable() const override;
@@ -24,13 +25,16 @@ class ConnectionStream : public httplib::Stream {
   void get_local_ip_and_port(std::string& ip, int& port) const override;
   int socket() const override;
 
-  /// The bytes read from the socket that no request consumed yet.
+  /// The bytes read after the request. What the request left unread is dropped: a handler that
+  /// answers before reading the body (a refusal before routing) must not turn the body into the
+  /// next request.
   std::string takeBuffered();
 
  private:
   int fd_;
   std::string buffered_;
-  std::size_t offset_ = 0;  ///< into buffered_
+  std::size_t offset_ = 0;       ///< into buffered_
+  std::size_t request_end_ = 0;  ///< where the request ends in buffered_
   std::chrono::milliseconds read_timeout_;
   std::chrono::milliseconds write_timeout_;
 };

@@ -1,5 +1,7 @@
 #include "server/http/gated_server.h"
 
+#include <netinet/in.h>
+#include <netinet/tcp.h>
 #include <poll.h>
 #include <sys/eventfd.h>
 #include <sys/socket.h>
@@ -103,12 +105,18 @@ void GatedServer::stopGate() {
   workers_->shutdown();
 }
 
+bool GatedServer::raiseListenBacklog(int backlog) { return ::listen(svr_sock_, backlog) == 0; }
+
 void GatedServer::wake() {
   const std::uint64_t one = 1;
   [[maybe_unused]] const ssize_t n = ::write(wake_fd_, &one, sizeof(one));
 }
 
 bool GatedServer::process_and_close_socket(int sock) {
+  // Answers go out in pieces (head, body chunks): without this, Nagle's algorithm holds each
+  // piece until the client's delayed ACK (40 ms a request on loopback).
+  const int one = 1;
+  ::setsockopt(sock, IPPROTO_TCP, TCP_NODELAY, &one, sizeof(one));
   admit(sock, "", 0);
   return true;
 }
@@ -180,16 +188,18 @@ bool GatedServer::advance(Waiting& w, bool readable, Clock::time_point now) {
     // Answered already; httplib would answer it again.
     request = withoutExpect(std::string_view(request).substr(0, head.head_bytes)) + request.substr(head.head_bytes);
   }
+  const std::size_t request_bytes = request.size();
   request += rest;  // pipelined bytes: the stream keeps them for the next request
   const int fd = w.fd;
   const std::size_t served = w.served;
-  workers_->enqueue(
-      [this, fd, request = std::move(request), served]() mutable { serve(fd, std::move(request), served); });
+  workers_->enqueue([this, fd, request = std::move(request), request_bytes, served]() mutable {
+    serve(fd, std::move(request), request_bytes, served);
+  });
   return false;
 }
 
-void GatedServer::serve(int fd, std::string request, std::size_t served) {
-  ConnectionStream stream(fd, std::move(request), options_.idle_timeout, options_.write_timeout);
+void GatedServer::serve(int fd, std::string request, std::size_t request_bytes, std::size_t served) {
+  ConnectionStream stream(fd, std::move(request), request_bytes, options_.idle_timeout, options_.write_timeout);
   bool stopping = false;
   {
     std::lock_guard lock(mutex_);

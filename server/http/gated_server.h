@@ -47,6 +47,10 @@ class GatedServer : public httplib::Server {
   GatedServer(const GatedServer&) = delete;
   GatedServer& operator=(const GatedServer&) = delete;
 
+  /// After binding: httplib listens with a backlog of 5, so that a burst of connections beyond it
+  /// waits for the kernel's SYN retry (1 s, then 3 s). Returns false if listen() refused.
+  bool raiseListenBacklog(int backlog);
+
   /// After stop(): closes the waiting connections and waits for the workers' requests to end.
   /// Idempotent.
   void stopGate();
@@ -59,7 +63,7 @@ class GatedServer : public httplib::Server {
   void readerLoop();
   /// Reads what arrived; returns false when the connection is finished with (closed or handed on).
   bool advance(Waiting& w, bool readable, std::chrono::steady_clock::time_point now);
-  void serve(int fd, std::string request, std::size_t served);
+  void serve(int fd, std::string request, std::size_t request_bytes, std::size_t served);
   void wake();
 
   const GateOptions options_;

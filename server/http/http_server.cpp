@@ -2,6 +2,7 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <condition_variable>
 #include <cstdlib>
 #include <filesystem>
@@ -38,10 +39,15 @@ namespace {
 /// query console's limits fails with "out of memory" instead of taking the machine's memory.
 constexpr std::int64_t kSqliteHeapLimit = std::int64_t{512} << 20;
 
+/// Connections the kernel queues until the accept loop takes them (httplib's own is 5).
+constexpr int kListenBacklog = 1024;
+
 GateOptions gateOptions(const ServerOptions& o) {
   GateOptions g;
   g.limits.max_body_bytes = o.max_body_bytes;
   g.workers = static_cast<std::size_t>(o.threads);
+  g.request_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(o.request_timeout_seconds * 1000));
+  g.idle_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(o.idle_timeout_seconds * 1000));
   return g;
 }
 
@@ -113,8 +119,10 @@ HttpServer::HttpServer(ServerOptions options) {
   DASH_THROW_UNLESS(options.port >= 0 && options.port <= 65535, "--port: out of range 0..65535");
   DASH_THROW_UNLESS(options.max_body_bytes >= 1024, "the body size limit must be at least 1024 bytes");
   DASH_THROW_UNLESS(options.threads >= 2, "the server needs at least 2 worker threads");
-  DASH_THROW_UNLESS(options.max_event_streams >= 1 && options.max_event_streams < options.threads,
-                    "event streams must leave worker threads for other requests");
+  DASH_THROW_UNLESS(options.request_timeout_seconds >= 0.1 && options.request_timeout_seconds <= 3600 &&
+                        options.idle_timeout_seconds >= 0.1 && options.idle_timeout_seconds <= 3600,
+                    "request and idle timeouts must be within 0.1..3600 s");
+  DASH_THROW_UNLESS(options.max_event_streams >= 1, "the event stream limit must be at least 1");
   DASH_THROW_UNLESS(std::filesystem::is_regular_file(std::filesystem::path(options.web_root) / "index.html"),
                     "web root " + options.web_root + " has no index.html");
   if (options.max_batch_workers <= 0)
@@ -149,7 +157,8 @@ void HttpServer::Impl::configure() {
   ctx.detail = RunDetail(options.db_path);
   ctx.series = SeriesQueries(options.db_path);
 
-  ctx.max_event_streams = options.max_event_streams;
+  // Streams never take more than half the workers: the rest answer everything else.
+  ctx.max_event_streams = std::min(options.max_event_streams, options.threads / 2);
 
   sqlite3_hard_heap_limit64(kSqliteHeapLimit);
   server.set_payload_max_length(options.max_body_bytes);
@@ -225,6 +234,7 @@ int HttpServer::start() {
   DASH_THROW_UNLESS(port > 0, "cannot listen on " + m.options.host + ":" + std::to_string(m.options.port) +
                                   " (is another server using the port?)");
   m.port = port;
+  DASH_THROW_UNLESS(m.server.raiseListenBacklog(kListenBacklog), "cannot set the listen backlog");
   m.watcher = std::make_unique<DbWatcher>(m.options.db_path, m.hub, m.options.poll_seconds);
   m.thread = std::thread([&m] { m.server.listen_after_bind(); });
   return port;

@@ -51,6 +51,7 @@ bool nextFrames(Stream& stream, const EventHub& hub, httplib::DataSink& sink) {
     stream.hello_sent = true;
     return write("retry: 2000\nevent: hello\ndata: " + jsonText(Json{{"seq", stream.after}}) + "\n\n");
   }
+  if (!sink.is_writable()) return false;  // the tab was closed: free the worker now
   const HubWait w = hub.waitAfter(stream.after, kWaitSlice);
   if (w.closed) {
     sink.done();
