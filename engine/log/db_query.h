@@ -8,8 +8,12 @@
 // - statements the authorizer never sees (VACUUM INTO, REINDEX) are refused by their first
 //   keyword and by sqlite3_stmt_readonly;
 // - one statement per query;
-// - a progress handler stops a query that runs past the time limit;
-// - a row limit stops the output early (reported as truncated, not as an error).
+// - a progress handler stops a query that runs past the time limit; a low cell size limit
+//   (SQLITE_LIMIT_LENGTH) bounds what one function call can build, which the progress handler
+//   cannot interrupt (printf('%.*c', 400000000, 'x') ran 16.7 s under a 64 MB limit);
+// - fts3_tokenizer (it reveals and takes raw pointers), load_extension, and printf/format (their
+//   width and precision loop inside one call) are refused;
+// - a row limit and a byte limit stop the output early (reported as truncated, not as an error).
 #include <cstdint>
 #include <string>
 
@@ -18,7 +22,7 @@
 
 namespace dash::log {
 
-enum class QueryGuard { Write, Attach, Pragma, Transaction, OneStatement, TimeLimit };
+enum class QueryGuard { Write, Attach, Pragma, Transaction, OneStatement, TimeLimit, Function };
 
 /// A query refused by a guard, or stopped by the time limit. The message says which.
 class QueryRefused : public InputError {
@@ -33,6 +37,9 @@ class QueryRefused : public InputError {
 struct QueryLimits {
   std::int64_t max_rows = 1000;
   double timeout_seconds = 10.0;
+  int max_cell_bytes = 64 << 20;      ///< SQLITE_LIMIT_LENGTH: a longer string or blob is an SQL error
+  int max_columns = 2000;             ///< SQLITE_LIMIT_COLUMN
+  std::int64_t max_result_bytes = 0;  ///< stop (truncated) once the cells read add up to more; 0: none
 };
 
 /// Runs one read-only SQL statement on the file at `path`. Throws QueryRefused for a guard,

@@ -15,6 +15,15 @@
 
 namespace dash::batch {
 
+namespace {
+// Upper bounds on the spec's numbers: beyond them the runner's time and memory arithmetic (and
+// Slurm's minutes and megabytes, as int) would overflow.
+constexpr double kMaxTimeLimitSeconds = 7 * 24 * 3600;
+constexpr double kMaxMemoryLimitMb = 4 * 1024 * 1024;
+constexpr std::size_t kMaxSeeds = 1000000;
+constexpr std::int64_t kMaxSeed = std::int64_t{1} << 53;  ///< exact as a JSON number anywhere
+}  // namespace
+
 using Json = nlohmann::ordered_json;
 
 const char* toString(SpecErrorKind kind) {
@@ -217,19 +226,26 @@ std::vector<std::uint64_t> parseSeeds(const Checker& check, const Json& j) {
     check.keys(j, "seeds", {"from", "count"}, {"from", "count"});
     const std::int64_t from = check.integer(j["from"], "seeds.from");
     const std::int64_t count = check.integer(j["count"], "seeds.count");
-    if (from < 0) check.fail(SpecErrorKind::kOutOfRange, "seeds.from", "must not be negative");
+    if (from < 0 || from > kMaxSeed) {
+      check.fail(SpecErrorKind::kOutOfRange, "seeds.from", "must be in 0.." + std::to_string(kMaxSeed));
+    }
     if (count <= 0) check.fail(SpecErrorKind::kEmptyGrid, "seeds.count", "must be at least 1: the grid has no runs");
-    if (count > 1000000) check.fail(SpecErrorKind::kTooManyRuns, "seeds.count", std::to_string(count) + " seeds");
+    if (count > static_cast<std::int64_t>(kMaxSeeds))
+      check.fail(SpecErrorKind::kTooManyRuns, "seeds.count", std::to_string(count) + " seeds");
     for (std::int64_t i = 0; i < count; ++i) seeds.push_back(static_cast<std::uint64_t>(from + i));
     return seeds;
   }
   if (!j.is_array())
     check.fail(SpecErrorKind::kSyntax, "seeds", "expected a list of seeds or {\"from\": S, \"count\": N}");
   check.nonEmptyArray(j, "seeds");
+  if (j.size() > kMaxSeeds) check.fail(SpecErrorKind::kTooManyRuns, "seeds", std::to_string(j.size()) + " seeds");
+  std::set<std::uint64_t> seen;
   for (std::size_t i = 0; i < j.size(); ++i) {
     const std::int64_t s = check.integer(j[i], at("seeds", i));
-    if (s < 0) check.fail(SpecErrorKind::kOutOfRange, at("seeds", i), "must not be negative");
-    if (std::find(seeds.begin(), seeds.end(), static_cast<std::uint64_t>(s)) != seeds.end()) {
+    if (s < 0 || s > kMaxSeed) {
+      check.fail(SpecErrorKind::kOutOfRange, at("seeds", i), "must be in 0.." + std::to_string(kMaxSeed));
+    }
+    if (!seen.insert(static_cast<std::uint64_t>(s)).second) {
       check.fail(SpecErrorKind::kBadValue, at("seeds", i), std::to_string(s) + " is listed twice");
     }
     seeds.push_back(static_cast<std::uint64_t>(s));
@@ -348,15 +364,19 @@ BatchSpec parseBatchSpec(const std::string& json_text, const std::string& source
   if (j.contains("description")) spec.description = check.string(j["description"], "description");
   if (j.contains("time_limit")) {
     spec.time_limit = check.number(j["time_limit"], "time_limit");
-    if (!(spec.time_limit > 0.0) || !std::isfinite(spec.time_limit)) {
-      check.fail(SpecErrorKind::kBadValue, "time_limit", "must be a positive number of seconds");
+    if (!(spec.time_limit > 0.0) || !(spec.time_limit <= kMaxTimeLimitSeconds)) {
+      check.fail(SpecErrorKind::kBadValue, "time_limit",
+                 "must be a positive number of seconds, at most " +
+                     std::to_string(static_cast<long long>(kMaxTimeLimitSeconds)) + " (a week)");
     }
   }
   if (j.contains("memory_limit")) {
     spec.memory_limit_mb = check.number(j["memory_limit"], "memory_limit");
-    if (spec.memory_limit_mb < 0.0 || !std::isfinite(spec.memory_limit_mb) ||
+    if (spec.memory_limit_mb < 0.0 || !(spec.memory_limit_mb <= kMaxMemoryLimitMb) ||
         (spec.memory_limit_mb > 0.0 && spec.memory_limit_mb < 64.0)) {
-      check.fail(SpecErrorKind::kBadValue, "memory_limit", "must be 0 (no limit) or at least 64 MB");
+      check.fail(SpecErrorKind::kBadValue, "memory_limit",
+                 "must be 0 (no limit) or from 64 MB to " + std::to_string(static_cast<long long>(kMaxMemoryLimitMb)) +
+                     " MB (4 TB)");
     }
   }
   const Json& scenarios = check.nonEmptyArray(j["scenarios"], "scenarios");
@@ -403,13 +423,16 @@ BatchSpec loadBatchSpec(const std::string& path, const SpecOptions& options) {
 }
 
 std::size_t countRuns(const BatchSpec& spec) {
+  // Saturating: a hostile grid must not wrap around to a small count and then be expanded.
+  constexpr std::size_t kMax = std::numeric_limits<std::size_t>::max();
+  auto times = [](std::size_t a, std::size_t b) { return b != 0 && a > kMax / b ? kMax : a * b; };
   std::size_t scenes = 0;
   for (const ScenarioEntry& e : spec.scenarios) {
     std::size_t combos = 1;
-    for (const auto& [name, values] : e.params) combos *= values.size();
-    scenes += combos;
+    for (const auto& [name, values] : e.params) combos = times(combos, values.size());
+    scenes = combos > kMax - scenes ? kMax : scenes + combos;
   }
-  return scenes * spec.seeds.size() * spec.planners.size();
+  return times(times(scenes, spec.seeds.size()), spec.planners.size());
 }
 
 std::vector<RunSpec> expandRuns(const BatchSpec& spec) {

@@ -70,7 +70,8 @@ bool isFinalRun(const std::string& status, const std::string& error) {
 std::vector<std::pair<std::string, std::string>> shardRuns(const std::string& shard) {
   std::vector<std::pair<std::string, std::string>> out;
   sql::Connection c = sql::open(shard, SQLITE_OPEN_READONLY);
-  if (sql::selectInt(c.get(), "SELECT COUNT(*) FROM sqlite_master WHERE name = 'dash_slurm_shard_runs'") == 0) return out;
+  if (sql::selectInt(c.get(), "SELECT COUNT(*) FROM sqlite_master WHERE name = 'dash_slurm_shard_runs'") == 0)
+    return out;
   sql::Statement st(c.get(), "SELECT run_key, run_uuid FROM dash_slurm_shard_runs");
   while (st.step()) out.emplace_back(st.columnText(0), st.columnText(1));
   return out;
@@ -90,8 +91,7 @@ std::int64_t adoptShardRuns(log::ResultsDb& db, BatchStore& store, const std::st
     if (current.run_uuid == uuid) continue;
     const log::SqlRows row = db.select("SELECT status, COALESCE(error, '') FROM dash_runs WHERE uuid = ?", {uuid});
     if (row.rows.empty()) continue;
-    const bool final_result =
-        isFinalRun(std::get<std::string>(row.rows[0][0]), std::get<std::string>(row.rows[0][1]));
+    const bool final_result = isFinalRun(std::get<std::string>(row.rows[0][0]), std::get<std::string>(row.rows[0][1]));
     const bool take = !current.status.has_value() || (!current.complete() && final_result);
     if (!take) continue;
     if (!current.run_uuid.empty()) store.deleteRun(current.run_uuid);
@@ -100,6 +100,25 @@ std::int64_t adoptShardRuns(log::ResultsDb& db, BatchStore& store, const std::st
   }
   store.deleteOrphans(batch_id);
   return adopted;
+}
+
+/// Partition and account names go into #SBATCH lines: printable, no blanks, bounded.
+void checkSlurmName(const std::string& value, const char* what) {
+  constexpr std::size_t kMaxName = 256;
+  DASH_THROW_UNLESS(value.size() <= kMaxName, std::string(what) + ": longer than 256 characters");
+  for (const char c : value) {
+    const auto u = static_cast<unsigned char>(c);
+    DASH_THROW_UNLESS(u > 0x20 && u < 0x7f,
+                      std::string(what) + ": only printable characters without spaces (no newline, no tab)");
+  }
+}
+
+/// Checked before anything is written or submitted.
+void checkSubmitOptions(const SlurmSubmitOptions& o) {
+  checkSlurmName(o.partition, "--partition");
+  checkSlurmName(o.account, "--account");
+  DASH_THROW_UNLESS(o.max_parallel >= 0, "--max-parallel must not be negative");
+  DASH_THROW_UNLESS(o.runs_per_task >= 1, "--runs-per-task must be at least 1");
 }
 
 Json optionsJson(const SlurmSubmitOptions& o, int runs_per_task, const std::string& executable) {
@@ -120,35 +139,39 @@ std::string SlurmBackend::submit(const BatchSpec& spec, const SlurmSubmitOptions
   const std::string batch_id = options.batch_id.empty() ? newBatchId(spec.name) : options.batch_id;
   const std::vector<RunSpec> runs = expandRuns(spec);
   {
-    log::ResultsDb db(db_path_);
+    const log::ResultsDb db(db_path_);
     for (const auto& b : db.listBatches()) {
       DASH_THROW_UNLESS(b.id != batch_id, "batch " + batch_id + " already exists in " + db_path_);
     }
-    db.putBatch(log::BatchRecord{.id = batch_id, .name = spec.name, .spec_json = spec.json, .status = "queued"});
-    db.flush();
-    BatchStore(db_path_).addRuns(batch_id, runs);
   }
-  try {
-    submitRuns(batch_id, spec.name, runs, spec.time_limit, spec.memory_limit_mb, options, 1);
-  } catch (...) {
-    log::ResultsDb(db_path_).setBatchStatus(batch_id, "interrupted");
-    throw;
-  }
+  // The batch and its runs are recorded only once sbatch has accepted the job: a refused
+  // submission leaves no batch behind that the dashboard would offer to resume (issue 24).
+  submitRuns(batch_id, spec.name, runs, spec.time_limit, spec.memory_limit_mb, options, 1, &spec);
   return batch_id;
 }
 
 std::string SlurmBackend::submitRuns(const std::string& batch_id, const std::string& name,
                                      const std::vector<RunSpec>& runs, double time_limit, double memory_limit_mb,
-                                     const SlurmSubmitOptions& options, int submission) {
+                                     const SlurmSubmitOptions& options, int submission, const BatchSpec* new_batch) {
   DASH_THROW_UNLESS(!runs.empty(), "a Slurm submission needs at least one run");
-  DASH_THROW_UNLESS(options.max_parallel >= 0, "--max-parallel must not be negative");
+  checkSubmitOptions(options);
   DASH_THROW_UNLESS(onPath("sbatch"), "sbatch is not on the PATH (the Slurm backend needs Slurm's commands)");
   const fs::path root =
       fs::absolute(options.shard_dir.empty() ? fs::path(db_path_ + ".slurm") / batch_id : fs::path(options.shard_dir));
   const fs::path dir = root / ("s" + std::to_string(submission));
+  const bool new_root = !fs::exists(root);
   fs::create_directories(dir);
-  const std::string executable =
-      options.executable.empty() ? fs::read_symlink("/proc/self/exe").string() : fs::absolute(options.executable).string();
+  // Until sbatch accepted the job, a failure removes what this submission wrote.
+  struct RemoveUnlessKept {
+    fs::path path;
+    bool keep = false;
+    ~RemoveUnlessKept() {
+      std::error_code ignored;
+      if (!keep) fs::remove_all(path, ignored);
+    }
+  } written{new_root ? root : dir};
+  const std::string executable = options.executable.empty() ? fs::read_symlink("/proc/self/exe").string()
+                                                            : fs::absolute(options.executable).string();
   const int per_task = runsPerTask(runs.size(), options.runs_per_task);
 
   SlurmManifest manifest{.batch_id = batch_id, .name = name, .submission = submission, .shard_dir = dir.string()};
@@ -182,20 +205,36 @@ std::string SlurmBackend::submitRuns(const std::string& batch_id, const std::str
     DASH_THROW_UNLESS(out.good(), "cannot write " + script_path);
     out << formatJobScript(job);
   }
-  const std::string job_id = client_.submit(
-      script_path, {"--output=" + (dir / "slurm-%A_%a.out").string(), "--chdir=" + dir.string()});
+  const std::string job_id =
+      client_.submit(script_path, {"--output=" + (dir / "slurm-%A_%a.out").string(), "--chdir=" + dir.string()});
+  written.keep = true;
 
-  log::ResultsDb db(db_path_);
-  SlurmStore(db_path_).addJob(SlurmJobRecord{.batch_id = batch_id,
-                                             .submission = submission,
-                                             .job_id = job_id,
-                                             .shard_dir = dir.string(),
-                                             .tasks = job.tasks,
-                                             .submitted = utcNow(),
-                                             .cancelled = false,
-                                             .options_json = optionsJson(options, per_task, executable).dump()},
-                              task_keys);
-  db.setBatchStatus(batch_id, "submitted");
+  try {
+    log::ResultsDb db(db_path_);
+    if (new_batch != nullptr) {
+      db.putBatch(
+          log::BatchRecord{.id = batch_id, .name = new_batch->name, .spec_json = new_batch->json, .status = "queued"});
+      db.flush();
+      BatchStore(db_path_).addRuns(batch_id, runs);
+    }
+    SlurmStore(db_path_).addJob(SlurmJobRecord{.batch_id = batch_id,
+                                               .submission = submission,
+                                               .job_id = job_id,
+                                               .shard_dir = dir.string(),
+                                               .tasks = job.tasks,
+                                               .submitted = utcNow(),
+                                               .cancelled = false,
+                                               .options_json = optionsJson(options, per_task, executable).dump()},
+                                task_keys);
+    db.setBatchStatus(batch_id, "submitted");
+  } catch (...) {
+    // A job nobody can follow: take it back from Slurm rather than let it run unrecorded.
+    try {
+      client_.cancel(job_id);
+    } catch (const std::exception&) {
+    }
+    throw;
+  }
   return job_id;
 }
 
@@ -212,9 +251,8 @@ SlurmBatchView SlurmBackend::update(const std::string& batch_id) {
   for (const SlurmJobRecord& job : jobs) {
     any_cancelled = any_cancelled || job.cancelled;
     std::vector<SlurmTaskRecord> tasks = slurm.tasks(batch_id, job.submission);
-    const bool all_final = std::all_of(tasks.begin(), tasks.end(), [](const SlurmTaskRecord& t) {
-      return isFinal(slurmStateFromName(t.state));
-    });
+    const bool all_final = std::all_of(tasks.begin(), tasks.end(),
+                                       [](const SlurmTaskRecord& t) { return isFinal(slurmStateFromName(t.state)); });
     std::optional<std::map<int, SlurmState>> queue;
     std::optional<std::map<int, SlurmState>> accounting;
     bool asked_accounting = false;

@@ -65,7 +65,8 @@ class SlurmBackend {
  public:
   explicit SlurmBackend(std::string db_path, SlurmClient client = {});
 
-  /// Submits `spec`; returns the batch id. InputError (bad options, sbatch refused: its message).
+  /// Submits `spec`; returns the batch id. InputError (bad options, sbatch refused: its message); then
+  /// nothing of the batch is recorded.
   std::string submit(const BatchSpec& spec, const SlurmSubmitOptions& options);
   /// Submits the batch's runs without a final result; returns how many. Options left empty take
   /// the last submission's. InputError if tasks are still in Slurm or nothing is missing.
@@ -80,7 +81,8 @@ class SlurmBackend {
 
  private:
   std::string submitRuns(const std::string& batch_id, const std::string& name, const std::vector<RunSpec>& runs,
-                         double time_limit, double memory_limit_mb, const SlurmSubmitOptions& options, int submission);
+                         double time_limit, double memory_limit_mb, const SlurmSubmitOptions& options, int submission,
+                         const BatchSpec* new_batch = nullptr);
 
   std::string db_path_;
   SlurmClient client_;

@@ -13,9 +13,17 @@ namespace dash::http {
 
 using Json = nlohmann::json;
 
+/// Compact JSON text. Invalid UTF-8 (from a path, a query parameter or a database cell) becomes
+/// U+FFFD instead of an exception (which was a 500).
+std::string jsonText(const Json& j);
+
 /// The request body as a JSON object; HttpError 400 with a clear message when it is empty, not
-/// JSON, or not an object.
+/// JSON (numbers out of range included), nested deeper than kMaxJsonDepth, or not an object.
 Json parseBodyObject(const httplib::Request& req);
+
+/// An integer member of a request body within [min, max]; HttpError 400 naming `key` otherwise.
+/// (get<int>() would wrap 2^32 + 1 to 1.)
+std::int64_t intMember(const Json& body, const std::string& key, std::int64_t min, std::int64_t max);
 
 Json toJson(const log::SqlValue& value);
 /// {"columns": [...], "rows": [[...], ...], "truncated": bool}

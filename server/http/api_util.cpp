@@ -2,10 +2,12 @@
 
 #include <cstdio>
 #include <exception>
+#include <limits>
 
 #include "engine/core/check.h"
 #include "engine/log/sqlite_util.h"
 #include "server/http/api_json.h"
+#include "server/http/json_depth.h"
 
 // clang-format off
 #include <httplib.h>  // last: it must follow Eigen (see server/dispatch/dispatch_routes.h)
@@ -15,7 +17,7 @@
 
 namespace dash::http {
 
-std::string errorJson(const std::string& message) { return Json{{"error", message}}.dump(); }
+std::string errorJson(const std::string& message) { return jsonText(Json{{"error", message}}); }
 
 void replyJson(httplib::Response& res, int status, const std::string& json_text) {
   res.status = status;
@@ -92,16 +94,39 @@ Handler guarded(Handler handler) {
   };
 }
 
+std::string jsonText(const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); }
+
 Json parseBodyObject(const httplib::Request& req) {
   if (req.body.empty()) throw HttpError(400, "the request body is empty; expected a JSON object");
+  if (jsonTooDeep(req.body)) {
+    throw HttpError(400, "the request body nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+  }
   Json j;
   try {
     j = Json::parse(req.body);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {
+    // parse_error, and out_of_range for numbers such as 1e400
     throw HttpError(400, std::string("the request body is not valid JSON: ") + e.what());
   }
   if (!j.is_object()) throw HttpError(400, "the request body must be a JSON object");
   return j;
+}
+
+std::int64_t intMember(const Json& body, const std::string& key, std::int64_t min, std::int64_t max) {
+  const Json& v = body.at(key);
+  bool ok = v.is_number_integer();
+  std::int64_t value = 0;
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<std::uint64_t>();
+    ok = u <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
+    value = static_cast<std::int64_t>(u);
+  } else if (ok) {
+    value = v.get<std::int64_t>();
+  }
+  if (!ok || value < min || value > max) {
+    throw HttpError(400, key + ": expected an integer in " + std::to_string(min) + ".." + std::to_string(max));
+  }
+  return value;
 }
 
 Json toJson(const log::SqlValue& value) {

@@ -83,7 +83,7 @@ std::string BatchManager::validateJson(const std::string& spec_json, std::size_t
   const std::vector<batch::RunSpec> runs = batch::expandRuns(spec);
   Json keys = Json::array();
   for (std::size_t i = 0; i < runs.size() && i < max_keys; ++i) keys.push_back(runs[i].key);
-  return Json{{"name", spec.name}, {"runs", runs.size()}, {"keys", keys}, {"time_limit", spec.time_limit}}.dump();
+  return jsonText(Json{{"name", spec.name}, {"runs", runs.size()}, {"keys", keys}, {"time_limit", spec.time_limit}});
 }
 
 SubmitOutcome BatchManager::submit(const std::string& spec_json, int workers) {
@@ -238,12 +238,12 @@ void BatchManager::onProgress(const batch::BatchProgress& p) {
     if (const auto it = active_.find(p.batch_id); it != active_.end()) it->second.progress = p;
   }
   Json j = {{"id", p.batch_id}, {"status", p.cancelling ? "cancelling" : "running"}, {"progress", progressJson(p)}};
-  hub_.publish("batch", p.batch_id, j.dump());
+  hub_.publish("batch", p.batch_id, jsonText(j));
 }
 
 void BatchManager::publishBatch(const std::string& batch_id) const {
   // The page refetches the list on a "batches" event; "batch" events carry live progress only.
-  hub_.publish("batches", batch_id, Json{{"id", batch_id}}.dump());
+  hub_.publish("batches", batch_id, jsonText(Json{{"id", batch_id}}));
 }
 
 void BatchManager::startQueued(const Queued& q) {
@@ -259,7 +259,8 @@ void BatchManager::startQueued(const Queued& q) {
       std::lock_guard lock(mutex_);
       active_.erase(q.batch_id);
     }
-    hub_.publish("batch", q.batch_id, Json{{"id", q.batch_id}, {"status", "interrupted"}, {"error", e.what()}}.dump());
+    hub_.publish("batch", q.batch_id,
+                 jsonText(Json{{"id", q.batch_id}, {"status", "interrupted"}, {"error", e.what()}}));
     publishBatch(q.batch_id);
     return;
   }
@@ -316,7 +317,7 @@ void BatchManager::loop() {
       }
       Json j = {{"id", id}, {"status", r.status}, {"progress", progressJson(r.progress)}};
       if (!r.error.empty()) j["error"] = r.error;
-      hub_.publish("batch", id, j.dump());
+      hub_.publish("batch", id, jsonText(j));
       publishBatch(id);
     }
     for (const Queued& q : to_start) startQueued(q);
@@ -399,7 +400,7 @@ std::string BatchManager::batchesJson() const {
   std::stable_sort(list.begin(), list.end(), [](const Json& a, const Json& b) {
     return a["created"].get<std::string>() > b["created"].get<std::string>();
   });
-  return Json{{"batches", list}}.dump();
+  return jsonText(Json{{"batches", list}});
 }
 
 std::string BatchManager::batchJson(const std::string& batch_id) const {
@@ -423,7 +424,7 @@ std::string BatchManager::batchJson(const std::string& batch_id) const {
                     {"error", r.error}});
   }
   out["runs"] = std::move(runs);
-  return out.dump();
+  return jsonText(out);
 }
 
 }  // namespace dash::http

@@ -88,7 +88,7 @@ void DbWatcher::poll(const log::ResultsDb& db) {
     const std::string status = std::get<std::string>(r[3]);
     last_id_ = std::max(last_id_, id);
     const auto seen = watched_.find(uuid);
-    if (seen == watched_.end() || seen->second != status) hub_.publish("run", uuid, runMessage(rows, i).dump());
+    if (seen == watched_.end() || seen->second != status) hub_.publish("run", uuid, jsonText(runMessage(rows, i)));
     if (status == "running") still_running[uuid] = status;
   }
   watched_ = still_running;
@@ -108,7 +108,7 @@ void DbWatcher::poll(const log::ResultsDb& db) {
     if (p.rows.empty()) continue;
     Json j = rowObject(p, 0);
     j["uuid"] = uuid;
-    std::string text = j.dump();
+    std::string text = jsonText(j);
     const auto old = sizes_.find(uuid);
     if (old == sizes_.end() || old->second != text) hub_.publish("sizes", uuid, text);
     sizes[uuid] = std::move(text);

@@ -1,9 +1,13 @@
 #include "server/http/http_server.h"
 
+#include <sqlite3.h>
+
+#include <algorithm>
 #include <condition_variable>
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "engine/core/check.h"
@@ -14,6 +18,7 @@
 #include "server/http/batch_manager.h"
 #include "server/http/db_watcher.h"
 #include "server/http/event_hub.h"
+#include "server/http/request_guard.h"
 #include "server/http/routes.h"
 #include "server/http/scene_cache.h"
 #include "server/http/static_files.h"
@@ -22,6 +27,7 @@
 #endif
 
 // clang-format off
+#include "server/http/gated_server.h"  // includes httplib.h
 #include <httplib.h>  // last: it must follow Eigen (see server/dispatch/dispatch_routes.h)
 // clang-format on
 
@@ -29,17 +35,20 @@ namespace dash::http {
 
 namespace {
 
-bool isLoopbackName(const std::string& host) {
-  return host == "127.0.0.1" || host == "localhost" || host == "::1" || host == "[::1]";
-}
+/// Bounds all SQLite allocations of the server process together: a query that slips past the
+/// query console's limits fails with "out of memory" instead of taking the machine's memory.
+constexpr std::int64_t kSqliteHeapLimit = std::int64_t{512} << 20;
 
-/// The host name of a Host header, without the port.
-std::string hostName(const std::string& header) {
-  if (!header.empty() && header[0] == '[') {
-    const auto close = header.find(']');
-    return close == std::string::npos ? header : header.substr(0, close + 1);
-  }
-  return header.substr(0, header.find(':'));
+/// Connections the kernel queues until the accept loop takes them (httplib's own is 5).
+constexpr int kListenBacklog = 1024;
+
+GateOptions gateOptions(const ServerOptions& o) {
+  GateOptions g;
+  g.limits.max_body_bytes = o.max_body_bytes;
+  g.workers = static_cast<std::size_t>(o.threads);
+  g.request_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(o.request_timeout_seconds * 1000));
+  g.idle_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(o.idle_timeout_seconds * 1000));
+  return g;
 }
 
 const char* statusText(int status) {
@@ -58,6 +67,8 @@ const char* statusText(int status) {
       return "request body too large";
     case 414:
       return "request URI too long";
+    case 416:
+      return "range not satisfiable";
     default:
       return status >= 500 ? "internal server error" : "request refused";
   }
@@ -67,7 +78,11 @@ const char* statusText(int status) {
 
 struct HttpServer::Impl {
   explicit Impl(ServerOptions o)
-      : options(std::move(o)), robots(RobotLibrary::loadDefault()), files(options.web_root), scenes(robots) {}
+      : options(std::move(o)),
+        robots(RobotLibrary::loadDefault()),
+        files(options.web_root),
+        scenes(robots),
+        server(gateOptions(options)) {}
 
   ServerOptions options;
   std::shared_ptr<const RobotLibrary> robots;
@@ -81,7 +96,7 @@ struct HttpServer::Impl {
   std::unique_ptr<dispatch::DispatchService> dispatch;
   std::shared_ptr<dispatch::DispatchRecorder> dispatch_recorder;  ///< every dispatch, into the results database
 #endif
-  httplib::Server server;
+  GatedServer server;
   std::thread thread;
   int port = 0;
   std::mutex mutex;
@@ -103,6 +118,11 @@ HttpServer::HttpServer(ServerOptions options) {
   DASH_THROW_UNLESS(!options.token.empty(), "the server needs a token");
   DASH_THROW_UNLESS(options.port >= 0 && options.port <= 65535, "--port: out of range 0..65535");
   DASH_THROW_UNLESS(options.max_body_bytes >= 1024, "the body size limit must be at least 1024 bytes");
+  DASH_THROW_UNLESS(options.threads >= 2, "the server needs at least 2 worker threads");
+  DASH_THROW_UNLESS(options.request_timeout_seconds >= 0.1 && options.request_timeout_seconds <= 3600 &&
+                        options.idle_timeout_seconds >= 0.1 && options.idle_timeout_seconds <= 3600,
+                    "request and idle timeouts must be within 0.1..3600 s");
+  DASH_THROW_UNLESS(options.max_event_streams >= 1, "the event stream limit must be at least 1");
   DASH_THROW_UNLESS(std::filesystem::is_regular_file(std::filesystem::path(options.web_root) / "index.html"),
                     "web root " + options.web_root + " has no index.html");
   if (options.max_batch_workers <= 0)
@@ -137,22 +157,21 @@ void HttpServer::Impl::configure() {
   ctx.detail = RunDetail(options.db_path);
   ctx.series = SeriesQueries(options.db_path);
 
-  const int threads = options.threads;
-  server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
+  // Streams never take more than half the workers: the rest answer everything else.
+  ctx.max_event_streams = std::min(options.max_event_streams, options.threads / 2);
+
+  sqlite3_hard_heap_limit64(kSqliteHeapLimit);
   server.set_payload_max_length(options.max_body_bytes);
   server.set_default_headers(
       {{"X-Content-Type-Options", "nosniff"}, {"X-Frame-Options", "DENY"}, {"Referrer-Policy", "no-referrer"}});
-  if (isLoopbackName(options.host)) {
-    // A page on another site whose name resolves to 127.0.0.1 (DNS rebinding) sends its own Host.
-    server.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
-      const std::string host = hostName(req.get_header_value("Host"));
-      if (!host.empty() && !isLoopbackName(host)) {
-        replyError(res, 403, "this server answers requests to 127.0.0.1 or localhost only (Host: " + host + ")");
-        return httplib::Server::HandlerResponse::Handled;
-      }
-      return httplib::Server::HandlerResponse::Unhandled;
-    });
-  }
+  const bool loopback_only = isLoopbackName(options.host);
+  server.set_pre_routing_handler([loopback_only](const httplib::Request& req, httplib::Response& res) {
+    if (const std::optional<Refusal> refusal = refusalBeforeRouting(req, loopback_only)) {
+      replyError(res, refusal->status, refusal->message);
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
   server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
     if (res.body.empty()) replyError(res, res.status, statusText(res.status));
   });
@@ -215,6 +234,7 @@ int HttpServer::start() {
   DASH_THROW_UNLESS(port > 0, "cannot listen on " + m.options.host + ":" + std::to_string(m.options.port) +
                                   " (is another server using the port?)");
   m.port = port;
+  DASH_THROW_UNLESS(m.server.raiseListenBacklog(kListenBacklog), "cannot set the listen backlog");
   m.watcher = std::make_unique<DbWatcher>(m.options.db_path, m.hub, m.options.poll_seconds);
   m.thread = std::thread([&m] { m.server.listen_after_bind(); });
   return port;
@@ -236,6 +256,7 @@ void HttpServer::stop() {
 #endif
   m.server.stop();
   if (m.thread.joinable()) m.thread.join();
+  m.server.stopGate();
   {
     std::lock_guard lock(m.mutex);
     m.finished = true;

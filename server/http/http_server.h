@@ -5,10 +5,13 @@
 // from a runner thread, never from an HTTP worker) and the database watcher that feeds live updates.
 //
 // Safety, by default: it listens on loopback only and refuses requests whose Host header names
-// another host (DNS rebinding); every request that changes something needs the token; bodies are
-// limited in size; errors are JSON with a 4xx/5xx status and never end the process; the static file
-// server cannot leave the web root; no CORS headers are ever sent, so other origins cannot read
-// answers or send the token.
+// another host (DNS rebinding); every request that changes something needs the token, and a browser
+// request that changes something must come from the server's own origin; requests are read whole
+// by a connection gate (gated_server.h) with limits on time, head size, header count, body size and
+// connections before a worker sees them; JSON bodies are limited in depth; event streams and SQL
+// queries are capped; errors are JSON with a 4xx/5xx status and never end the process; the static
+// file server cannot leave the web root; no CORS headers are ever sent, so other origins cannot
+// read answers or send the token. docs/http-api.md lists the limits.
 #include <memory>
 #include <string>
 
@@ -23,6 +26,9 @@ struct ServerOptions {
   std::string executable;                   ///< the dashbench binary that runs each run; empty: /proc/self/exe
   std::size_t max_body_bytes = 1 << 20;     ///< larger request bodies get 413
   int threads = 64;                         ///< HTTP workers (each open event stream holds one)
+  int max_event_streams = 32;               ///< open /api/events streams at once (at most threads / 2); more: 503
+  double request_timeout_seconds = 10;      ///< a request's first byte to its last, else 408
+  double idle_timeout_seconds = 5;          ///< a kept-alive connection's wait for its next request
   double poll_seconds = 0.5;                ///< database watcher period
   int max_batch_workers = 0;                ///< runs at once per batch, at most; 0: the number of cores
   int max_running_batches = 1;              ///< more wait queued

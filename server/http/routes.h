@@ -22,6 +22,7 @@ struct ApiContext {
   std::string db_path;
   std::string token;
   std::size_t max_body_bytes = 0;
+  int max_event_streams = 32;
   bool dispatch_mounted = false;
   EventHub* hub = nullptr;
   BatchManager* batches = nullptr;

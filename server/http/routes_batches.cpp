@@ -15,6 +15,8 @@ namespace {
 
 constexpr const char* kBatchId = R"(/api/batches/([A-Za-z0-9_.\-]+))";
 constexpr std::size_t kPreviewKeys = 200;
+constexpr std::int64_t kMaxWorkers = 1024;          ///< runs at once (the server caps it further by its cores)
+constexpr std::int64_t kMaxSlurmParallel = 100000;  ///< a Slurm array's %N throttle; 0: none
 
 struct Submission {
   std::string spec_json;
@@ -32,10 +34,7 @@ SlurmRequest slurmRequestOf(const Json& j) {
       if (!value.is_string()) throw HttpError(400, "slurm." + key + ": expected a string");
       (key == "partition" ? r.partition : r.account) = value.get<std::string>();
     } else if (key == "max_parallel") {
-      if (!value.is_number_integer() || value.get<int>() < 0) {
-        throw HttpError(400, "slurm.max_parallel: expected an integer >= 0");
-      }
-      r.max_parallel = value.get<int>();
+      r.max_parallel = static_cast<int>(intMember(j, "max_parallel", 0, kMaxSlurmParallel));
     } else {
       throw HttpError(400, "slurm: unknown key '" + key + "' (expected partition, account, max_parallel)");
     }
@@ -48,19 +47,19 @@ SlurmRequest slurmRequestOf(const Json& j) {
 Submission submissionOf(const httplib::Request& req) {
   const Json body = parseBodyObject(req);
   Submission s;
-  s.workers = static_cast<int>(intParam(req, "workers", 1, 1, 1024));
+  s.workers = static_cast<int>(intParam(req, "workers", 1, 1, kMaxWorkers));
   if (body.contains("spec") && !body.contains("scenarios")) {
     const Json& spec = body["spec"];
     if (!spec.is_object()) throw HttpError(400, "spec: expected a JSON object (a batch spec)");
-    s.spec_json = spec.dump();
+    s.spec_json = jsonText(spec);
     if (body.contains("workers")) {
-      if (!body["workers"].is_number_integer()) throw HttpError(400, "workers: expected an integer");
-      s.workers = body["workers"].get<int>();
+      s.workers = static_cast<int>(intMember(body, "workers", 1, kMaxWorkers));
     }
     if (body.contains("backend")) {
       if (!body["backend"].is_string()) throw HttpError(400, "backend: expected \"local\" or \"slurm\"");
       s.backend = body["backend"].get<std::string>();
-      if (s.backend != "local" && s.backend != "slurm") throw HttpError(400, "backend: expected \"local\" or \"slurm\"");
+      if (s.backend != "local" && s.backend != "slurm")
+        throw HttpError(400, "backend: expected \"local\" or \"slurm\"");
     }
     if (body.contains("slurm")) s.slurm = slurmRequestOf(body["slurm"]);
     for (const auto& [key, value] : body.items()) {
@@ -69,14 +68,14 @@ Submission submissionOf(const httplib::Request& req) {
       }
     }
   } else {
-    s.spec_json = body.dump();
+    s.spec_json = jsonText(body);
   }
   return s;
 }
 
 /// SpecError carries which rule was broken: the page shows it next to the field.
 void replySpecError(httplib::Response& res, const batch::SpecError& e) {
-  replyJson(res, 400, Json{{"error", e.what()}, {"kind", batch::toString(e.kind())}}.dump());
+  replyJson(res, 400, jsonText(Json{{"error", e.what()}, {"kind", batch::toString(e.kind())}}));
 }
 
 }  // namespace
@@ -84,17 +83,17 @@ void replySpecError(httplib::Response& res, const batch::SpecError& e) {
 void registerBatchRoutes(httplib::Server& server, ApiContext& ctx) {
   // Checking is what this request is for: a spec that breaks a rule is a 200 answer {"valid": false,
   // "error", "kind"} (the Launch page asks on every keystroke); a body that is not JSON is still a 400.
-  server.Post(
-      "/api/batches/validate", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
-        const Submission s = submissionOf(req);
-        try {
-          Json out = Json::parse(ctx.batches->validateJson(s.spec_json, kPreviewKeys));
-          out["valid"] = true;
-          replyJson(res, 200, out.dump());
-        } catch (const batch::SpecError& e) {
-          replyJson(res, 200, Json{{"valid", false}, {"error", e.what()}, {"kind", batch::toString(e.kind())}}.dump());
-        }
-      }));
+  server.Post("/api/batches/validate", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
+                const Submission s = submissionOf(req);
+                try {
+                  Json out = Json::parse(ctx.batches->validateJson(s.spec_json, kPreviewKeys));
+                  out["valid"] = true;
+                  replyJson(res, 200, jsonText(out));
+                } catch (const batch::SpecError& e) {
+                  replyJson(res, 200,
+                            jsonText(Json{{"valid", false}, {"error", e.what()}, {"kind", batch::toString(e.kind())}}));
+                }
+              }));
 
   server.Post(
       "/api/batches", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
@@ -103,12 +102,12 @@ void registerBatchRoutes(httplib::Server& server, ApiContext& ctx) {
         try {
           const SubmitOutcome out = s.backend == "slurm" ? ctx.batches->submitSlurm(s.spec_json, s.slurm)
                                                          : ctx.batches->submit(s.spec_json, s.workers);
-          replyJson(res, 202, Json{{"batch_id", out.batch_id}, {"runs", out.runs}, {"status", out.status}}.dump());
+          replyJson(res, 202, jsonText(Json{{"batch_id", out.batch_id}, {"runs", out.runs}, {"status", out.status}}));
         } catch (const batch::SpecError& e) {
           replySpecError(res, e);
         } catch (const InputError& e) {
           if (s.backend != "slurm") throw;
-          replyJson(res, 400, Json{{"error", std::string("backend: ") + e.what()}}.dump());  // sbatch refused it
+          replyJson(res, 400, jsonText(Json{{"error", std::string("backend: ") + e.what()}}));  // sbatch refused it
         }
       }));
 
@@ -116,7 +115,7 @@ void registerBatchRoutes(httplib::Server& server, ApiContext& ctx) {
   server.Get("/api/batches/backends", guarded([&ctx](const httplib::Request&, httplib::Response& res) {
                Json backends = Json::array({"local"});
                if (ctx.batches->slurmAvailable()) backends.push_back("slurm");
-               replyJson(res, 200, Json{{"backends", backends}}.dump());
+               replyJson(res, 200, jsonText(Json{{"backends", backends}}));
              }));
 
   server.Get("/api/batches", guarded([&ctx](const httplib::Request&, httplib::Response& res) {
@@ -131,22 +130,21 @@ void registerBatchRoutes(httplib::Server& server, ApiContext& ctx) {
                 requireToken(req, ctx.token);
                 const std::string id = req.matches[1];
                 ctx.batches->cancel(id);
-                replyJson(res, 202, Json{{"batch_id", id}, {"cancelling", true}}.dump());
+                replyJson(res, 202, jsonText(Json{{"batch_id", id}, {"cancelling", true}}));
               }));
 
   server.Post(std::string(kBatchId) + "/resume", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
                 requireToken(req, ctx.token);
                 const std::string id = req.matches[1];
-                int workers = static_cast<int>(intParam(req, "workers", 1, 1, 1024));
+                int workers = static_cast<int>(intParam(req, "workers", 1, 1, kMaxWorkers));
                 if (!req.body.empty()) {
                   const Json body = parseBodyObject(req);
                   if (body.contains("workers")) {
-                    if (!body["workers"].is_number_integer()) throw HttpError(400, "workers: expected an integer");
-                    workers = body["workers"].get<int>();
+                    workers = static_cast<int>(intMember(body, "workers", 1, kMaxWorkers));
                   }
                 }
                 ctx.batches->resume(id, workers);
-                replyJson(res, 202, Json{{"batch_id", id}, {"status", "queued"}}.dump());
+                replyJson(res, 202, jsonText(Json{{"batch_id", id}, {"status", "queued"}}));
               }));
 }
 

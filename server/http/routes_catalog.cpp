@@ -65,48 +65,46 @@ Json robotModelsJson() {
 void registerCatalogRoutes(httplib::Server& server, ApiContext& ctx) {
   server.Get("/api/health", guarded([&ctx](const httplib::Request&, httplib::Response& res) {
                replyJson(res, 200,
-                         Json{{"ok", true},
-                              {"version", DASHBENCH_VERSION},
-                              {"db", ctx.db_path},
-                              {"dispatch", ctx.dispatch_mounted},
-                              {"max_body_bytes", ctx.max_body_bytes},
-                              {"max_workers", ctx.batches->options().max_workers}}
-                             .dump());
+                         jsonText(Json{{"ok", true},
+                                       {"version", DASHBENCH_VERSION},
+                                       {"db", ctx.db_path},
+                                       {"dispatch", ctx.dispatch_mounted},
+                                       {"max_body_bytes", ctx.max_body_bytes},
+                                       {"max_workers", ctx.batches->options().max_workers}}));
              }));
 
   server.Get("/api/info", guarded([&ctx](const httplib::Request&, httplib::Response& res) {
                const log::ResultsDb db(ctx.db_path, log::OpenMode::ReadOnly);
                const log::DbInfo info = db.info();
                replyJson(res, 200,
-                         Json{{"path", info.path},
-                              {"schema_version", info.schema_version},
-                              {"runs", info.runs},
-                              {"runs_by_status", info.runs_by_status},
-                              {"experiments", info.experiments},
-                              {"planner_configs", info.planner_configs},
-                              {"batches", info.batches},
-                              {"events", info.events}}
-                             .dump());
+                         jsonText(Json{{"path", info.path},
+                                       {"schema_version", info.schema_version},
+                                       {"runs", info.runs},
+                                       {"runs_by_status", info.runs_by_status},
+                                       {"experiments", info.experiments},
+                                       {"planner_configs", info.planner_configs},
+                                       {"batches", info.batches},
+                                       {"events", info.events}}));
              }));
 
   server.Get("/api/scenarios", guarded([](const httplib::Request&, httplib::Response& res) {
                Json list = Json::array();
                for (const ScenarioFamily& f : scenarioFamilies()) list.push_back(familyJson(f));
-               replyJson(res, 200, Json{{"families", list}, {"planners", plannersJson()}}.dump());
+               replyJson(res, 200, jsonText(Json{{"families", list}, {"planners", plannersJson()}}));
              }));
 
   server.Get(R"(/api/scenarios/([A-Za-z0-9_\-]+))", guarded([](const httplib::Request& req, httplib::Response& res) {
                const ScenarioFamily* f = findScenarioFamily(req.matches[1]);
                if (f == nullptr) throw HttpError(404, "no scenario family '" + std::string(req.matches[1]) + "'");
-               replyJson(res, 200, familyJson(*f).dump());
+               replyJson(res, 200, jsonText(familyJson(*f)));
              }));
 
   server.Get("/api/robots", guarded([](const httplib::Request&, httplib::Response& res) {
-               replyJson(res, 200, Json{{"models", robotModelsJson()}}.dump());
+               replyJson(res, 200, jsonText(Json{{"models", robotModelsJson()}}));
              }));
 
   server.Get("/api/planners", guarded([](const httplib::Request&, httplib::Response& res) {
-               replyJson(res, 200, Json{{"planners", plannersJson()}}.dump());
+               replyJson(res, 200, jsonText(Json{{"planners", plannersJson()}}));
              }));
 }
 

@@ -1,6 +1,9 @@
 // /api/series and /api/compare/overview (the Compare page's plots), /api/query (the read-only SQL
 // console, with the guards of `dashbench db query`) and /api/query/examples.
 
+#include <atomic>
+#include <memory>
+
 #include "engine/log/db_query.h"
 #include "server/http/api_json.h"
 #include "server/http/api_util.h"
@@ -16,6 +19,29 @@ namespace {
 
 constexpr std::int64_t kMaxQueryRows = 10000;
 constexpr double kQueryTimeout = 10.0;
+// What one query may cost the server (issue 24: a 64 MB cell limit let one query return 640 MB and
+// peak at 2.6 GB). The process-wide SQLite heap limit (HttpServer) bounds what is left over.
+constexpr int kMaxQueryCellBytes = 4 << 20;  ///< a stored plan is well below this
+constexpr int kMaxQueryColumns = 200;
+constexpr std::int64_t kMaxQueryResultBytes = 8 << 20;
+constexpr int kMaxConcurrentQueries = 4;  ///< more at once get 503
+
+/// Counts the queries running; refuses one more than kMaxConcurrentQueries.
+class QuerySlot {
+ public:
+  explicit QuerySlot(std::atomic<int>& running) : running_(running) {
+    if (running_.fetch_add(1) >= kMaxConcurrentQueries) {
+      running_.fetch_sub(1);
+      throw HttpError(503, "too many queries at once; try again in a moment");
+    }
+  }
+  ~QuerySlot() { running_.fetch_sub(1); }
+  QuerySlot(const QuerySlot&) = delete;
+  QuerySlot& operator=(const QuerySlot&) = delete;
+
+ private:
+  std::atomic<int>& running_;
+};
 
 const char* guardName(log::QueryGuard g) {
   switch (g) {
@@ -31,6 +57,8 @@ const char* guardName(log::QueryGuard g) {
       return "one_statement";
     case log::QueryGuard::TimeLimit:
       return "time_limit";
+    case log::QueryGuard::Function:
+      return "function";
   }
   return "guard";
 }
@@ -79,35 +107,36 @@ void registerDataRoutes(httplib::Server& server, ApiContext& ctx) {
              }));
 
   server.Get("/api/query/examples", guarded([](const httplib::Request&, httplib::Response& res) {
-               replyJson(res, 200, Json{{"examples", examples()}}.dump());
+               replyJson(res, 200, jsonText(Json{{"examples", examples()}}));
              }));
 
   // Read-only by construction (db_query.h), so it needs no token; it is a POST only because SQL is long.
-  server.Post("/api/query", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
-                const Json body = parseBodyObject(req);
-                if (!body.contains("sql") || !body["sql"].is_string()) throw HttpError(400, "sql: expected a string");
-                std::int64_t max_rows = 1000;
-                if (body.contains("max_rows")) {
-                  if (!body["max_rows"].is_number_integer()) throw HttpError(400, "max_rows: expected an integer");
-                  max_rows = body["max_rows"].get<std::int64_t>();
-                  if (max_rows < 1 || max_rows > kMaxQueryRows) {
-                    throw HttpError(400, "max_rows: out of range 1.." + std::to_string(kMaxQueryRows));
-                  }
-                }
-                try {
-                  const log::SqlRows rows =
-                      log::runReadOnlyQuery(ctx.db_path, body["sql"].get<std::string>(),
-                                            log::QueryLimits{.max_rows = max_rows, .timeout_seconds = kQueryTimeout});
-                  Json out = rowsToJson(rows);
-                  out["max_rows"] = max_rows;
-                  replyJson(res, 200, out.dump());
-                } catch (const log::QueryRefused& e) {
-                  // QueryRefused's messages start with "refused:" already.
-                  const std::string what = e.what();
-                  const std::string message = what.rfind("refused:", 0) == 0 ? what : "refused: " + what;
-                  replyJson(res, 403, Json{{"error", message}, {"guard", guardName(e.guard())}}.dump());
-                }
-              }));
+  auto running = std::make_shared<std::atomic<int>>(0);
+  server.Post(
+      "/api/query", guarded([&ctx, running](const httplib::Request& req, httplib::Response& res) {
+        const Json body = parseBodyObject(req);
+        if (!body.contains("sql") || !body["sql"].is_string()) throw HttpError(400, "sql: expected a string");
+        std::int64_t max_rows = 1000;
+        if (body.contains("max_rows")) max_rows = intMember(body, "max_rows", 1, kMaxQueryRows);
+        const QuerySlot slot(*running);
+        try {
+          const log::SqlRows rows = log::runReadOnlyQuery(ctx.db_path, body["sql"].get<std::string>(),
+                                                          log::QueryLimits{.max_rows = max_rows,
+                                                                           .timeout_seconds = kQueryTimeout,
+                                                                           .max_cell_bytes = kMaxQueryCellBytes,
+                                                                           .max_columns = kMaxQueryColumns,
+                                                                           .max_result_bytes = kMaxQueryResultBytes});
+          Json out = rowsToJson(rows);
+          out["max_rows"] = max_rows;
+          out["max_bytes"] = kMaxQueryResultBytes;
+          replyJson(res, 200, jsonText(out));
+        } catch (const log::QueryRefused& e) {
+          // QueryRefused's messages start with "refused:" already.
+          const std::string what = e.what();
+          const std::string message = what.rfind("refused:", 0) == 0 ? what : "refused: " + what;
+          replyJson(res, 403, jsonText(Json{{"error", message}, {"guard", guardName(e.guard())}}));
+        }
+      }));
 }
 
 }  // namespace dash::http

@@ -102,17 +102,16 @@ std::string RunDetail::runJson(const std::string& uuid) const {
   Json tag_list = Json::array();
   for (const auto& r : tags.rows) tag_list.push_back(toJson(r[0]));
 
-  return Json{{"run", run},
-              {"params", params},
-              {"settings", settings},
-              {"phases", phases},
-              {"phase_iterations", rowsAsObjects(per_iteration)},
-              {"event_counts", event_counts},
-              {"counters", counter_json},
-              {"constraints", rowsAsObjects(constraint_kinds)},
-              {"tags", tag_list},
-              {"note", note.is_null() ? Json("") : note}}
-      .dump();
+  return jsonText(Json{{"run", run},
+                       {"params", params},
+                       {"settings", settings},
+                       {"phases", phases},
+                       {"phase_iterations", rowsAsObjects(per_iteration)},
+                       {"event_counts", event_counts},
+                       {"counters", counter_json},
+                       {"constraints", rowsAsObjects(constraint_kinds)},
+                       {"tags", tag_list},
+                       {"note", note.is_null() ? Json("") : note}});
 }
 
 std::string RunDetail::eventsJson(const std::string& uuid, const std::string& type, std::int64_t offset,
@@ -133,12 +132,11 @@ std::string RunDetail::eventsJson(const std::string& uuid, const std::string& ty
   const log::SqlRows rows = db.select("SELECT seq, t, iteration, type, what, id, detail FROM dash_timeline" + where +
                                           " ORDER BY t, type, seq LIMIT ? OFFSET ?",
                                       params);
-  return Json{{"total", intOf(total.rows[0][0])},
-              {"offset", offset},
-              {"limit", limit},
-              {"type", type},
-              {"events", rowsAsObjects(rows)}}
-      .dump();
+  return jsonText(Json{{"total", intOf(total.rows[0][0])},
+                       {"offset", offset},
+                       {"limit", limit},
+                       {"type", type},
+                       {"events", rowsAsObjects(rows)}});
 }
 
 std::string RunDetail::timelineJson(const std::string& uuid, std::int64_t max_items) const {
@@ -188,14 +186,13 @@ std::string RunDetail::timelineJson(const std::string& uuid, std::int64_t max_it
       "kind "
       "LIMIT 5000",
       key);
-  return Json{
+  return jsonText(Json{
       {"progress", rowsToJson(progress)},
       {"constraints", std::move(constraints)},
       {"expansions", std::move(expansions)},
       {"phases", std::move(phases)},
       {"additions", rowsAsObjects(added)},
-      {"truncated", {{"progress", thinned}, {"constraints", c_trunc}, {"expansions", e_trunc}, {"phases", p_trunc}}}}
-      .dump();
+      {"truncated", {{"progress", thinned}, {"constraints", c_trunc}, {"expansions", e_trunc}, {"phases", p_trunc}}}});
 }
 
 std::optional<std::string> RunDetail::planText(const std::string& uuid) const {
@@ -249,7 +246,7 @@ std::string RunDetail::annotationsJson(const std::string& uuid) const {
   Json list = Json::array();
   for (const auto& r : tags.rows) list.push_back(toJson(r[0]));
   const Json n = toJson(note.rows[0][0]);
-  return Json{{"uuid", uuid}, {"tags", list}, {"note", n.is_null() ? Json("") : n}}.dump();
+  return jsonText(Json{{"uuid", uuid}, {"tags", list}, {"note", n.is_null() ? Json("") : n}});
 }
 
 }  // namespace dash::http

@@ -50,13 +50,12 @@ std::string RunQueries::listJson(const RunListRequest& request) const {
                                       params);
   Json runs = Json::array();
   for (std::size_t i = 0; i < rows.rows.size(); ++i) runs.push_back(rowObject(rows, i));
-  return Json{{"total", toJson(count.rows.at(0).at(0))},
-              {"offset", request.offset},
-              {"limit", request.limit},
-              {"sort", request.sort},
-              {"order", request.descending ? "desc" : "asc"},
-              {"runs", std::move(runs)}}
-      .dump();
+  return jsonText(Json{{"total", toJson(count.rows.at(0).at(0))},
+                       {"offset", request.offset},
+                       {"limit", request.limit},
+                       {"sort", request.sort},
+                       {"order", request.descending ? "desc" : "asc"},
+                       {"runs", std::move(runs)}});
 }
 
 std::string RunQueries::csv(const RunListRequest& request, std::int64_t max_rows) const {

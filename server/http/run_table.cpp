@@ -141,7 +141,7 @@ std::string RunTable::columnsJson() const {
     const char* type = c.type == ColumnType::kText ? "text" : c.type == ColumnType::kInteger ? "integer" : "real";
     list.push_back({{"name", c.name}, {"label", c.label}, {"type", type}, {"group", c.group}, {"shown", c.shown}});
   }
-  return Json{{"columns", list}, {"parameters", params_}}.dump();
+  return jsonText(Json{{"columns", list}, {"parameters", params_}});
 }
 
 }  // namespace dash::http

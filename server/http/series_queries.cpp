@@ -158,14 +158,13 @@ std::string SeriesQueries::seriesJson(const SeriesRequest& request) const {
   }
   Json metric_list = Json::array();
   for (const Metric& m : metrics()) metric_list.push_back({{"name", m.name}, {"label", m.label}, {"unit", m.unit}});
-  return Json{{"family", request.family},
-              {"x", request.x},
-              {"group_by", request.group_by},
-              {"split", request.split},
-              {"include_unsolved", request.include_unsolved},
-              {"metrics", metric_list},
-              {"groups", out_groups}}
-      .dump();
+  return jsonText(Json{{"family", request.family},
+                       {"x", request.x},
+                       {"group_by", request.group_by},
+                       {"split", request.split},
+                       {"include_unsolved", request.include_unsolved},
+                       {"metrics", metric_list},
+                       {"groups", out_groups}});
 }
 
 std::string SeriesQueries::overviewJson() const {
@@ -187,7 +186,7 @@ std::string SeriesQueries::overviewJson() const {
     list.push_back(
         {{"family", family}, {"runs", toJson(row[1])}, {"solved", toJson(row[2])}, {"parameters", p}, {"configs", c}});
   }
-  return Json{{"families", list}}.dump();
+  return jsonText(Json{{"families", list}});
 }
 
 }  // namespace dash::http
