@@ -7,6 +7,7 @@ import { on } from '../events.js';
 import { el, clear, badge, fmtNumber, fmtSeconds, paramsText, errorBox, table } from '../dom.js';
 import { drawChart, valueAxis, axisTitle, destroyCharts } from '../charts.js';
 import { PHASE_COLOURS, PHASE_LABELS, LAYER_STYLES, OKABE_ITO } from '../palette.js';
+import { mountRunDispatch } from './run_dispatch.js';
 
 const LAYERS = ['task', 'task_extended', 'motion', 'motion_extended'];
 const LAYER_COLOURS = { task: '#0072B2', task_extended: '#56B4E9', motion: '#D55E00', motion_extended: '#E69F00' };
@@ -83,6 +84,7 @@ export function mount(root, args) {
     ),
     el('div', { class: 'panel' }, el('h2', { text: 'Events' }), eventsBox),
   );
+  mountRunDispatch(header, uuid);
 
   function renderHeader(d) {
     const r = d.run;
