@@ -60,6 +60,14 @@ TEST(RobotiqGripper, GraspReportsAPartOrAMiss) {
   ASSERT_TRUE(release.ok) << release.error;
   EXPECT_EQ(release.obj, 3);
   EXPECT_EQ(release.position, 0);
+  // The release took its time: the fingers were reported moving (OBJ 0) after its SET.
+  int moving_after_release = 0;
+  bool released = false;
+  for (const auto& c : sim.commands()) {
+    released = released || c.line == "SET POS 0 SPE 255 FOR 100 GTO 1";
+    moving_after_release += released && c.answer == "OBJ 0" ? 1 : 0;
+  }
+  EXPECT_GT(moving_after_release, 0);
   sim.setObjectPresent(false);
   RobotiqGripper::MoveResult miss = g.move(robotiq::kClosed, 255, 100, {});
   ASSERT_TRUE(miss.ok) << miss.error;

@@ -601,6 +601,7 @@ std::string SimGripper::answerLocked(const std::string& line, std::int64_t now_u
   if (line.rfind("SET ", 0) == 0) {
     const auto vars = setVars(line);
     if (vars.empty()) return "?";
+    const int now_at = positionLocked(now_us, nullptr);  // before POS changes the move in progress
     bool go = false;
     for (const auto& [name, value] : vars) {
       if (name == "ACT") {
@@ -615,7 +616,7 @@ std::string SimGripper::answerLocked(const std::string& line, std::int64_t now_u
       }
     }
     if (go && active) {  // a move starts from where the fingers are now
-      from_ = positionLocked(now_us, nullptr);
+      from_ = now_at;
       move_us_ = now_us;
       moved_ = true;
     }
