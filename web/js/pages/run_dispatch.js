@@ -1,7 +1,7 @@
 // "Dispatch this plan" on the Run detail page: the pre-flight checks of this run's plan against the
-// controllers connected now (run as the panel opens and whenever the time scale changes; nothing is
-// sent), their result check by check, and a Dispatch button that is enabled only while the result
-// shown passed for the options shown. The server checks again before anything moves (POST
+// controllers connected now (on request, and again whenever the time scale changes after a check;
+// nothing is sent to the arms), their result check by check, and a Dispatch button that is enabled
+// only while the result shown passed for the options shown. The server checks again before anything moves (POST
 // /api/dispatch with {"run_id"}); the live view and Abort are on the Dispatch page.
 import { api } from '../api.js';
 import { el, clear, fmtNumber, errorBox, table } from '../dom.js';
@@ -18,7 +18,7 @@ function checksTable(report) {
 export function mountRunDispatch(anchor, runId) {
   const scale = el('input', { type: 'number', value: 1, min: 0.1, step: 0.1, style: 'width:5em', 'data-testid': 'run-dispatch-scale' });
   const user = el('input', { type: 'text', size: 12, placeholder: 'your name', value: localStorage.getItem(USER_KEY) || '', 'data-testid': 'run-dispatch-user' });
-  const recheck = el('button', { type: 'button', class: 'secondary', 'data-testid': 'run-dispatch-check' }, 'Check again');
+  const recheck = el('button', { type: 'button', class: 'secondary', 'data-testid': 'run-dispatch-check' }, 'Pre-flight check');
   const go = el('button', { type: 'button', disabled: true, 'data-testid': 'run-dispatch-start' }, 'Dispatch this plan');
   const result = el('div', { 'data-testid': 'run-dispatch-preflight' });
   const message = el('div', { 'data-testid': 'run-dispatch-message' });
@@ -89,7 +89,8 @@ export function mountRunDispatch(anchor, runId) {
     }
   });
   recheck.addEventListener('click', check);
-  scale.addEventListener('change', check);
-  check();
+  scale.addEventListener('change', () => {
+    if (result.dataset.passed !== undefined) check(); // keep the result shown true to the options shown
+  });
   return panel;
 }
