@@ -47,9 +47,16 @@ const char* const kControllerHelp =
     "                          (several robots on one machine need distinct ports)\n"
     "  --read-timeout-ms MS    the robot stops if no message comes within MS (default 100)\n"
     "  --keepalive-ms MS       keep-alive period (default 10)\n"
+    "  --rtde-hz HZ            RTDE output frequency asked of the robot (default 500: e-series; CB3: 125)\n"
+    "  --stale-ms MS           a joint state older than MS stops a running goal (default: 3 RTDE\n"
+    "                          periods + 20 ms, 26 ms at 500 Hz)\n"
     "  --point-type spline|movej   how points are sent (default spline: cubic)\n"
     "  --gripper robotiq|none  grasp/release through Robotiq's URCap socket (default none)\n"
-    "  --gripper-host H        default: --robot-ip      --gripper-port P  default 63352\n";
+    "  --gripper-host H        default: --robot-ip      --gripper-port P  default 63352\n"
+    "  --gripper-speed N       SPE of grasp and release moves, 0..255 (default 255)\n"
+    "  --gripper-force N       FOR of grasp and release moves, 0..255 (default 255)\n"
+    "  The gripper is reset and activated when the agent first reaches it (its fingers move); a grasp\n"
+    "  that closes on nothing (OBJ 3) fails the dispatch. See docs/real-arms.md.\n";
 
 namespace {
 
@@ -84,7 +91,7 @@ int runController(const std::vector<std::string>& words) {
                                 "sim-speed", "sim-stop-at", "sim-drop-at", "robot-ip", "host-ip", "listen-host",
                                 "reverse-port", "script-port", "trajectory-port", "script-command-port", "rtde-port",
                                 "read-timeout-ms", "keepalive-ms", "point-type", "gripper", "gripper-host",
-                                "gripper-port"},
+                                "gripper-port", "rtde-hz", "stale-ms", "gripper-speed", "gripper-force"},
                     .flags = {"sim-refuse", "quiet"}});
   dispatch::AgentOptions agent;
   agent.server_url = args.require("server");
@@ -130,6 +137,13 @@ int runController(const std::vector<std::string>& words) {
     ur.rtde_port = port(args, "rtde-port", 30004);
     ur.read_timeout_ms = static_cast<int>(args.integer("read-timeout-ms", 100));
     ur.keepalive_ms = static_cast<int>(args.integer("keepalive-ms", 10));
+    ur.rtde_frequency = args.number("rtde-hz", 500.0);
+    DASH_THROW_UNLESS(ur.rtde_frequency >= 1.0 && ur.rtde_frequency <= 500.0, "--rtde-hz: 1 to 500");
+    if (args.has("stale-ms")) {
+      const long long stale = args.integer("stale-ms", 0);
+      DASH_THROW_UNLESS(stale >= 1 && stale <= 10000, "--stale-ms: 1 to 10000");
+      ur.state_stale_after = static_cast<double>(stale) * 1e-3;
+    }
     const std::string point_type = args.get("point-type", "spline");
     DASH_THROW_UNLESS(point_type == "spline" || point_type == "movej", "--point-type: spline or movej");
     ur.point_type = point_type == "spline" ? dispatch::ur::PointType::kSpline : dispatch::ur::PointType::kMovej;
@@ -138,6 +152,12 @@ int runController(const std::vector<std::string>& words) {
     ur.gripper = gripper == "robotiq";
     ur.gripper_host = args.get("gripper-host", "");
     ur.gripper_port = port(args, "gripper-port", dispatch::robotiq::kPort);
+    for (const auto& [name, target] : {std::pair<const char*, int*>{"gripper-speed", &ur.gripper_speed},
+                                       std::pair<const char*, int*>{"gripper-force", &ur.gripper_force}}) {
+      const long long v = args.integer(name, 255);
+      DASH_THROW_UNLESS(v >= 0 && v <= 255, std::string("--") + name + ": 0 to 255");
+      *target = static_cast<int>(v);
+    }
     auto ur_driver = std::make_unique<dispatch::UrDriver>(model, ur);
     const auto p = ur_driver->ports();
     if (!quiet) {

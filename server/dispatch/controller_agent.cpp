@@ -12,6 +12,10 @@ namespace {
 constexpr std::size_t kOffsetWindow = 32;
 constexpr std::size_t kMaxBatch = 500;  ///< samples kept while the server is unreachable
 constexpr double kStableConnection = 2.0;  ///< s: a connection that lasted this long resets the backoff
+/// Round trips measured before the agent calls itself ready: the hello's offset is off by the event's
+/// delivery time (tens of milliseconds on a loaded machine), the best of a few round trips by at most
+/// half the shortest round trip.
+constexpr std::size_t kMinOffsetSamples = 3;
 
 std::int64_t micros(double s) { return static_cast<std::int64_t>(s * 1e6); }
 
@@ -75,7 +79,11 @@ bool ControllerAgent::handleEvent(const std::string& event, const std::string& d
       connected_ = true;
       reconnect_ = false;
       ++connections_;
-      if (!offset_known_) {
+      same_clock_ = !hello.clock.empty() && hello.clock == steadyClockId();
+      if (same_clock_) {  // on the server's machine: the same steady clock, nothing to estimate
+        offset_us_ = 0;
+        offset_known_ = true;
+      } else if (!offset_known_) {
         offset_us_ = hello.server_time_us - steadyMicros();
         offset_known_ = true;
       }
@@ -214,10 +222,12 @@ void ControllerAgent::reportLoop() {
     const DriverProgress p = driver_.progress();
     std::string session, dispatch_id;
     bool connected = false;
+    bool synchronised = false;
     std::int64_t offset = 0;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       offset = offset_us_;
+      synchronised = same_clock_ || offset_samples_.size() >= kMinOffsetSamples;
       // Fault injection: drop the connection once, drop_at seconds after the start.
       if (options_.drop_at && !dropped_ && start_local_us_ && p.status == ArmStatus::kExecuting &&
           now - *start_local_us_ >= micros(*options_.drop_at)) {
@@ -247,6 +257,10 @@ void ControllerAgent::reportLoop() {
     report.model = driver_.model();
     report.joint_names = driver_.jointNames();
     report.ready = driver_.ready(report.detail);
+    if (report.ready && !synchronised) {
+      report.ready = false;
+      report.detail = "measuring the clock offset to the server";
+    }
     report.status = p.status;
     report.dispatch_id = dispatch_id;
     report.result = p.result;
@@ -273,6 +287,7 @@ void ControllerAgent::reportLoop() {
     sent_any = true;
     if (const auto server_time = parseServerTime(res->body)) {
       std::lock_guard<std::mutex> lock(mutex_);
+      if (same_clock_) continue;
       offset_samples_.emplace_back(t1 - t0, *server_time - (t0 + t1) / 2);
       if (offset_samples_.size() > kOffsetWindow) offset_samples_.pop_front();
       const auto best = std::min_element(offset_samples_.begin(), offset_samples_.end());

@@ -73,6 +73,7 @@ class ControllerAgent {
   // Clock offset: the estimate from the round trip with the smallest delay among the recent ones.
   std::int64_t offset_us_ = 0;
   bool offset_known_ = false;
+  bool same_clock_ = false;  ///< the server runs on this machine (same steady clock): offset 0
   std::deque<std::pair<std::int64_t, std::int64_t>> offset_samples_;  ///< (rtt, offset)
   std::thread stream_thread_, report_thread_;
 };

@@ -40,6 +40,40 @@ Json preflightJson(const PreflightReport& report) {
   return {{"passed", report.passed}, {"reason", report.reason()}, {"checks", checks}};
 }
 
+constexpr std::size_t kMaxToleranceJoints = 64;
+constexpr double kMaxGoalTime = 60.0;
+constexpr std::size_t kMaxJointNameLength = 100;
+
+Json toleranceJson(const ToleranceSpec& t) {
+  Json joints = Json::object();
+  for (const auto& [name, value] : t.joints) joints[name] = value;
+  return {{"all", t.all}, {"joints", joints}};
+}
+
+/// A number (every joint) or an object of joint name -> number, with "all" for the joints not named.
+ToleranceSpec parseTolerance(const Json& value, const std::string& what) {
+  ToleranceSpec out;
+  if (value.is_number()) {
+    out.all = value.get<double>();
+  } else {
+    DASH_THROW_UNLESS(value.is_object(), what + ": expected a number or an object of joint names to numbers");
+    DASH_THROW_UNLESS(value.size() <= kMaxToleranceJoints, what + ": at most " + std::to_string(kMaxToleranceJoints) + " joints");
+    out.all = -1.0;
+    for (const auto& [name, v] : value.items()) {
+      DASH_THROW_UNLESS(!name.empty() && name.size() <= kMaxJointNameLength, what + ": a joint name of 1 to 100 characters");
+      DASH_THROW_UNLESS(v.is_number(), what + "." + name + ": expected a number");
+      if (name == "all") {
+        out.all = v.get<double>();
+      } else {
+        out.joints[name] = v.get<double>();
+      }
+    }
+    DASH_THROW_UNLESS(out.all >= 0.0, what + ": needs \"all\" (the tolerance of the joints not named)");
+  }
+  out.validate(what);
+  return out;
+}
+
 std::string textOf(const Json& value, const std::string& what) {
   if (value.is_string()) return value.get<std::string>();
   DASH_THROW_UNLESS(value.is_object(), what + ": expected a JSON object (or its text)");
@@ -72,7 +106,9 @@ std::string dispatchStatusToJson(const DispatchStatus& s) {
                {"actual", vec(a.actual)},
                {"deviation", a.deviation},
                {"max_deviation", a.max_deviation},
-               {"samples", a.samples}};
+               {"samples", a.samples},
+               {"path_tolerance", vec(a.path_tolerance)},
+               {"goal_tolerance", vec(a.goal_tolerance)}};
     if (!a.trace.empty()) {
       Json trace = Json::array();
       for (const TracePoint& p : a.trace) trace.push_back(Json::array({p.t, vec(p.planned), vec(p.actual)}));
@@ -92,7 +128,12 @@ std::string dispatchStatusToJson(const DispatchStatus& s) {
               {"duration", s.duration},
               {"elapsed", s.elapsed},
               {"tolerances",
-               {{"start", s.start_tolerance}, {"path", s.path_tolerance}, {"goal", s.goal_tolerance}}},
+               {{"start", s.start_tolerance},
+                {"path", s.path_tolerance.all},
+                {"goal", s.goal_tolerance.all},
+                {"goal_time", s.goal_time_tolerance},
+                {"path_by_joint", toleranceJson(s.path_tolerance)["joints"]},
+                {"goal_by_joint", toleranceJson(s.goal_tolerance)["joints"]}}},
               {"arms", arms}}
       .dump();
 }
@@ -118,11 +159,16 @@ DispatchRequestBody parseDispatchRequest(const std::string& body) {
     const std::string p = "request.options";
     if (o.contains("start_delay")) out.options.start_delay = num(o, "start_delay", p);
     if (o.contains("start_tolerance")) out.options.start_tolerance = num(o, "start_tolerance", p);
-    if (o.contains("path_tolerance")) out.options.path_tolerance = num(o, "path_tolerance", p);
-    if (o.contains("goal_tolerance")) out.options.goal_tolerance = num(o, "goal_tolerance", p);
+    if (o.contains("path_tolerance")) out.options.path_tolerance = parseTolerance(o["path_tolerance"], p + ".path_tolerance");
+    if (o.contains("goal_tolerance")) out.options.goal_tolerance = parseTolerance(o["goal_tolerance"], p + ".goal_tolerance");
+    if (o.contains("goal_time_tolerance")) {
+      out.options.goal_time_tolerance = num(o, "goal_time_tolerance", p);
+      DASH_THROW_UNLESS(*out.options.goal_time_tolerance > 0.0 && *out.options.goal_time_tolerance <= kMaxGoalTime,
+                        p + ".goal_time_tolerance: must be in (0, 60] s");
+    }
     out.options.time_scale = numOr(o, "time_scale", 1.0, p);
     if (o.contains("validate_geometry")) out.options.validate_geometry = boolOr(o, "validate_geometry", true, p);
-    for (const char* key : {"start_delay", "start_tolerance", "path_tolerance", "goal_tolerance"}) {
+    for (const char* key : {"start_delay", "start_tolerance"}) {
       DASH_THROW_UNLESS(!o.contains(key) || o[key].get<double>() >= 0.0, p + "." + key + ": must not be negative");
     }
     DASH_THROW_UNLESS(out.options.time_scale > 0.0, p + ".time_scale: must be positive");

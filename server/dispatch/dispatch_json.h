@@ -26,8 +26,9 @@ std::string dispatchStatusToJson(const DispatchStatus& status);
 
 /// A dispatch request body: {"plan": {...} | "plan text", "scene": {...} | "scene text"} or
 /// {"run_id": "..."}, with optional "options": {"start_delay", "start_tolerance", "path_tolerance",
-/// "goal_tolerance", "time_scale", "validate_geometry"} and "user" (a label for the record, at most
-/// 100 characters). Throws InputError on a malformed body.
+/// "goal_tolerance", "goal_time_tolerance", "time_scale", "validate_geometry"} and "user" (a label for
+/// the record, at most 100 characters). path_tolerance and goal_tolerance are a number (every joint)
+/// or an object {"all": rad, "JOINT_NAME": rad, ...} (tolerances.h). Throws InputError on a malformed body.
 struct DispatchRequestBody {
   std::string run_id;      ///< set instead of the texts for a stored run
   std::string user;        ///< who asks, as they say (the record's requested_by)

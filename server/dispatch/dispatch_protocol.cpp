@@ -1,5 +1,7 @@
 #include "server/dispatch/dispatch_protocol.h"
 
+#include <fstream>
+
 #include <algorithm>
 
 #include "server/dispatch/json_util.h"
@@ -65,24 +67,34 @@ ArmTrajectory trajectoryFromJson(const Json& j, const std::string& path) {
 }  // namespace
 
 std::string helloToJson(const HelloMessage& m) {
-  return Json{{"session", m.session}, {"server_time_us", m.server_time_us}, {"robot", m.robot}}.dump();
+  return Json{{"session", m.session}, {"server_time_us", m.server_time_us}, {"robot", m.robot}, {"clock", m.clock}}.dump();
 }
 
 HelloMessage parseHello(const std::string& text) {
   const Json j = parseObject(text, "hello");
-  return {str(j, "session", "hello"), int64(j, "server_time_us", "hello"), strOr(j, "robot", "", "hello")};
+  HelloMessage m{str(j, "session", "hello"), int64(j, "server_time_us", "hello"), strOr(j, "robot", "", "hello"),
+                 strOr(j, "clock", "", "hello")};
+  DASH_THROW_UNLESS(m.clock.size() <= kMaxClockIdLength, "hello.clock: too long");
+  return m;
+}
+
+std::string steadyClockId() {
+  // The steady clock is CLOCK_MONOTONIC: one clock per boot of one machine, named by its boot id.
+  static const std::string id = [] {
+    std::ifstream in("/proc/sys/kernel/random/boot_id");
+    std::string text;
+    std::getline(in, text);
+    return text.size() <= kMaxClockIdLength ? text : std::string();
+  }();
+  return id;
 }
 
 std::string pingToJson(std::int64_t server_time_us) { return Json{{"server_time_us", server_time_us}}.dump(); }
 
 std::string trajectoryCommandToJson(const TrajectoryCommand& c) {
-  return Json{{"dispatch_id", c.dispatch_id},
-              {"trajectory", trajectoryToJson(c.trajectory)},
-              {"limits",
-               {{"start_tolerance", c.limits.start_tolerance},
-                {"goal_tolerance", c.limits.goal_tolerance},
-                {"goal_time_tolerance", c.limits.goal_time_tolerance}}}}
-      .dump();
+  Json limits = {{"start_tolerance", c.limits.start_tolerance}, {"goal_time_tolerance", c.limits.goal_time_tolerance}};
+  if (c.limits.goal_tolerance.size() > 0) limits["goal_tolerance"] = vec(c.limits.goal_tolerance);
+  return Json{{"dispatch_id", c.dispatch_id}, {"trajectory", trajectoryToJson(c.trajectory)}, {"limits", limits}}.dump();
 }
 
 TrajectoryCommand parseTrajectoryCommand(const std::string& text) {
@@ -94,7 +106,18 @@ TrajectoryCommand parseTrajectoryCommand(const std::string& text) {
     const Json& l = j["limits"];
     DASH_THROW_UNLESS(l.is_object(), "trajectory.limits: expected an object");
     c.limits.start_tolerance = numOr(l, "start_tolerance", c.limits.start_tolerance, "trajectory.limits");
-    c.limits.goal_tolerance = numOr(l, "goal_tolerance", c.limits.goal_tolerance, "trajectory.limits");
+    if (l.contains("goal_tolerance")) {
+      const Json& g = l["goal_tolerance"];
+      if (g.is_number()) {
+        const double v = g.get<double>();
+        c.limits.goal_tolerance = JointVector::Constant(static_cast<Eigen::Index>(c.trajectory.joint_names.size()), v);
+      } else {
+        c.limits.goal_tolerance = toVec(g, "trajectory.limits.goal_tolerance");
+      }
+      DASH_THROW_UNLESS(c.limits.goal_tolerance.size() == static_cast<Eigen::Index>(c.trajectory.joint_names.size()) &&
+                            (c.limits.goal_tolerance.array() >= 0.0).all(),
+                        "trajectory.limits.goal_tolerance: one non-negative number per joint");
+    }
     c.limits.goal_time_tolerance = numOr(l, "goal_time_tolerance", c.limits.goal_time_tolerance, "trajectory.limits");
   }
   return c;

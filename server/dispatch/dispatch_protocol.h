@@ -3,7 +3,7 @@
 //
 // Server -> agent: one long-lived `GET /api/controllers/ROBOT/stream` answered with server-sent
 // events, one JSON object per `data:` line:
-//   hello       {"session", "server_time_us", "robot"}          first event of every stream
+//   hello       {"session", "server_time_us", "robot", "clock"} first event of every stream
 //   ping        {"server_time_us"}                              every heartbeat interval
 //   trajectory  {"dispatch_id", "trajectory": {...}, "limits": {...}}   load (check) a goal
 //   start       {"dispatch_id", "start_time_us"}                start at that server time
@@ -19,21 +19,33 @@
 
 #include "server/dispatch/arm_trajectory.h"
 #include "server/dispatch/dispatch_types.h"
+#include "server/dispatch/tolerances.h"
 
 namespace dash::dispatch {
 
-/// Tolerances an agent applies to its goal.
+/// Tolerances an agent applies to its goal (tolerances.h: as ros2_control's trajectory controller).
 struct GoalLimits {
-  double start_tolerance = 0.01;     ///< rad (m): first point vs the measured state
-  double goal_tolerance = 0.01;      ///< rad (m): final state vs the last point
-  double goal_time_tolerance = 1.0;  ///< s after the end to get within goal_tolerance
+  double start_tolerance = 0.01;  ///< rad (m): first point vs the measured state
+  JointVector goal_tolerance;     ///< rad (m) per joint: final state vs the last point (empty: the default)
+  double goal_time_tolerance = kDefaultGoalTimeTolerance;  ///< s after the end to get within goal_tolerance
+
+  /// goal_tolerance, or kDefaultGoalTolerance for each of `dof` joints when it is empty.
+  JointVector goalTolerance(Eigen::Index dof) const {
+    return goal_tolerance.size() == dof ? goal_tolerance : JointVector::Constant(dof, kDefaultGoalTolerance);
+  }
 };
 
 struct HelloMessage {
   std::string session;
   std::int64_t server_time_us = 0;
   std::string robot;
+  std::string clock;  ///< steadyClockId() of the server: an agent with the same id shares its clock
 };
+
+inline constexpr std::size_t kMaxClockIdLength = 64;
+/// Names this machine's steady clock (its boot id; empty if unknown). Two processes with the same
+/// id read the same clock: their offset is exactly 0, with no estimate needed.
+std::string steadyClockId();
 
 struct TrajectoryCommand {
   std::string dispatch_id;

@@ -146,7 +146,7 @@ DispatchService::StreamHandle DispatchService::openStream(const std::string& rob
     if (seen) ++entry.info.reconnects;
     entry.stream = handle.stream;
     handle.session = entry.info.session;
-    handle.stream->push(formatSse("hello", helloToJson({entry.info.session, now(), robot})));
+    handle.stream->push(formatSse("hello", helloToJson({entry.info.session, now(), robot, steadyClockId()})));
     const ControllerInfo info = entry.info;
     noteLocked([info](DispatchListener& l) { l.onControllerConnected(info); });
   }
@@ -263,6 +263,7 @@ void DispatchService::processSamplesLocked(std::size_t i, const std::vector<Join
   const Eigen::Index dof = trajectory.points.front().positions.size();
   for (const JointSample& s : samples) {
     if (s.q.size() != dof) continue;
+    run.last_sample_us[i] = now();
     const bool started = run.status.start_time_us != 0;
     const double t = started ? (s.t_us - run.status.start_time_us) * 1e-6 : -1.0;
     const JointVector planned = trajectory.positionAt(std::max(t, 0.0));
@@ -278,11 +279,12 @@ void DispatchService::processSamplesLocked(std::size_t i, const std::vector<Join
       run.last_trace_us[i] = s.t_us;
       run.traces[i].push_back({t, planned, s.q});
     }
-    if (isActive(run.status.state) && !arm.done && deviation > run.status.path_tolerance) {
-      Eigen::Index worst = 0;
-      (s.q - planned).cwiseAbs().maxCoeff(&worst);
-      const std::string what = "deviated " + fmt(deviation, 4) + " from the plan (joint " + std::to_string(worst) +
-                               ", t=" + fmt(t) + " s; path tolerance " + fmt(run.status.path_tolerance, 4) + ")";
+    // As the trajectory controller: the path tolerance holds until the arm's end time; after it the
+    // goal tolerance and the goal time tolerance take over (the final report and the deadline).
+    if (!isActive(run.status.state) || arm.done || t > arm.duration) continue;
+    const ToleranceCheck check = checkTolerance(s.q, planned, arm.path_tolerance);
+    if (check.violated) {
+      const std::string what = "left its path: " + describeViolation(check, trajectory.joint_names, "path", t);
       if (arm.result == ResultCode::kSuccessful) {
         arm.result = ResultCode::kPathToleranceViolated;
         arm.message = what;
@@ -311,10 +313,12 @@ void DispatchService::processStatusLocked(std::size_t i, const AgentReport& r) {
   if (run.status.state == DispatchState::kRunning) {
     if (r.status == ArmStatus::kSucceeded && arm.result == ResultCode::kSuccessful) {
       const JointVector& goal = run.trajectories[i].points.back().positions;
-      const double off = arm.actual.size() > 0 ? maxAbsDifference(arm.actual, goal) : 0.0;
-      if (off > run.status.goal_tolerance) {
+      const ToleranceCheck off = arm.actual.size() > 0 ? checkTolerance(arm.actual, goal, arm.goal_tolerance)
+                                                       : ToleranceCheck{};
+      if (off.violated) {
         arm.result = ResultCode::kGoalToleranceViolated;
-        arm.message = "ended " + fmt(off, 4) + " from its goal (goal tolerance " + fmt(run.status.goal_tolerance, 4) + ")";
+        arm.message = "ended off its goal: " + describeViolation(off, run.trajectories[i].joint_names, "goal",
+                                                                 arm.last_sample_t);
         abortLocked(arm.robot + " " + arm.message, DispatchState::kFailed);
       } else if (allArmsDoneLocked()) {
         bool all_ok = std::all_of(run.status.arms.begin(), run.status.arms.end(), [](const ArmDispatchStatus& a) {
@@ -544,10 +548,13 @@ DispatchOutcome DispatchService::dispatch(const Plan& plan, const Scene& scene, 
     st.path_tolerance = options.path_tolerance.value_or(config_.path_tolerance);
     st.start_tolerance = popts.start_tolerance;
     st.goal_tolerance = options.goal_tolerance.value_or(config_.goal_tolerance);
-    GoalLimits limits{st.start_tolerance, st.goal_tolerance, config_.goal_time_tolerance};
+    st.goal_time_tolerance = options.goal_time_tolerance.value_or(config_.goal_time_tolerance);
     for (const ArmTrajectory& t : outcome.preflight.trajectories) {
       ArmDispatchStatus arm;
       arm.robot = t.robot;
+      arm.path_tolerance = st.path_tolerance.resolve(t.joint_names);
+      arm.goal_tolerance = st.goal_tolerance.resolve(t.joint_names);
+      const GoalLimits limits{st.start_tolerance, arm.goal_tolerance, st.goal_time_tolerance};
       arm.driver = controllers_[t.robot].info.driver;
       arm.duration = t.endTime();
       arm.planned = t.points.front().positions;
@@ -556,6 +563,7 @@ DispatchOutcome DispatchService::dispatch(const Plan& plan, const Scene& scene, 
       run.trajectories.push_back(t);
       run.traces.emplace_back();
       run.last_trace_us.push_back(0);
+      run.last_sample_us.push_back(0);
       controllers_[t.robot].stream->push(formatSse("trajectory", trajectoryCommandToJson({st.id, t, limits})));
     }
     run_ = std::move(run);
@@ -621,7 +629,8 @@ DispatchOutcome DispatchService::dispatch(const Plan& plan, const Scene& scene, 
         const double delay = options.start_delay.value_or(config_.start_delay);
         r.status.start_time_us = now() + micros(std::max(delay, 0.0));
         r.status.state = DispatchState::kRunning;
-        r.deadline_us = r.status.start_time_us + micros(r.status.duration + config_.goal_time_tolerance + kDeadlineSlack);
+        r.deadline_us = r.status.start_time_us + micros(r.status.duration + r.status.goal_time_tolerance + kDeadlineSlack);
+        for (std::int64_t& last : r.last_sample_us) last = std::max(last, r.status.start_time_us);
         for (const ArmDispatchStatus& a : r.status.arms) {
           controllers_[a.robot].stream->push(formatSse("start", startCommandToJson({r.status.id, r.status.start_time_us})));
         }
@@ -674,12 +683,22 @@ void DispatchService::checkArmsLocked() {
         abortLocked(arm.robot + ": " + arm.message, DispatchState::kAborted);
         return;
       }
+      // Reports without joint states (a driver that lost its robot's state) are no better.
+      const auto index = static_cast<std::size_t>(&arm - run.status.arms.data());
+      const double unseen = (t - run.last_sample_us[index]) * 1e-6;
+      if (run.status.state == DispatchState::kRunning && t > run.status.start_time_us && unseen > config_.sample_timeout) {
+        arm.done = true;
+        arm.result = ResultCode::kFault;
+        arm.message = "no joint state for " + fmt(unseen, 2) + " s";
+        abortLocked(arm.robot + ": " + arm.message, DispatchState::kAborted);
+        return;
+      }
     }
     if (run.status.state == DispatchState::kRunning && t > run.deadline_us) {
       for (ArmDispatchStatus& arm : run.status.arms) {
         if (arm.done) continue;
         arm.result = ResultCode::kGoalToleranceViolated;
-        arm.message = "not at its goal " + fmt(config_.goal_time_tolerance, 2) + " s after its end time";
+        arm.message = "not at its goal " + fmt(run.status.goal_time_tolerance, 2) + " s after its end time";
         abortLocked(arm.robot + " " + arm.message, DispatchState::kFailed);
         return;
       }

@@ -46,11 +46,16 @@ struct DispatchConfig {
   std::function<std::optional<PlanSource>(const std::string& run_id)> resolve_run;
   double start_delay = 0.5;          ///< s from "every arm armed" to the common start time
   double start_tolerance = 0.01;     ///< rad (m): measured start vs the plan's first point
-  double path_tolerance = 0.1;       ///< rad (m): measured vs planned while running
-  double goal_tolerance = 0.01;      ///< rad (m): final state vs the last point
-  double goal_time_tolerance = 1.0;  ///< s an arm may take past its end time
+  /// Per joint (tolerances.h, as ros2_control's trajectory controller): measured vs planned at the
+  /// same time until the arm's end time; the final state vs the last point; the time past the end
+  /// time an arm may take to get there.
+  ToleranceSpec path_tolerance{kDefaultPathTolerance, {}};
+  ToleranceSpec goal_tolerance{kDefaultGoalTolerance, {}};
+  double goal_time_tolerance = kDefaultGoalTimeTolerance;
   double arm_timeout = 3.0;          ///< s for every agent to accept (check and load) its goal
   double state_timeout = 0.5;        ///< s without a state report from a dispatched arm = lost
+  /// s without a new joint state sample from a running arm = lost (its agent may still report).
+  double sample_timeout = 0.5;
   double settle_timeout = 2.0;       ///< s after an abort to wait for every arm's final report
   double heartbeat_interval = 0.05;  ///< s between pings on an idle command stream
   double monitor_period = 0.01;      ///< s between checks of deadlines and silences
@@ -65,8 +70,9 @@ struct DispatchConfig {
 struct DispatchOptions {
   std::optional<double> start_delay;
   std::optional<double> start_tolerance;
-  std::optional<double> path_tolerance;
-  std::optional<double> goal_tolerance;
+  std::optional<ToleranceSpec> path_tolerance;
+  std::optional<ToleranceSpec> goal_tolerance;
+  std::optional<double> goal_time_tolerance;
   /// Multiplies every time of the plan (and its gripper events), for every arm alike so they stay
   /// coordinated: > 1 slower, < 1 faster. The pre-flight speed check runs on the scaled times, so a
   /// scale that would take any joint past its velocity limit is refused (the reason names the
@@ -151,6 +157,7 @@ class DispatchService {
     std::vector<ArmTrajectory> trajectories;  ///< parallel to status.arms
     std::vector<std::vector<TracePoint>> traces;  ///< parallel to status.arms
     std::vector<std::int64_t> last_trace_us;
+    std::vector<std::int64_t> last_sample_us;  ///< server time a sample of the arm last arrived
     std::int64_t deadline_us = 0;
     std::int64_t settle_deadline_us = 0;
   };

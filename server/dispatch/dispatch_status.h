@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "server/dispatch/dispatch_types.h"
+#include "server/dispatch/tolerances.h"
 
 namespace dash::dispatch {
 
@@ -41,6 +42,8 @@ struct ArmDispatchStatus {
   double max_deviation = 0.0;  ///< over the dispatch so far
   double last_sample_t = 0.0;  ///< s from the start (negative before it)
   int samples = 0;
+  JointVector path_tolerance;  ///< per joint, resolved for this arm's joints (0: not checked)
+  JointVector goal_tolerance;
   std::vector<TracePoint> trace;  ///< filled only when asked for
 };
 
@@ -66,9 +69,10 @@ struct DispatchStatus {
   std::int64_t end_time_us = 0;    ///< 0 while active
   double elapsed = 0.0;            ///< s since the start time (negative before it)
   bool final = false;  ///< no arm report will change it any more
-  double path_tolerance = 0.0;
   double start_tolerance = 0.0;
-  double goal_tolerance = 0.0;
+  ToleranceSpec path_tolerance;
+  ToleranceSpec goal_tolerance;
+  double goal_time_tolerance = 0.0;
   std::vector<ArmDispatchStatus> arms;
 };
 

@@ -143,13 +143,14 @@ void SimDriver::stepLocked(SteadyClock::time_point now, double dt) {
     gripper_log_.emplace_back(elapsed, g.action);
   }
   const JointVector& goal = goal_.points.back().positions;
-  const bool at_goal = maxAbsDifference(q_, goal) <= limits_.goal_tolerance;
-  if (tau >= goal_.endTime() && at_goal) {
+  const ToleranceCheck off = checkTolerance(q_, goal, limits_.goalTolerance(q_.size()));
+  if (tau >= goal_.endTime() && !off.violated) {
     progress_ = {ArmStatus::kSucceeded, ResultCode::kSuccessful, ""};
     qd_.setZero();
   } else if (tau >= goal_.endTime() + limits_.goal_time_tolerance) {
     progress_ = {ArmStatus::kFailed, ResultCode::kGoalToleranceViolated,
-                 "not within the goal tolerance " + std::to_string(limits_.goal_time_tolerance) + " s after the end"};
+                 describeViolation(off, joint_names_, "goal", tau) + ", goal time tolerance " +
+                     std::to_string(limits_.goal_time_tolerance) + " s"};
     qd_.setZero();
   }
 }

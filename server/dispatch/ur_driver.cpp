@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
+#include <limits>
 
 #include "engine/core/check.h"
 
@@ -22,12 +24,15 @@ UrDriver::UrDriver(const RobotModel& model, UrDriverOptions options)
     : model_name_(model.name),
       joint_names_(model.joint_names),
       velocity_max_(model.limits.velocity_max),
-      options_(std::move(options)) {
+      options_(std::move(options)),
+      gripper_(options_.gripper_timings) {
   DASH_THROW_UNLESS(model.dof() == 6, "--driver ur needs a 6-joint arm model, " + model.name + " has " +
                                           std::to_string(model.dof()) + " joints");
   DASH_THROW_UNLESS(!options_.robot_ip.empty(), "--driver ur needs --robot-ip");
   DASH_THROW_UNLESS(options_.keepalive_ms > 0 && options_.keepalive_ms < options_.read_timeout_ms,
                     "the keep-alive period must be shorter than the read timeout");
+  DASH_THROW_UNLESS(options_.rtde_frequency > 0.0 && options_.state_stale_after >= 0.0 && options_.gripper_poll > 0.0,
+                    "the RTDE frequency, the staleness bound and the gripper poll period must be positive");
   reverse_.name = "reverse";
   script_.name = "script sender";
   trajectory_.name = "trajectory";
@@ -49,10 +54,19 @@ UrDriver::~UrDriver() { shutdown(); }
 
 void UrDriver::shutdown() {
   if (stopping_.exchange(true)) return;
+  ++goal_seq_;
   cv_.notify_all();
-  if (io_thread_.joinable()) io_thread_.join();
-  if (control_thread_.joinable()) control_thread_.join();
+  if (control_thread_.joinable()) control_thread_.join();  // no keep-alive after MODE_STOPPED
   if (gripper_thread_.joinable()) gripper_thread_.join();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (phase_ == Phase::kSent || phase_ == Phase::kCancelling) {
+      sendReverse(ur::forwardMessage(options_.read_timeout_ms, ur::TrajectoryAction::kCancel));
+    }
+    // As UR's client library does before closing: the program leaves its loop and stops the arm.
+    sendReverse(ur::stoppedMessage(options_.read_timeout_ms));
+  }
+  if (io_thread_.joinable()) io_thread_.join();
   if (rtde_) rtde_->stop();
   gripper_.close();
   for (Endpoint* e : {&reverse_, &script_, &trajectory_, &command_}) {
@@ -177,7 +191,13 @@ void UrDriver::failLocked(ArmStatus status, ResultCode code, const std::string& 
   progress_ = {status, code, message};
   phase_ = Phase::kIdle;
   gripper_next_ = gripper_plan_.size();
+  ++goal_seq_;
   cv_.notify_all();
+}
+
+double UrDriver::staleBound() const {
+  return options_.state_stale_after > 0.0 ? options_.state_stale_after
+                                          : kStalePeriods / options_.rtde_frequency + kStaleMargin;
 }
 
 void UrDriver::handleResult(std::int32_t result) {
@@ -186,6 +206,7 @@ void UrDriver::handleResult(std::int32_t result) {
   if (phase_ == Phase::kCancelling) {
     progress_ = {ArmStatus::kAborted, ResultCode::kCancelled, abort_reason_};
     phase_ = Phase::kIdle;
+    ++goal_seq_;
   } else if (phase_ == Phase::kSent) {
     if (code == ResultCode::kSuccessful) {
       phase_ = Phase::kGoalCheck;
@@ -195,11 +216,13 @@ void UrDriver::handleResult(std::int32_t result) {
     } else if (code == ResultCode::kCancelled) {
       progress_ = {ArmStatus::kFailed, code, "the robot cancelled the trajectory"};
       phase_ = Phase::kIdle;
+    ++goal_seq_;
     } else {
       progress_ = {ArmStatus::kFailed, code,
                    code == ResultCode::kPathToleranceViolated ? "the robot reported a trajectory failure (result 2)"
                                                                : "unknown trajectory result " + std::to_string(result)};
       phase_ = Phase::kIdle;
+    ++goal_seq_;
     }
   }  // else: a late answer (a CANCEL after the end); nothing is running
   cv_.notify_all();
@@ -231,7 +254,7 @@ bool UrDriver::ready(std::string& detail) const {
 DriverState UrDriver::state() const {
   const RtdeClient::State s = rtde_->state();
   const bool fresh = s.connected && s.received_us != 0 &&
-                     (steadyMicros() - s.received_us) <= static_cast<std::int64_t>(options_.state_timeout * 1e6);
+                     (steadyMicros() - s.received_us) <= static_cast<std::int64_t>(staleBound() * 1e6);
   return {fresh, s.q, s.qd, s.received_us};
 }
 
@@ -239,7 +262,7 @@ ResultCode UrDriver::load(const ArmTrajectory& trajectory, const GoalLimits& lim
   std::string detail;
   const bool is_ready = ready(detail);
   const DriverState s = state();
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::unique_lock<std::mutex> lock(mutex_);
   auto refuse = [&](ResultCode code, const std::string& why) {
     message = why;
     progress_ = {ArmStatus::kFailed, code, why};
@@ -251,6 +274,14 @@ ResultCode UrDriver::load(const ArmTrajectory& trajectory, const GoalLimits& lim
   if (!trajectory.gripper.empty() && !options_.gripper) {
     return refuse(ResultCode::kInvalidGoal, "the goal has grasp/release commands but no gripper is configured (--gripper robotiq)");
   }
+  if (options_.gripper) {  // a dead gripper connection must not wait for the first grasp to show
+    std::string why;
+    lock.unlock();
+    const bool answers = gripperAnswers(why);
+    lock.lock();
+    if (!answers) return refuse(ResultCode::kInvalidGoal, "the gripper does not answer: " + why);
+    if (phase_ != Phase::kIdle) return refuse(ResultCode::kInvalidGoal, "busy with another goal");
+  }
   std::vector<ur::PointMessage> points;
   const std::string problem = ur::buildPointMessages(trajectory, s.q, limits.start_tolerance, options_.point_type, points);
   if (!problem.empty()) return refuse(ResultCode::kInvalidGoal, problem);
@@ -259,6 +290,7 @@ ResultCode UrDriver::load(const ArmTrajectory& trajectory, const GoalLimits& lim
   points_ = std::move(points);
   gripper_plan_.clear();
   gripper_next_ = 0;
+  ++goal_seq_;
   phase_ = Phase::kArmed;
   progress_ = {ArmStatus::kArmed, ResultCode::kSuccessful, ""};
   message.clear();
@@ -281,6 +313,7 @@ void UrDriver::start(SteadyClock::time_point at) {
 void UrDriver::abort(const std::string& reason) {
   std::lock_guard<std::mutex> lock(mutex_);
   gripper_next_ = gripper_plan_.size();
+  ++goal_seq_;
   switch (phase_) {
     case Phase::kArmed:
     case Phase::kWaitingStart:
@@ -350,64 +383,47 @@ void UrDriver::controlLoop() {
                           : ur::idleMessage(options_.read_timeout_ms));
       next_keepalive = now + period;
     }
-    if (phase_ == Phase::kCancelling && now > deadline_) {
-      progress_ = {ArmStatus::kAborted, ResultCode::kFault, "the robot did not confirm the cancel: " + abort_reason_};
-      phase_ = Phase::kIdle;
-    } else if (phase_ == Phase::kGoalCheck) {
-      const DriverState s = state();
-      const bool gripper_done = gripper_next_ >= gripper_plan_.size();
-      const bool at_goal = s.valid && maxAbsDifference(s.q, goal_.points.back().positions) <= limits_.goal_tolerance;
-      if (at_goal && gripper_done) {
-        progress_ = {ArmStatus::kSucceeded, ResultCode::kSuccessful, ""};
-        phase_ = Phase::kIdle;
-      } else if (now > deadline_) {
-        progress_ = {ArmStatus::kFailed, ResultCode::kGoalToleranceViolated,
-                     gripper_done ? "the robot ended off its goal" : "gripper commands still pending"};
-        phase_ = Phase::kIdle;
-      }
-    }
+    checkGoalLocked(now);
   }
 }
 
-void UrDriver::gripperLoop() {
-  while (!stopping_) {
-    if (!gripper_.connected()) {
-      std::string error;
-      const bool ok = gripper_.connect(options_.gripper_host, options_.gripper_port, options_.gripper_timeout_ms, error);
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        gripper_ready_ = ok;
-        gripper_error_ = ok ? "" : error;
-        if (ok) gripper_closed_ = false;
-      }
-      if (!ok) {
-        std::unique_lock<std::mutex> lock(mutex_);
-        cv_.wait_for(lock, std::chrono::milliseconds(500), [&] { return stopping_.load(); });
-      }
-      continue;
+void UrDriver::checkGoalLocked(SteadyClock::time_point now) {
+  const bool in_progress = phase_ == Phase::kArmed || phase_ == Phase::kWaitingStart || phase_ == Phase::kSent ||
+                           phase_ == Phase::kGoalCheck;
+  if (in_progress) {
+    // Without fresh joint state nobody can tell where the arm is: stop it (the server then aborts
+    // every arm when this one reports the fault).
+    const RtdeClient::State rs = rtde_->state();
+    const double age = rs.received_us == 0 ? std::numeric_limits<double>::infinity()
+                                           : (steadyMicros() - rs.received_us) * 1e-6;
+    if (!rs.connected || age > staleBound()) {
+      char text[200];
+      std::snprintf(text, sizeof text, "no joint state from RTDE for %.0f ms (staleness bound %.0f ms): arm stopped",
+                    std::min(age, 1e9) * 1e3, staleBound() * 1e3);
+      failLocked(ArmStatus::kFailed, ResultCode::kFault, text);
+      return;
     }
-    std::unique_lock<std::mutex> lock(mutex_);
-    auto due = [&] {
-      return gripper_next_ < gripper_plan_.size() && gripper_plan_[gripper_next_].first <= SteadyClock::now();
-    };
-    const auto wake = gripper_next_ < gripper_plan_.size() ? gripper_plan_[gripper_next_].first
-                                                          : SteadyClock::now() + std::chrono::milliseconds(200);
-    cv_.wait_until(lock, wake, [&] { return stopping_.load() || due(); });
-    if (stopping_ || !due()) continue;
-    const int position = gripper_plan_[gripper_next_].second;
-    lock.unlock();
-    std::string error;
-    const bool ok = gripper_.setPosition(position, error);
-    lock.lock();
-    if (gripper_next_ < gripper_plan_.size() && gripper_plan_[gripper_next_].second == position) ++gripper_next_;
-    if (ok) {
-      gripper_closed_ = position > 0;
-    } else {
-      gripper_ready_ = false;
-      gripper_error_ = error;
-      if (phase_ != Phase::kIdle) failLocked(ArmStatus::kFailed, ResultCode::kFault, "gripper: " + error);
+  }
+  if (phase_ == Phase::kCancelling && now > deadline_) {
+    progress_ = {ArmStatus::kAborted, ResultCode::kFault, "the robot did not confirm the cancel: " + abort_reason_};
+    phase_ = Phase::kIdle;
+    ++goal_seq_;
+  } else if (phase_ == Phase::kGoalCheck) {
+    const DriverState s = state();
+    const bool gripper_done = gripper_next_ >= gripper_plan_.size() && !gripper_moving_;
+    const JointVector& goal = goal_.points.back().positions;
+    const ToleranceCheck off = s.valid ? checkTolerance(s.q, goal, limits_.goalTolerance(goal.size())) : ToleranceCheck{true};
+    if (!off.violated && gripper_done) {
+      progress_ = {ArmStatus::kSucceeded, ResultCode::kSuccessful, ""};
+      phase_ = Phase::kIdle;
+      ++goal_seq_;
+    } else if (now > deadline_) {
+      const double t = std::chrono::duration<double>(now - start_at_).count();
+      progress_ = {ArmStatus::kFailed, ResultCode::kGoalToleranceViolated,
+                   gripper_done ? describeViolation(off, joint_names_, "goal", t) : "gripper commands still pending"};
+      phase_ = Phase::kIdle;
+      ++goal_seq_;
     }
-    cv_.notify_all();
   }
 }
 

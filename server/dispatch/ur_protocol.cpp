@@ -26,6 +26,10 @@ ReverseMessage idleMessage(int read_timeout_ms) {
   return {read_timeout_ms, 0, 0, 0, 0, 0, 0, static_cast<std::int32_t>(ControlMode::kIdle)};
 }
 
+ReverseMessage stoppedMessage(int read_timeout_ms) {
+  return {read_timeout_ms, 0, 0, 0, 0, 0, 0, static_cast<std::int32_t>(ControlMode::kStopped)};
+}
+
 ReverseMessage forwardMessage(int read_timeout_ms, TrajectoryAction action, std::int32_t points) {
   return {read_timeout_ms, static_cast<std::int32_t>(action), points, 0, 0, 0, 0,
           static_cast<std::int32_t>(ControlMode::kForward)};

@@ -28,7 +28,7 @@ inline constexpr double kMultJointState = 1000000.0;
 inline constexpr double kMultTime = 1000000.0;
 inline constexpr const char* kProgramRequest = "request_program\n";
 
-enum class ControlMode : std::int32_t { kIdle = 0, kServoj = 1, kSpeedj = 2, kForward = 3, kSpeedl = 4, kPose = 5, kFreedrive = 6 };
+enum class ControlMode : std::int32_t { kStopped = -2, kIdle = 0, kServoj = 1, kSpeedj = 2, kForward = 3, kSpeedl = 4, kPose = 5, kFreedrive = 6 };
 enum class TrajectoryAction : std::int32_t { kCancel = -1, kNoop = 0, kStart = 1, kStreamStart = 2, kStreamEnd = 3 };
 enum class PointType : std::int32_t { kMovej = 0, kMovel = 1, kMovep = 2, kMovec = 3, kSpline = 51 };
 enum class SplineType : std::int32_t { kCubic = 1, kQuintic = 2 };
@@ -39,6 +39,9 @@ using PointMessage = std::array<std::int32_t, kPointMessageInts>;
 
 /// [timeout, 0, 0, 0, 0, 0, 0, IDLE]
 ReverseMessage idleMessage(int read_timeout_ms);
+/// [timeout, 0, 0, 0, 0, 0, 0, STOPPED]: the program leaves its control loop, stops the arm and closes
+/// its sockets (what UR's client library sends before it closes the reverse socket).
+ReverseMessage stoppedMessage(int read_timeout_ms);
 /// [timeout, action, points, 0, 0, 0, 0, FORWARD]
 ReverseMessage forwardMessage(int read_timeout_ms, TrajectoryAction action, std::int32_t points = 0);
 

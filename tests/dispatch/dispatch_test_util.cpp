@@ -126,13 +126,16 @@ SimArm startSimArm(const std::string& url, const std::string& robot, const Joint
   return arm;
 }
 
-UrArm startUrArm(const std::string& url, const std::string& robot, const JointVector& initial, AgentOptions agent) {
+UrArm startUrArm(const std::string& url, const std::string& robot, const JointVector& initial, AgentOptions agent,
+                 UrArmSetup setup) {
   UrArm arm;
-  arm.gripper = std::make_unique<SimGripper>();
-  SimUrRobotOptions robot_options;
+  arm.gripper = std::make_unique<SimGripper>(setup.gripper);
+  SimUrRobotOptions robot_options = setup.robot;
   robot_options.initial = initial;
   arm.robot = std::make_unique<SimUrRobot>(robot_options);
   UrDriverOptions ur;
+  ur.read_timeout_ms = kLoadProofReadTimeoutMs;
+  ur.state_stale_after = setup.state_stale_after;
   ur.robot_ip = "127.0.0.1";
   ur.listen_host = "127.0.0.1";
   ur.reverse_port = ur.script_port = ur.trajectory_port = ur.script_command_port = 0;
@@ -312,7 +315,9 @@ CliUrArm startCliUrArm(const std::string& url, const std::string& robot, const J
                                          "--rtde-port", std::to_string(arm.robot->rtdePort()),
                                          "--gripper", "robotiq",
                                          "--gripper-host", "127.0.0.1",
-                                         "--gripper-port", std::to_string(arm.gripper->port())};
+                                         "--gripper-port", std::to_string(arm.gripper->port()),
+                                         "--read-timeout-ms", std::to_string(kLoadProofReadTimeoutMs),
+                                         "--stale-ms", std::to_string(kLoadProofStaleMs)};
   arm.agent = std::make_unique<ChildProcess>(args, ::testing::TempDir() + log_name);
   return arm;
 }

@@ -31,6 +31,18 @@ namespace dash::dispatch::test {
 
 inline constexpr const char* kToken = "test-token-3141";
 
+// Settings that keep the tests independent of the machine's load (a loaded 2-core machine can keep a
+// thread off the CPU for tens of milliseconds): the robot's keep-alive read timeout and the UR
+// driver's joint state staleness bound, well above such pauses. The defaults (100 ms, 26 ms) are for
+// a dedicated PC next to the robot; the checks themselves are the same.
+inline constexpr int kLoadProofReadTimeoutMs = 1000;
+inline constexpr int kLoadProofStaleMs = 500;
+/// Server timeouts for silent agents and arms without joint states, likewise.
+inline constexpr double kLoadProofStateTimeout = 1.5;
+/// A path tolerance for tests about protocols and faults rather than tracking (rad): a timing error of
+/// a loaded machine (tens of milliseconds at up to 3 rad/s) stays far inside it.
+inline constexpr double kLoadProofPathTolerance = 0.5;
+
 std::shared_ptr<const RobotLibrary> library();
 /// The contract's pick-and-place scene (ur5e_0 picks obj_0) plus `extra_arms` UR5e arms at x = 2.5,
 /// -2.5, ... m, clear of everything.
@@ -127,8 +139,13 @@ struct UrArm {
     gripper.reset();
   }
 };
+struct UrArmSetup {
+  SimGripperOptions gripper;
+  SimUrRobotOptions robot;  ///< its `initial` is set from startUrArm's
+  double state_stale_after = kLoadProofStaleMs * 1e-3;
+};
 UrArm startUrArm(const std::string& url, const std::string& robot, const JointVector& initial,
-                 AgentOptions agent = {});
+                 AgentOptions agent = {}, UrArmSetup setup = {});
 
 /// Polls `condition` every 5 ms until true or `timeout` passes; returns the last value.
 bool waitFor(const std::function<bool()>& condition, double timeout_s);

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <sstream>
 
 #include "server/dispatch/dispatch_types.h"
 #include "server/dispatch/rtde_client.h"
@@ -146,6 +148,14 @@ void SimUrRobot::programLoop() {
     last = now;
     read_timeout_ms = m[0];
     const std::int32_t mode = m[7];
+    if (mode == static_cast<std::int32_t>(ur::ControlMode::kStopped)) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stopped_by_pc_us_ = steadyMicros();
+      }
+      if (trajectory_thread_.joinable()) cancelTrajectory(false);
+      break;  // the program leaves its control loop, stops the arm and closes its sockets
+    }
     const auto forward = static_cast<std::int32_t>(ur::ControlMode::kForward);
     if (control_mode == forward && mode != forward) cancelTrajectory(false);
     control_mode = mode;
@@ -176,6 +186,7 @@ void SimUrRobot::programLoop() {
   }
   cancel_ = true;
   if (trajectory_thread_.joinable()) trajectory_thread_.join();
+  for (Socket* s : {&trajectory_, &command_, &reverse_}) s->shutdown();
   std::lock_guard<std::mutex> lock(mutex_);
   connected_ = false;
   qd_.setZero();
@@ -220,6 +231,10 @@ bool SimUrRobot::runSegment(const JointVector& q_end, const JointVector& qd_end,
     q0 = q_;
     v0 = spline_qd_;
   }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    recordLocked(steadyMicros());
+  }
   const double scale = options_.speed_scaling;
   const double T = duration / scale;
   const auto step = std::chrono::microseconds(static_cast<std::int64_t>(options_.step * 1e6));
@@ -233,13 +248,32 @@ bool SimUrRobot::runSegment(const JointVector& q_end, const JointVector& qd_end,
       std::lock_guard<std::mutex> lock(mutex_);
       qd_ = (q - q_) / options_.step;
       q_ = q;
+      recordLocked(steadyMicros());
     }
     if (s >= 1.0) break;
   }
   std::lock_guard<std::mutex> lock(mutex_);
   q_ = q_end;
   spline_qd_ = qd_end;
+  recordLocked(steadyMicros());
   return true;
+}
+
+void SimUrRobot::recordLocked(std::int64_t t_us) {
+  if (options_.tracking_delay <= 0.0) return;
+  history_.emplace_back(t_us, q_);
+  const auto keep = static_cast<std::int64_t>((options_.tracking_delay + 1.0) * 1e6);
+  while (history_.size() > 2 && history_[1].first < t_us - keep) history_.pop_front();
+}
+
+JointVector SimUrRobot::reportedLocked(std::int64_t now_us) const {
+  if (options_.tracking_delay <= 0.0 || history_.empty()) return q_;
+  const std::int64_t at = now_us - static_cast<std::int64_t>(options_.tracking_delay * 1e6);
+  if (at >= history_.back().first) return q_;
+  for (auto it = history_.rbegin(); it != history_.rend(); ++it) {
+    if (it->first <= at) return it->second;
+  }
+  return history_.front().second;
 }
 
 void SimUrRobot::trajectoryLoop(int /*points*/) {
@@ -371,16 +405,33 @@ void SimUrRobot::rtdeLoop() {
       next += std::chrono::microseconds(static_cast<std::int64_t>(period * 1e6));
       std::vector<std::uint8_t> data(1 + 96);
       data[0] = recipe;
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        for (int j = 0; j < 6; ++j) {
-          putDouble(data.data() + 1 + 8 * j, q_[j]);
-          putDouble(data.data() + 49 + 8 * j, qd_[j]);
-        }
+      std::lock_guard<std::mutex> lock(mutex_);  // held while sending: stallRtde() sees the last package
+      if (rtde_stalled_) continue;
+      const JointVector q = reportedLocked(steadyMicros());
+      for (int j = 0; j < 6; ++j) {
+        putDouble(data.data() + 1 + 8 * j, q[j]);
+        putDouble(data.data() + 49 + 8 * j, qd_[j]);
       }
       if (!sendRtde(client.fd(), rtde::kDataPackage, data)) break;
+      last_rtde_sent_us_ = steadyMicros();
     }
   }
+}
+
+std::int64_t SimUrRobot::stoppedByPcAt() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return stopped_by_pc_us_;
+}
+
+std::int64_t SimUrRobot::stallRtde(bool stall) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  rtde_stalled_ = stall;
+  return last_rtde_sent_us_;
+}
+
+int SimUrRobot::trajectoryResultsSent() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return static_cast<int>(results_.size());
 }
 
 bool SimUrRobot::programConnected() const {
@@ -468,7 +519,26 @@ std::string SimUrRobot::rtdeOutputsAsked() const {
 
 // ---------------------------------------------------------------- gripper
 
-SimGripper::SimGripper() {
+namespace {
+
+/// "SET A 1 B 2" -> {(A, 1), (B, 2)}; empty if malformed.
+std::vector<std::pair<std::string, int>> setVars(const std::string& line) {
+  std::vector<std::pair<std::string, int>> vars;
+  std::istringstream in(line.substr(4));
+  std::string name, value;
+  while (in >> name) {
+    if (!(in >> value) || value.empty() || value.size() > 3 ||
+        !std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+      return {};
+    }
+    vars.emplace_back(name, std::stoi(value));
+  }
+  return vars;
+}
+
+}  // namespace
+
+SimGripper::SimGripper(SimGripperOptions options) : options_(options) {
   listener_ = listenTcp("127.0.0.1", 0);
   port_ = boundPort(listener_);
   thread_ = std::thread([this] { loop(); });
@@ -484,40 +554,118 @@ std::vector<SimGripper::Command> SimGripper::commands() const {
   return commands_;
 }
 
+std::vector<std::string> SimGripper::sets() const {
+  std::vector<std::string> out;
+  for (const Command& c : commands()) {
+    if (c.line.rfind("SET ", 0) == 0) out.push_back(c.line);
+  }
+  return out;
+}
+
 bool SimGripper::activated() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return activated_;
+  return act_ == 1 && steadyMicros() - act_us_ >= static_cast<std::int64_t>(options_.activation_delay * 1e6);
+}
+
+void SimGripper::setObjectPresent(bool present) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  options_.object = present;
+}
+
+void SimGripper::kill() { dead_ = true; }
+
+int SimGripper::positionLocked(std::int64_t now_us, int* obj) const {
+  if (!moved_) {
+    if (obj != nullptr) *obj = 0;
+    return from_;
+  }
+  const bool closing = requested_ > from_;
+  int end = requested_;
+  bool blocked = false;
+  if (closing && options_.object && options_.object_position > from_ && options_.object_position < requested_) {
+    end = options_.object_position;
+    blocked = true;
+  }
+  const double needed = options_.stroke_time * std::abs(end - from_) / 255.0;
+  const double elapsed = (now_us - move_us_) * 1e-6;
+  if (elapsed >= needed) {
+    if (obj != nullptr) *obj = blocked ? 2 : 3;
+    return end;
+  }
+  if (obj != nullptr) *obj = 0;
+  return from_ + static_cast<int>(std::lround((end - from_) * elapsed / std::max(needed, 1e-9)));
+}
+
+std::string SimGripper::answerLocked(const std::string& line, std::int64_t now_us) {
+  const bool active = act_ == 1 && now_us - act_us_ >= static_cast<std::int64_t>(options_.activation_delay * 1e6);
+  if (line.rfind("SET ", 0) == 0) {
+    const auto vars = setVars(line);
+    if (vars.empty()) return "?";
+    const int now_at = positionLocked(now_us, nullptr);  // before POS changes the move in progress
+    bool go = false;
+    for (const auto& [name, value] : vars) {
+      if (name == "ACT") {
+        if (value == 1 && act_ != 1) act_us_ = now_us;
+        act_ = value == 1 ? 1 : 0;
+      } else if (name == "POS") {
+        requested_ = std::clamp(value, 0, 255);
+      } else if (name == "GTO") {
+        go = value == 1;
+      } else if (name != "SPE" && name != "FOR" && name != "ATR") {
+        return "?";
+      }
+    }
+    if (go && active) {  // a move starts from where the fingers are now
+      from_ = now_at;
+      move_us_ = now_us;
+      moved_ = true;
+    }
+    return "ack";
+  }
+  if (line.rfind("GET ", 0) != 0) return "?";
+  const std::string var = line.substr(4);
+  int obj = 0;
+  const int position = positionLocked(now_us, &obj);
+  int value = 0;
+  if (var == "STA") {
+    value = act_ == 0 ? 0 : active ? 3 : 1;
+  } else if (var == "ACT") {
+    value = act_;
+  } else if (var == "PRE") {
+    value = moved_ ? requested_ : 0;
+  } else if (var == "POS") {
+    value = position;
+  } else if (var == "OBJ") {
+    value = obj;
+  } else if (var == "GTO") {
+    value = moved_ ? 1 : 0;
+  } else {
+    return "?";
+  }
+  return var + " " + std::to_string(value);
 }
 
 void SimGripper::loop() {
-  while (!stopping_) {
+  while (!stopping_ && !dead_) {
     Socket client = acceptTcp(listener_, 50);
     if (!client.valid()) continue;
-    while (!stopping_) {
+    while (!stopping_ && !dead_) {
       std::string line;
       const IoResult r = readLine(client.fd(), line, 50);
       if (r == IoResult::kTimeout) continue;
       if (r == IoResult::kClosed) break;
-      std::string answer = "ack";
+      std::string answer;
       {
         std::lock_guard<std::mutex> lock(mutex_);
-        commands_.push_back({line, steadyMicros()});
-        if (line == "SET ACT 1") {
-          activated_ = true;
-        } else if (line.rfind("SET POS ", 0) == 0) {
-          position_ = std::stoi(line.substr(8));
-        } else if (line == "GET POS") {
-          answer = "POS " + std::to_string(position_);
-        } else if (line == "GET STA") {
-          answer = activated_ ? "STA 3" : "STA 0";
-        } else if (line.rfind("SET ", 0) != 0) {
-          answer = "?";
-        }
+        const std::int64_t now = steadyMicros();
+        answer = answerLocked(line, now);
+        commands_.push_back({line, answer, now});
       }
-      answer += "\n";
+      // As the URCap: no newline after "ack" or after a GET's value.
       if (!writeAll(client.fd(), answer.data(), answer.size())) break;
     }
   }
+  listener_.reset();  // dead: nothing listens any more
 }
 
 }  // namespace dash::dispatch::test

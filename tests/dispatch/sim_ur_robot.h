@@ -5,9 +5,11 @@
 // then reads and decodes every reverse message and trajectory point byte for byte, executes the points
 // in (speed-scaled) real time, stops when a reverse read times out, and answers each trajectory with
 // 0 (success), 1 (cancelled) or 2 (failure). It also serves RTDE (actual_q, actual_qd) so the PC side
-// can read the joint state. Everything it received is recorded for the tests.
+// can read the joint state (and can stall it, as a real stream can stop while the socket stays open),
+// and stops its program on MODE_STOPPED. Everything it received is recorded for the tests.
 #include <atomic>
 #include <condition_variable>
+#include <deque>
 #include <cstdint>
 #include <mutex>
 #include <string>
@@ -30,6 +32,9 @@ struct SimUrRobotOptions {
   double speed_scaling = 1.0;  ///< the pendant's speed slider: segments take duration / speed_scaling
   double step = 0.002;         ///< control period (s)
   double rtde_frequency_cap = 500.0;
+  /// s: RTDE reports the commanded position this much later (servoj's look-ahead makes a real arm lag
+  /// its target by a few tens of milliseconds); 0 = none.
+  double tracking_delay = 0.0;
 };
 
 class SimUrRobot {
@@ -70,6 +75,12 @@ class SimUrRobot {
   double maxReverseGap() const;  ///< s: the longest wait between two reverse messages while connected
   bool halted() const;
   std::string haltReason() const;
+  /// The PC sent MODE_STOPPED: the program left its loop (when, steady microseconds; 0 = never).
+  std::int64_t stoppedByPcAt() const;
+  /// Stops (true) or resumes the RTDE data packages; the connection stays open. Returns when the last
+  /// package before the stall was sent (steady microseconds).
+  std::int64_t stallRtde(bool stall);
+  int trajectoryResultsSent() const;
   JointVector q() const;
   /// RTDE handshake as seen: protocol version asked, output names asked.
   int rtdeVersionAsked() const;
@@ -85,6 +96,9 @@ class SimUrRobot {
                   std::chrono::steady_clock::time_point begin);
   void sendResult(std::int32_t result);
   void halt(const std::string& why);
+  /// The position RTDE reports: the commanded one, tracking_delay ago.
+  JointVector reportedLocked(std::int64_t now_us) const;
+  void recordLocked(std::int64_t t_us);
 
   SimUrRobotOptions options_;
   Socket rtde_listener_;
@@ -106,6 +120,10 @@ class SimUrRobot {
   double max_gap_ = 0.0;
   bool halted_ = false;
   std::string halt_reason_;
+  std::int64_t stopped_by_pc_us_ = 0;
+  bool rtde_stalled_ = false;
+  std::int64_t last_rtde_sent_us_ = 0;
+  std::deque<std::pair<std::int64_t, JointVector>> history_;  ///< commanded positions, for tracking_delay
   int points_left_ = 0;
   bool trajectory_running_ = false;
   int rtde_version_ = 0;
@@ -113,28 +131,53 @@ class SimUrRobot {
   std::thread program_thread_, rtde_thread_, trajectory_thread_;
 };
 
-/// A simulated Robotiq gripper URCap socket: answers "ack" to SET commands, "POS n" / "STA 3" to GET.
+struct SimGripperOptions {
+  double activation_delay = 0.3;  ///< s from SET ACT 1 to STA 3 (a real Hand-E: a few seconds)
+  double stroke_time = 0.2;       ///< s for a full stroke (0 .. 255)
+  bool object = true;             ///< a part between the fingers: closing stops on it (OBJ 2), else OBJ 3
+  int object_position = 200;      ///< where closing fingers meet the part
+};
+
+/// A simulated Robotiq gripper URCap socket, answering as the real one: a SET with the 3 bytes "ack"
+/// (no newline), a GET with "VAR value" (no newline). STA goes 0 -> 1 -> 3 activation_delay after
+/// SET ACT 1; moves (POS/SPE/FOR with GTO 1, ignored before activation) take time, PRE echoes the
+/// requested position, OBJ is 0 while moving and 2 or 3 at the end.
 class SimGripper {
  public:
-  SimGripper();  ///< binds 127.0.0.1 on a free port
+  explicit SimGripper(SimGripperOptions options = {});  ///< binds 127.0.0.1 on a free port
   ~SimGripper();
   int port() const { return port_; }
   struct Command {
     std::string line;
+    std::string answer;
     std::int64_t received_us = 0;
   };
   std::vector<Command> commands() const;
+  /// Only the SET lines, in order.
+  std::vector<std::string> sets() const;
   bool activated() const;
+  void setObjectPresent(bool present);
+  /// The URCap dies: its connection closes and it takes no new one.
+  void kill();
 
  private:
   void loop();
+  std::string answerLocked(const std::string& line, std::int64_t now_us);
+  int positionLocked(std::int64_t now_us, int* obj) const;
+
+  SimGripperOptions options_;
   Socket listener_;
   int port_ = 0;
   mutable std::mutex mutex_;
   std::vector<Command> commands_;
-  bool activated_ = false;
-  int position_ = 0;
+  int act_ = 0;
+  std::int64_t act_us_ = 0;        ///< when SET ACT 1 came
+  int requested_ = 0;              ///< PRE
+  int from_ = 0;                   ///< position when the move began
+  std::int64_t move_us_ = 0;       ///< when the move began (0: none yet)
+  bool moved_ = false;
   std::atomic<bool> stopping_{false};
+  std::atomic<bool> dead_{false};
   std::thread thread_;
 };
 

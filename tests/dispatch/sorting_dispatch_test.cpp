@@ -12,7 +12,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-
 #include <nlohmann/json.hpp>
 
 #include "dispatch_test_util.h"
@@ -60,6 +59,7 @@ class SortingDispatch : public ::testing::Test {
     ASSERT_NE(plan_, nullptr) << "planning failed";
     DispatchConfig config;
     config.start_delay = 0.3;
+    config.state_timeout = config.sample_timeout = test::kLoadProofStateTimeout;
     db_path_ = ::testing::TempDir() + "dispatch-sorting.db";
     for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(db_path_ + suffix);
     server_ = std::make_unique<test::TestServer>(config, db_path_);
@@ -101,14 +101,20 @@ TEST_F(SortingDispatch, RealTwoRobotPlanRunsFasterToSuccessAndTheUrRobotGetsEver
   ASSERT_NE(plan_->findRobot(kUrRobot), nullptr);
   ASSERT_NE(plan_->findRobot(kSimRobot), nullptr);
   int ur_gripper_events = 0;
-  for (const PlanEvent& e : plan_->events) ur_gripper_events += e.robot == kUrRobot && e.type != PlanEvent::Type::kInspect;
+  for (const PlanEvent& e : plan_->events)
+    ur_gripper_events += e.robot == kUrRobot && e.type != PlanEvent::Type::kInspect;
   ASSERT_GT(ur_gripper_events, 0) << "a sorting plan hands cubes over: both arms grasp";
 
   ur_ = test::startCliUrArm(server_->url(), kUrRobot, start(kUrRobot), token_file_, "dispatch_sorting_ur.log");
   sim_ = test::startCliSimArm(server_->url(), kSimRobot, start(kSimRobot), token_file_, "dispatch_sorting_sim.log");
-  ASSERT_TRUE(waitFor([&] { return test::controllersReady(server_->service(), {kUrRobot, kSimRobot}); }, 20.0))
-      << test::httpGet(server_->url(), "/api/controllers").body << "\nur agent log:\n" << ur_.agent->log()
-      << "\nsim agent log:\n" << sim_->log();
+  ASSERT_TRUE(waitFor(
+      [&] {
+        return test::controllersReady(server_->service(), {kUrRobot, kSimRobot});
+      },
+      20.0))
+      << test::httpGet(server_->url(), "/api/controllers").body << "\nur agent log:\n"
+      << ur_.agent->log() << "\nsim agent log:\n"
+      << sim_->log();
 
   const double min_scale = smallestTimeScale();
   ASSERT_GT(min_scale, 0.0);
@@ -174,8 +180,11 @@ TEST_F(SortingDispatch, RealTwoRobotPlanRunsFasterToSuccessAndTheUrRobotGetsEver
   for (const PlanEvent& e : plan_->events) {
     if (e.robot == kUrRobot && e.type != PlanEvent::Type::kInspect) ur_events.push_back(&e);
   }
-  std::stable_sort(ur_events.begin(), ur_events.end(), [](const PlanEvent* a, const PlanEvent* b) { return a->t < b->t; });
-  for (const PlanEvent* e : ur_events) expected_gripper.push_back(e->type == PlanEvent::Type::kGrasp ? "SET POS 255" : "SET POS 0");
+  std::stable_sort(ur_events.begin(), ur_events.end(),
+                   [](const PlanEvent* a, const PlanEvent* b) { return a->t < b->t; });
+  for (const PlanEvent* e : ur_events)
+    expected_gripper.push_back(e->type == PlanEvent::Type::kGrasp ? "SET POS 255 SPE 255 FOR 255 GTO 1"
+                                                                  : "SET POS 0 SPE 255 FOR 255 GTO 1");
   std::vector<std::string> gripper;
   for (const auto& c : ur_.gripper->commands()) {
     if (c.line.rfind("SET POS", 0) == 0) gripper.push_back(c.line);
@@ -191,10 +200,12 @@ TEST_F(SortingDispatch, RealTwoRobotPlanRunsFasterToSuccessAndTheUrRobotGetsEver
 
   // Recorded with its time scale; the refused request too.
   nlohmann::json history;
-  waitFor([&] {
-    history = nlohmann::json::parse(test::httpGet(server_->url(), "/api/dispatches").body);
-    return history["dispatches"].size() == 2 && history["dispatches"][0]["state"] == "succeeded";
-  }, 3.0);
+  waitFor(
+      [&] {
+        history = nlohmann::json::parse(test::httpGet(server_->url(), "/api/dispatches").body);
+        return history["dispatches"].size() == 2 && history["dispatches"][0]["state"] == "succeeded";
+      },
+      3.0);
   ASSERT_EQ(history["dispatches"].size(), 2u) << history.dump();
   EXPECT_EQ(history["dispatches"][0]["state"], "succeeded");
   EXPECT_DOUBLE_EQ(history["dispatches"][0]["time_scale"].get<double>(), scale);

@@ -13,6 +13,7 @@ import { PHASE_COLOURS, PHASE_LABELS, LAYER_STYLES } from '../palette.js';
 import { drawSizesOverTime, drawMarks, LAYERS } from '../run_timeline.js';
 import { readList, writeState } from '../url_state.js';
 import { PlaybackControls } from '../run_playback.js';
+import { mountRunDispatch } from './run_dispatch.js';
 
 const MAX_OVERLAYS = 5;
 const UUID_RE = /^[0-9A-Fa-f-]{8,64}$/;
@@ -84,6 +85,7 @@ export function mount(root, args, params = new URLSearchParams()) {
     dispatchSlot,
     el('div', { class: 'panel' }, el('h2', { text: 'Events' }), eventsBox),
   );
+  mountRunDispatch(header, uuid);
 
   function renderHeader(d) {
     const r = d.run;

@@ -1,0 +1,96 @@
+// "Dispatch this plan" on the Run detail page: the pre-flight checks of this run's plan against the
+// controllers connected now (on request, and again whenever the time scale changes after a check;
+// nothing is sent to the arms), their result check by check, and a Dispatch button that is enabled
+// only while the result shown passed for the options shown. The server checks again before anything moves (POST
+// /api/dispatch with {"run_id"}); the live view and Abort are on the Dispatch page.
+import { api } from '../api.js';
+import { el, clear, fmtNumber, errorBox, table } from '../dom.js';
+
+const USER_KEY = 'dashbench.dispatch.user'; // shared with the Dispatch page
+
+function checksTable(report) {
+  return table(['name', 'robot', 'passed', 'message'], report.checks || [], {
+    cell: (c, v) => (c === 'passed' ? (v ? '✓' : '✗') : v),
+  });
+}
+
+/// Inserts the panel right after `anchor` (the run header) for run `runId`.
+export function mountRunDispatch(anchor, runId) {
+  const scale = el('input', { type: 'number', value: 1, min: 0.1, step: 0.1, style: 'width:5em', 'data-testid': 'run-dispatch-scale' });
+  const user = el('input', { type: 'text', size: 12, placeholder: 'your name', value: localStorage.getItem(USER_KEY) || '', 'data-testid': 'run-dispatch-user' });
+  const recheck = el('button', { type: 'button', class: 'secondary', 'data-testid': 'run-dispatch-check' }, 'Pre-flight check');
+  const go = el('button', { type: 'button', disabled: true, 'data-testid': 'run-dispatch-start' }, 'Dispatch this plan');
+  const result = el('div', { 'data-testid': 'run-dispatch-preflight' });
+  const message = el('div', { 'data-testid': 'run-dispatch-message' });
+  const panel = el(
+    'div',
+    { class: 'panel', 'data-testid': 'run-dispatch' },
+    el('h2', { text: 'Dispatch this plan' }),
+    el('div', { class: 'muted', text: 'Pre-flight: every arm of the plan connected, ready and at its start, speeds within limits at this time scale, the plan valid. Nothing moves until you press Dispatch; watch and abort on the Dispatch page.' }),
+    el('div', { class: 'toolbar' }, el('label', {}, 'time scale', scale), el('label', {}, 'who', user), recheck, go, el('a', { href: '#/dispatch', text: 'Dispatch page' })),
+    result,
+    message,
+  );
+  anchor.after(panel);
+
+  let passedFor = ''; // the options the result shown passed for
+  let sequence = 0;   // answers to older checks are dropped
+  const options = () => ({ time_scale: Number(scale.value) || 1 });
+
+  async function check() {
+    const mine = ++sequence;
+    const opts = options();
+    go.disabled = true;
+    passedFor = '';
+    clear(message);
+    clear(result).append(el('div', { class: 'muted', text: 'Checking…' }));
+    delete result.dataset.passed;
+    try {
+      const report = await api.post('/api/dispatch/preflight', { run_id: runId, options: opts });
+      if (mine !== sequence) return;
+      result.dataset.passed = report.passed ? '1' : '0';
+      clear(result).append(
+        el('div', { class: report.passed ? 'ok' : 'error', text: report.passed ? 'Pre-flight checks passed.' : `Pre-flight refused: ${report.reason}` }),
+        checksTable(report),
+      );
+      if (report.passed) {
+        passedFor = JSON.stringify(opts);
+        go.disabled = false;
+      }
+    } catch (e) {
+      if (mine !== sequence) return;
+      clear(result);
+      const why = e.status === 404 ? 'this run has no stored plan, or this server cannot dispatch' : e.message + (e.body && e.body.reason ? `: ${e.body.reason}` : '');
+      message.append(errorBox(why));
+    }
+  }
+
+  go.addEventListener('click', async () => {
+    const opts = options();
+    if (JSON.stringify(opts) !== passedFor) {
+      check();
+      return;
+    }
+    go.disabled = true;
+    clear(message);
+    const label = user.value.trim();
+    localStorage.setItem(USER_KEY, label);
+    try {
+      const r = await api.post('/api/dispatch', { run_id: runId, options: opts, user: label || undefined });
+      message.append(
+        el('div', { class: 'ok', 'data-testid': 'run-dispatch-started' }, `dispatch ${r.dispatch_id} started; arms move in ${fmtNumber(r.start_in)} s. `, el('a', { href: '#/dispatch', text: 'Watch it' })),
+      );
+    } catch (e) {
+      message.append(errorBox(e.message + (e.body && e.body.reason ? `: ${e.body.reason}` : '')));
+      if (e.body && e.body.preflight) {
+        result.dataset.passed = e.body.preflight.passed ? '1' : '0';
+        clear(result).append(checksTable(e.body.preflight));
+      }
+    }
+  });
+  recheck.addEventListener('click', check);
+  scale.addEventListener('change', () => {
+    if (result.dataset.passed !== undefined) check(); // keep the result shown true to the options shown
+  });
+  return panel;
+}
