@@ -88,14 +88,14 @@ struct ValidationProblem {
   ProblemKind kind = ProblemKind::kFormat;
   double t = 0.0;      ///< when it happens (the first instant for one that lasts)
   double t_end = 0.0;  ///< the last sampled instant for one that lasts (collisions), else t
-  /// Certified collisions: the smallest signed distance the pair reached (negative: the penetration
-  /// depth; non-negative: closer than the clearance) and when. 0 and t otherwise.
-  double distance = 0.0;
-  double t_closest = 0.0;
   std::string robot;   ///< the robot involved, if any
   std::string object;  ///< the object involved, if any
   std::string other;   ///< the other party (robot, obstacle, object, body), if any
   std::string message;
+  /// Certified collisions: the smallest signed distance the pair reached (negative: the penetration
+  /// depth; non-negative: closer than the clearance) and when. 0 and t otherwise.
+  double distance = 0.0;
+  double t_closest = 0.0;
 };
 
 /// The closest a pair of parts came over the plan (certified geometry only).
