@@ -36,6 +36,8 @@ void poseRobot(const CollisionWorld& world, CollisionContext& context, int r, co
   DASH_DEMAND_MSG(q.allFinite(), "configuration is not finite");
   auto& posed = context.scratch().robots[at(r)];
   bodyFrames(*rg.model, rg.robot->X_WB, q, posed.frames);
+  // Boxes hold the grown shapes (the largest growth is the whole clearance).
+  const double margin = world.clearance();
   posed.aabb.setEmpty();
   for (std::size_t b = 0; b < rg.bodies.size(); ++b) {
     const BodyGeometry& g = rg.bodies[b];
@@ -44,10 +46,10 @@ void poseRobot(const CollisionWorld& world, CollisionContext& context, int r, co
     if (g.is_capsule) {
       const Vec3 p_a = X_WF * g.a;
       const Vec3 p_b = X_WF * g.b;
-      box = Aabb(p_a.cwiseMin(p_b).array() - g.radius, p_a.cwiseMax(p_b).array() + g.radius);
+      box = Aabb(p_a.cwiseMin(p_b).array() - g.radius - margin, p_a.cwiseMax(p_b).array() + g.radius + margin);
     } else {
       const Vec3 c = X_WF * g.center;
-      const Vec3 extent = X_WF.linear().cwiseAbs() * g.half_extents;
+      const Vec3 extent = X_WF.linear().cwiseAbs() * g.half_extents + Vec3::Constant(margin);
       box = Aabb(c - extent, c + extent);
     }
     posed.aabb.extend(box);
@@ -56,7 +58,7 @@ void poseRobot(const CollisionWorld& world, CollisionContext& context, int r, co
   if (held.holding()) {
     DASH_DEMAND(held.object < world.objectCount());
     posed.X_WO_held = forwardKinematics(*rg.model, rg.robot->X_WB, q).X_WT * held.X_TO;
-    posed.held_aabb = boxAabb(posed.X_WO_held, world.object(held.object).half_extents);
+    posed.held_aabb = boxAabb(posed.X_WO_held, world.object(held.object).half_extents + Vec3::Constant(margin));
   }
 }
 
@@ -104,7 +106,8 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
     if (!posed.aabb.intersects(obstacle.aabb)) continue;
     for (int b = 0; b < bodies; ++b) {
       if (!posed.body_aabb[at(b)].intersects(obstacle.aabb)) continue;
-      if (shapesCollide(context, *rg.bodies[at(b)].shape, bodyPose(world, posed, r, b), *obstacle.shape, obstacle.X_WO)) {
+      if (shapesCollide(context, *rg.bodies[at(b)].shape_vs_static, bodyPose(world, posed, r, b), *obstacle.shape,
+                        obstacle.X_WO)) {
         setReport(report, CollisionElement::robotBody(r, b), CollisionElement::obstacle(i));
         return true;
       }
@@ -112,8 +115,8 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
   }
   for (const auto& [b1, b2] : candidates.self_pairs) {
     if (!posed.body_aabb[at(b1)].intersects(posed.body_aabb[at(b2)])) continue;
-    if (shapesCollide(context, *rg.bodies[at(b1)].shape, bodyPose(world, posed, r, b1), *rg.bodies[at(b2)].shape,
-                      bodyPose(world, posed, r, b2))) {
+    if (shapesCollide(context, *rg.bodies[at(b1)].shape_vs_robot, bodyPose(world, posed, r, b1),
+                      *rg.bodies[at(b2)].shape_vs_robot, bodyPose(world, posed, r, b2))) {
       setReport(report, CollisionElement::robotBody(r, b1), CollisionElement::robotBody(r, b2));
       return true;
     }
@@ -123,8 +126,12 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
     if (!posed.aabb.intersects(object_box)) continue;
     for (int b = 0; b < bodies; ++b) {
       if (!posed.body_aabb[at(b)].intersects(object_box)) continue;
-      if (shapesCollide(context, *rg.bodies[at(b)].shape, bodyPose(world, posed, r, b), *world.object(j).shape,
-                        s.object_pose[at(j)])) {
+      // A gripper may touch a resting object (it is about to grasp it, or has just let it go).
+      const BodyGeometry& body = rg.bodies[at(b)];
+      const ObjectGeometry& object = world.object(j);
+      const bool contact = body.is_gripper;
+      if (shapesCollide(context, contact ? *body.shape : *body.shape_vs_static, bodyPose(world, posed, r, b),
+                        contact ? *object.contact_shape : *object.shape, s.object_pose[at(j)])) {
         setReport(report, CollisionElement::robotBody(r, b), CollisionElement::object(j));
         return true;
       }
@@ -132,26 +139,28 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
   }
   if (posed.held_object < 0) return false;
   const int held = posed.held_object;
-  const auto& held_shape = *world.object(held).shape;
+  const auto& held_shape = *world.object(held).held_vs_robot;
+  const PosedShape held_static = heldStaticShape(world, held, posed.X_WO_held);
   const CollisionElement held_element = CollisionElement::heldObject(r, held);
   for (const int i : candidates.held_obstacles) {
     const ObstacleGeometry& obstacle = world.obstacles()[at(i)];
     if (!posed.held_aabb.intersects(obstacle.aabb)) continue;
-    if (shapesCollide(context, held_shape, posed.X_WO_held, *obstacle.shape, obstacle.X_WO)) {
+    if (shapesCollide(context, *held_static.shape, held_static.X_WS, *obstacle.shape, obstacle.X_WO)) {
       setReport(report, held_element, CollisionElement::obstacle(i));
       return true;
     }
   }
   for (const int b : candidates.held_vs_bodies) {
     if (!posed.held_aabb.intersects(posed.body_aabb[at(b)])) continue;
-    if (shapesCollide(context, held_shape, posed.X_WO_held, *rg.bodies[at(b)].shape, bodyPose(world, posed, r, b))) {
+    if (shapesCollide(context, held_shape, posed.X_WO_held, *rg.bodies[at(b)].shape_vs_robot,
+                      bodyPose(world, posed, r, b))) {
       setReport(report, held_element, CollisionElement::robotBody(r, b));
       return true;
     }
   }
   for (const int j : candidates.objects) {
     if (!posed.held_aabb.intersects(s.object_aabb[at(j)])) continue;
-    if (shapesCollide(context, held_shape, posed.X_WO_held, *world.object(j).shape, s.object_pose[at(j)])) {
+    if (shapesCollide(context, *held_static.shape, held_static.X_WS, *world.object(j).shape, s.object_pose[at(j)])) {
       setReport(report, held_element, CollisionElement::object(j));
       return true;
     }
@@ -174,8 +183,8 @@ bool heldAgainstRobot(const CollisionWorld& world, CollisionContext& context, in
   for (int b = 0; b < static_cast<int>(rg.bodies.size()); ++b) {
     if (same_object && rg.bodies[at(b)].is_gripper) continue;
     if (!h.held_aabb.intersects(posed.body_aabb[at(b)])) continue;
-    if (shapesCollide(context, *world.object(h.held_object).shape, h.X_WO_held, *rg.bodies[at(b)].shape,
-                      bodyPose(world, posed, r, b))) {
+    if (shapesCollide(context, *world.object(h.held_object).held_vs_robot, h.X_WO_held,
+                      *rg.bodies[at(b)].shape_vs_robot, bodyPose(world, posed, r, b))) {
       setReport(report, CollisionElement::heldObject(holder, h.held_object), CollisionElement::robotBody(r, b));
       return true;
     }
@@ -197,8 +206,8 @@ bool checkPosedRobotPair(const CollisionWorld& world, CollisionContext& context,
       if (!p1.body_aabb[at(b1)].intersects(p2.aabb)) continue;
       for (int b2 = 0; b2 < static_cast<int>(g2.bodies.size()); ++b2) {
         if (!p1.body_aabb[at(b1)].intersects(p2.body_aabb[at(b2)])) continue;
-        if (shapesCollide(context, *g1.bodies[at(b1)].shape, bodyPose(world, p1, r1, b1), *g2.bodies[at(b2)].shape,
-                          bodyPose(world, p2, r2, b2))) {
+        if (shapesCollide(context, *g1.bodies[at(b1)].shape_vs_robot, bodyPose(world, p1, r1, b1),
+                          *g2.bodies[at(b2)].shape_vs_robot, bodyPose(world, p2, r2, b2))) {
           setReport(report, CollisionElement::robotBody(r1, b1), CollisionElement::robotBody(r2, b2));
           return true;
         }
@@ -209,8 +218,8 @@ bool checkPosedRobotPair(const CollisionWorld& world, CollisionContext& context,
   if (heldAgainstRobot(world, context, r2, r1, report)) return true;
   if (p1.held_object >= 0 && p2.held_object >= 0 && p1.held_object != p2.held_object &&
       p1.held_aabb.intersects(p2.held_aabb) &&
-      shapesCollide(context, *world.object(p1.held_object).shape, p1.X_WO_held, *world.object(p2.held_object).shape,
-                    p2.X_WO_held)) {
+      shapesCollide(context, *world.object(p1.held_object).held_vs_robot, p1.X_WO_held,
+                    *world.object(p2.held_object).held_vs_robot, p2.X_WO_held)) {
     setReport(report, CollisionElement::heldObject(r1, p1.held_object),
               CollisionElement::heldObject(r2, p2.held_object));
     return true;
@@ -263,11 +272,11 @@ bool objectInCollision(const CollisionWorld& world, CollisionContext& context, i
   DASH_DEMAND_MSG(layout.size() == world.objectCount(), "object layout does not match the scene");
   ++context.counters().configuration_checks;
   const ObjectGeometry& g = world.object(object);
-  const Aabb box = boxAabb(X_WO, g.half_extents);
+  const Aabb box = boxAabb(X_WO, g.contact_half_extents);
   for (std::size_t i = 0; i < world.obstacles().size(); ++i) {
     const ObstacleGeometry& obstacle = world.obstacles()[i];
     if (!box.intersects(obstacle.aabb)) continue;
-    if (detail::shapesCollide(context, *g.shape, X_WO, *obstacle.shape, obstacle.X_WO)) {
+    if (detail::shapesCollide(context, *g.contact_shape, X_WO, *obstacle.shape, obstacle.X_WO)) {
       if (report != nullptr) {
         *report = {.a = CollisionElement::object(object), .b = CollisionElement::obstacle(static_cast<int>(i))};
       }
@@ -277,8 +286,8 @@ bool objectInCollision(const CollisionWorld& world, CollisionContext& context, i
   for (int k = 0; k < layout.size(); ++k) {
     if (k == object || !layout.isPresent(k)) continue;
     const Pose& X_WK = layout.X_WO[static_cast<std::size_t>(k)];
-    if (!box.intersects(boxAabb(X_WK, world.object(k).half_extents))) continue;
-    if (detail::shapesCollide(context, *g.shape, X_WO, *world.object(k).shape, X_WK)) {
+    if (!box.intersects(boxAabb(X_WK, world.object(k).contact_half_extents))) continue;
+    if (detail::shapesCollide(context, *g.contact_shape, X_WO, *world.object(k).contact_shape, X_WK)) {
       if (report != nullptr) *report = {.a = CollisionElement::object(object), .b = CollisionElement::object(k)};
       return true;
     }

@@ -6,7 +6,7 @@
 //  - a held object: against obstacles, resting objects, other robots and other held objects, and
 //    against its own robot's bodies except the gripper bodies (RobotModel: is_gripper);
 //  - an object held by a robot in the query never counts as resting, whatever the layout says;
-//  - objects use the contact tolerance of collision_world.h.
+//  - contact tolerance and clearance as collision_world.h says (contact only where contact is meant).
 // Every call counts one configuration check in the context's counters.
 #include <span>
 

@@ -14,8 +14,19 @@ namespace {
 
 /// An object's contact box keeps at least this fraction of each edge, however small the object.
 constexpr double kMinContactFraction = 0.5;
+/// Far more than any planner needs; a larger one is a typo (mm for m).
+constexpr double kMaxClearance = 0.1;
 
-BodyGeometry makeBodyGeometry(const CollisionBody& body) {
+/// A body's FCL shape grown by `margin` (the same shape when margin is 0).
+ShapePtr grownBody(const BodyGeometry& g, const ShapePtr& exact, double margin) {
+  if (margin <= 0.0) return exact;
+  if (!g.is_capsule) return std::make_shared<const fcl::Boxd>(2.0 * (g.half_extents + Vec3::Constant(margin)));
+  const double length = (g.b - g.a).norm();
+  if (length > 0.0) return std::make_shared<const fcl::Capsuled>(g.radius + margin, length);
+  return std::make_shared<const fcl::Sphered>(g.radius + margin);
+}
+
+BodyGeometry makeBodyGeometry(const CollisionBody& body, double clearance) {
   BodyGeometry g;
   g.is_gripper = body.is_gripper;
   if (body.kind == CollisionBody::Kind::kCapsule) {
@@ -41,6 +52,8 @@ BodyGeometry makeBodyGeometry(const CollisionBody& body) {
     g.shape = std::make_shared<const fcl::Boxd>(2.0 * g.half_extents);
     g.extent = g.center.norm() + g.half_extents.norm();
   }
+  g.shape_vs_static = grownBody(g, g.shape, clearance);
+  g.shape_vs_robot = grownBody(g, g.shape, 0.5 * clearance);
   return g;
 }
 
@@ -109,7 +122,40 @@ Aabb boxAabb(const Pose& X, const Vec3& half) {
   return Aabb(X.translation() - extent, X.translation() + extent);
 }
 
-CollisionWorld::CollisionWorld(const Scene& scene) : scene_(&scene) {
+PosedShape heldStaticShape(const CollisionWorld& world, int object, const Pose& X_WO) {
+  const ObjectGeometry& g = world.object(object);
+  // The axis that points most nearly up or down; its face with the lower outward normal is the bottom.
+  int k = 0;
+  X_WO.linear().row(2).cwiseAbs().maxCoeff(&k);
+  const double down = X_WO.linear()(2, k) > 0.0 ? -1.0 : 1.0;  // object-frame sign of the lowest face
+  // The shape spans [down * (h - tol), -down * (h + clearance)] along k: its centre is offset by
+  // -down * (tol + clearance) / 2.
+  Vec3 offset = Vec3::Zero();
+  offset[k] = -down * 0.5 * (g.bottom_tolerance + world.clearance());
+  return {g.held_vs_static[static_cast<std::size_t>(k)].get(), X_WO * makePose(offset)};
+}
+
+ObjectGeometry makeObjectGeometry(const Vec3& size, double clearance) {
+  ObjectGeometry g;
+  g.shape = std::make_shared<const fcl::Boxd>(size);
+  g.half_extents = 0.5 * size;
+  Vec3 contact = size;
+  for (int k = 0; k < 3; ++k) contact[k] = std::max(size[k] - 2.0 * kObjectContactTolerance, kMinContactFraction * size[k]);
+  g.contact_shape = std::make_shared<const fcl::Boxd>(contact);
+  g.contact_half_extents = 0.5 * contact;
+  g.bottom_tolerance = std::min(kObjectContactTolerance, 0.5 * (1.0 - kMinContactFraction) * size.minCoeff());
+  for (int k = 0; k < 3; ++k) {
+    Vec3 held = size + Vec3::Constant(2.0 * clearance);
+    held[k] = size[k] + clearance - g.bottom_tolerance;
+    g.held_vs_static[static_cast<std::size_t>(k)] = std::make_shared<const fcl::Boxd>(held);
+  }
+  g.held_vs_robot = clearance > 0.0 ? std::make_shared<const fcl::Boxd>(size + Vec3::Constant(clearance)) : g.shape;
+  return g;
+}
+
+CollisionWorld::CollisionWorld(const Scene& scene, CollisionWorldOptions options) : scene_(&scene), options_(options) {
+  DASH_THROW_UNLESS(std::isfinite(options.clearance) && options.clearance >= 0.0 && options.clearance <= kMaxClearance,
+                    "clearance must be between 0 and 0.1 m");
   for (const SceneObstacle& o : scene.obstacles) {
     ObstacleGeometry g;
     g.shape = std::make_shared<const fcl::Boxd>(o.shape.size);
@@ -118,14 +164,7 @@ CollisionWorld::CollisionWorld(const Scene& scene) : scene_(&scene) {
     obstacles_.push_back(std::move(g));
     all_obstacles_.push_back(static_cast<int>(all_obstacles_.size()));
   }
-  for (const SceneObject& o : scene.objects) {
-    ObjectGeometry g;
-    Vec3 size = o.shape.size;
-    for (int k = 0; k < 3; ++k) size[k] = std::max(size[k] - 2.0 * kObjectContactTolerance, kMinContactFraction * size[k]);
-    g.shape = std::make_shared<const fcl::Boxd>(size);
-    g.half_extents = 0.5 * size;
-    objects_.push_back(std::move(g));
-  }
+  for (const SceneObject& o : scene.objects) objects_.push_back(makeObjectGeometry(o.shape.size, options.clearance));
   for (const SceneRobot& r : scene.robots) {
     DASH_DEMAND(r.model != nullptr);
     const RobotModel& model = *r.model;
@@ -135,7 +174,7 @@ CollisionWorld::CollisionWorld(const Scene& scene) : scene_(&scene) {
     std::vector<int> frames;
     for (const CollisionBody& body : model.bodies) {
       if (!body.is_gripper) rg.non_gripper_bodies.push_back(static_cast<int>(rg.bodies.size()));
-      rg.bodies.push_back(makeBodyGeometry(body));
+      rg.bodies.push_back(makeBodyGeometry(body, options.clearance));
       frames.push_back(body.frame);
     }
     if (model.kinematics == KinematicsKind::kUrDh) {

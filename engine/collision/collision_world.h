@@ -3,16 +3,31 @@
 // scratch lives in CollisionContext (the Pinocchio model/data split); queries are free functions in
 // collision_queries.h, segment_queries.h and distance_queries.h.
 //
-// Geometry rules (formats.md): robot bodies are exactly the model's capsules and boxes; obstacles are
-// exact boxes. Objects are checked with a contact tolerance: each object's collision box is its box
-// shrunk by kObjectContactTolerance on every face. So an object resting on a surface or on another
-// object, or touched by the gantry tool that grasps it at its top face, is not a collision, while any
-// penetration deeper than 1 mm is. Robot geometry is never shrunk.
+// Geometry rules (formats.md): robot bodies are exactly the model's capsules and boxes; obstacles and
+// objects are exact boxes. A contact tolerance (kObjectContactTolerance, 1 mm) applies only where
+// contact is meant:
+//  - an object resting on its support: resting objects are checked against obstacles and each other
+//    with their contact box (shrunk by the tolerance on every face);
+//  - a gripper and the object it grasps: gripper bodies meet resting objects' contact boxes (the
+//    gantry tool touches the top face it grasps; a gripper about to grasp or just released an object
+//    touches it), and never the object they hold;
+//  - a held object and the surface it is picked from or put down on: against obstacles and resting
+//    objects a held object is its exact box with its lowest face (the one whose outward normal points
+//    most nearly down) raised by the tolerance, so it may sit on a shelf board but not enter it from
+//    the side or from below.
+// Everything else, a carried object against another robot or its own arm included, is exact.
+//
+// Clearance (CollisionWorldOptions::clearance, the planners' margin): robot bodies and held objects are
+// grown so that every pair they form keeps at least that distance, except where contact is meant (the
+// gripper bodies against resting objects, the held object's lowest face against static geometry).
+// Against obstacles and resting objects a part is grown by the whole clearance; against another
+// robot's parts (or its own, in self pairs) each side by half of it.
 //
 // Mounting: no exemption for a robot's base against the surface it stands on. The shipped models keep
 // clear of their mounting plane (the UR5e base capsule starts 5 mm above frame 0; the gantry's lowest
 // point is 0.1 m up), so a robot mounted on a table top does not touch the table. A scene that sinks a
 // base into an obstacle is reported as a collision.
+#include <array>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -34,9 +49,23 @@ using Aabb = Eigen::AlignedBox3d;
 
 inline constexpr double kObjectContactTolerance = 1e-3;
 
+/// The planners' default clearance (LazyDashParams, DashParams): a few millimetres, so that what they
+/// check at discrete configurations passes the certified validator at zero clearance.
+inline constexpr double kDefaultPlanningClearance = 0.002;
+
+struct CollisionWorldOptions {
+  /// Metres every robot-side pair keeps apart, except where contact is meant (see above). The plan
+  /// validator checks at 0 (or at `dashbench validate --clearance`); planners plan with a few mm.
+  double clearance = 0.0;
+};
+
+using ShapePtr = std::shared_ptr<const fcl::CollisionGeometry<double>>;
+
 /// One robot body's collision geometry, rigid in its body frame F (see kinematics.h, bodyFrames).
 struct BodyGeometry {
-  std::shared_ptr<const fcl::CollisionGeometry<double>> shape;
+  ShapePtr shape;               ///< exact
+  ShapePtr shape_vs_static;     ///< grown by the clearance: against obstacles and resting objects
+  ShapePtr shape_vs_robot;      ///< grown by half the clearance: against robot bodies and held objects
   Pose X_FG = Pose::Identity();  ///< the FCL shape's frame in F
   bool is_capsule = true;
   Vec3 a = Vec3::Zero();          ///< capsule segment in F
@@ -72,16 +101,25 @@ struct ObstacleGeometry {
 };
 
 struct ObjectGeometry {
-  std::shared_ptr<const fcl::CollisionGeometry<double>> shape;  ///< the contact (shrunk) box
-  Vec3 half_extents = Vec3::Zero();  ///< of the contact box
+  ShapePtr shape;                     ///< exact box
+  Vec3 half_extents = Vec3::Zero();   ///< of the exact box
+  ShapePtr contact_shape;             ///< shrunk by the contact tolerance: resting contact
+  Vec3 contact_half_extents = Vec3::Zero();
+  /// Held, against obstacles and resting objects, when axis k of the object points most nearly up or
+  /// down: the exact box grown by the clearance except along that axis, where it spans from the lowest
+  /// face raised by the tolerance to the highest face raised by the clearance (heldStaticShape).
+  std::array<ShapePtr, 3> held_vs_static;
+  ShapePtr held_vs_robot;             ///< held, against robot parts: grown by half the clearance
+  double bottom_tolerance = 0.0;      ///< the tolerance at the lowest face (less for tiny objects)
 };
 
 class CollisionWorld {
  public:
   /// Builds the geometry; `scene` must outlive the world.
-  explicit CollisionWorld(const Scene& scene);
+  explicit CollisionWorld(const Scene& scene, CollisionWorldOptions options = {});
 
   const Scene& scene() const { return *scene_; }
+  double clearance() const { return options_.clearance; }
   int robotCount() const { return static_cast<int>(robots_.size()); }
   int objectCount() const { return static_cast<int>(objects_.size()); }
   const RobotGeometry& robot(int r) const { return robots_[static_cast<std::size_t>(r)]; }
@@ -92,6 +130,7 @@ class CollisionWorld {
 
  private:
   const Scene* scene_;
+  CollisionWorldOptions options_;
   std::vector<RobotGeometry> robots_;
   std::vector<ObstacleGeometry> obstacles_;
   std::vector<ObjectGeometry> objects_;
@@ -100,5 +139,12 @@ class CollisionWorld {
 
 /// World box of a box shape (full half extents `half`) at pose X.
 Aabb boxAabb(const Pose& X, const Vec3& half);
+
+/// A held object's shape against static geometry at world pose X_WO, and that shape's world pose.
+struct PosedShape {
+  const fcl::CollisionGeometry<double>* shape = nullptr;
+  Pose X_WS = Pose::Identity();
+};
+PosedShape heldStaticShape(const CollisionWorld& world, int object, const Pose& X_WO);
 
 }  // namespace dash

@@ -1,6 +1,7 @@
 #include "engine/collision/distance_queries.h"
 
 #include <algorithm>
+#include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 #include <vector>
 
@@ -61,6 +62,24 @@ double closest(CollisionContext& context, const std::vector<Part>& as, const std
 }
 
 }  // namespace
+
+double signedDistance(CollisionContext& context, const fcl::CollisionGeometry<double>& a, const Pose& X_WA,
+                      const fcl::CollisionGeometry<double>& b, const Pose& X_WB) {
+  ++context.counters().narrowphase_calls;
+  const fcl::DistanceRequestd request;
+  fcl::DistanceResultd result;
+  const double d = fcl::distance(&a, X_WA, &b, X_WB, request, result);
+  if (d > 0.0) return d;
+  // Overlapping (FCL answers -1) or touching: the depth of the deepest contact.
+  fcl::CollisionRequestd contact_request(1, true);
+  fcl::CollisionResultd contact_result;
+  if (fcl::collide(&a, X_WA, &b, X_WB, contact_request, contact_result) == 0) return 0.0;
+  double depth = 0.0;
+  for (std::size_t i = 0; i < contact_result.numContacts(); ++i) {
+    depth = std::max(depth, contact_result.getContact(i).penetration_depth);
+  }
+  return -depth;
+}
 
 double robotDistance(const CollisionWorld& world, CollisionContext& context, const RobotState& state,
                      const ObjectLayout& layout, DistanceReport* report) {

@@ -1,6 +1,6 @@
 #pragma once
-// Minimum distances (unsigned): 0 when the two shapes touch or overlap. Objects use their contact boxes
-// (collision_world.h), robots their exact bodies. Pairs whose bounding boxes are already farther apart
+// Minimum distances (unsigned): 0 when the two shapes touch or overlap, between exact shapes (no
+// contact tolerance, no clearance). Pairs whose bounding boxes are already farther apart
 // than the best distance found are skipped.
 #include <limits>
 
@@ -17,6 +17,11 @@ struct DistanceReport {
   CollisionElement b;  ///< the closest obstacle, object or other robot's part
   double distance = std::numeric_limits<double>::infinity();
 };
+
+/// Signed distance between two shapes: their distance when apart, minus the penetration depth when
+/// they overlap (FCL's contact depth), 0 when they touch. Counts one narrow-phase call.
+double signedDistance(CollisionContext& context, const fcl::CollisionGeometry<double>& a, const Pose& X_WA,
+                      const fcl::CollisionGeometry<double>& b, const Pose& X_WB);
 
 /// Smallest distance from robot state.robot (bodies and held object) to any obstacle or resting object.
 /// Infinity if there is nothing to measure against.

@@ -231,6 +231,16 @@ Aabb wholeSweptBox(const CollisionWorld& world, CollisionContext& context, const
 
 }  // namespace
 
+double bodyDisplacementBound(const CollisionWorld& world, int robot, int body, const JointVector& q0,
+                             const JointVector& q1) {
+  return bodyDisplacement(world.robot(robot), body, (q1 - q0).cwiseAbs());
+}
+
+double heldDisplacementBound(const CollisionWorld& world, int robot, const JointVector& q0, const JointVector& q1,
+                             const HeldObject& held) {
+  return held.holding() ? heldDisplacement(world, robot, (q1 - q0).cwiseAbs(), held) : 0.0;
+}
+
 double segmentDisplacementBound(const CollisionWorld& world, int robot, const JointVector& q0, const JointVector& q1,
                                 const HeldObject& held) {
   const RobotGeometry& rg = world.robot(robot);

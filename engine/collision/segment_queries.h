@@ -34,6 +34,14 @@ struct SegmentOptions {
 double segmentDisplacementBound(const CollisionWorld& world, int robot, const JointVector& q0, const JointVector& q1,
                                 const HeldObject& held);
 
+/// Upper bound on how far any point of body b of robot r moves along q0 -> q1.
+double bodyDisplacementBound(const CollisionWorld& world, int robot, int body, const JointVector& q0,
+                             const JointVector& q1);
+
+/// Upper bound on how far any point of the object `held` moves along q0 -> q1 (0 for an empty hand).
+double heldDisplacementBound(const CollisionWorld& world, int robot, const JointVector& q0, const JointVector& q1,
+                             const HeldObject& held);
+
 /// Intervals the segment is cut into: ceil(bound / resolution), at least 1.
 int segmentSteps(const CollisionWorld& world, int robot, const JointVector& q0, const JointVector& q1,
                  const HeldObject& held, double resolution = kSegmentResolution);

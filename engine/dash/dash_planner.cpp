@@ -70,7 +70,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   applyTestFault(settings);
   seedOmplOnce(settings.seed);
   log::EventEmitter emitter(sink);
-  const CollisionWorld world(scene);
+  const CollisionWorld world(scene, {.clearance = params_.clearance});
   CollisionContext context(world);
   Rng rng(Rng::derive(settings.seed, 23));
   TaskSpace space(scene);

@@ -26,6 +26,7 @@
 // shortest path, shortened only by conflict resolution's replanning.
 #include <cstddef>
 
+#include "engine/collision/collision_world.h"
 #include "engine/conflict/scheduler.h"
 #include "engine/dash/break_rule.h"
 #include "engine/dash/combined_query.h"
@@ -47,6 +48,8 @@ struct DashParams {
   int max_tree_nodes = 400;                   ///< constraint tree nodes queried at most
   CombinedQueryParams query;
   SchedulerParams scheduler;
+  /// Metres every check of the planner keeps between parts not in contact by design (collision_world.h).
+  double clearance = kDefaultPlanningClearance;
 };
 
 class DashPlanner final : public Planner {

@@ -208,10 +208,20 @@ std::string validationReportToJson(const ValidationReport& report) {
   root["samples"] = report.samples;
   Json problems = Json::array();
   for (const auto& p : report.problems) {
-    problems.push_back(Json{{"kind", problemKindName(p.kind)}, {"t", p.t}, {"t_end", p.t_end}, {"robot", p.robot},
-                            {"object", p.object}, {"other", p.other}, {"message", p.message}});
+    Json problem{{"kind", problemKindName(p.kind)}, {"t", p.t}, {"t_end", p.t_end}, {"robot", p.robot},
+                 {"object", p.object}, {"other", p.other}, {"message", p.message}};
+    if (p.distance != 0.0) {
+      problem["distance"] = p.distance;
+      problem["t_closest"] = p.t_closest;
+    }
+    problems.push_back(std::move(problem));
   }
   root["problems"] = problems;
+  // The smallest clearance, when the certified check measured any pair (JSON has no infinity).
+  if (std::isfinite(report.closest.distance)) {
+    root["closest"] = Json{{"a", report.closest.a}, {"b", report.closest.b}, {"distance", report.closest.distance},
+                           {"t", report.closest.t}};
+  }
   return root.dump(1) + "\n";
 }
 

@@ -5,6 +5,8 @@
 #include <set>
 #include <sstream>
 
+#include "engine/core/check.h"
+#include "engine/plan/certified_geometry.h"
 #include "engine/plan/validation_geometry.h"
 #include "engine/plan/validation_timeline.h"
 
@@ -69,6 +71,11 @@ std::string ValidationReport::summary() const {
 namespace {
 
 using validation::formatNumber;
+
+constexpr double kMaxClearance = 0.1;
+/// A finer floor multiplies the distance queries near every contact; a coarser one certifies nothing.
+constexpr double kMinCertifyFloor = 1e-6;
+constexpr double kMaxCertifyFloor = 0.01;
 
 class Checks {
  public:
@@ -235,13 +242,21 @@ class Checks {
 }  // namespace
 
 ValidationReport validatePlan(const Scene& scene, const Plan& plan, const ValidationOptions& options) {
+  DASH_THROW_UNLESS(std::isfinite(options.clearance) && options.clearance >= 0.0 && options.clearance <= kMaxClearance,
+                    "validation clearance must be between 0 and 0.1 m");
+  DASH_THROW_UNLESS(options.certify_floor >= kMinCertifyFloor && options.certify_floor <= kMaxCertifyFloor,
+                    "certify_floor must be between 1e-6 and 0.01 m");
   ValidationReport report;
   Checks checks(scene, plan, options, report);
   checks.header();
   checks.trajectories();
   const validation::PlanMotion motion(scene, plan);
   const validation::Timeline timeline = validation::replayEvents(plan, motion, options, report.problems);
-  validation::checkGeometry(plan, motion, timeline, options, report);
+  if (options.geometry == ValidationOptions::GeometryCheck::kCertified) {
+    validation::checkGeometryCertified(plan, motion, timeline, options, report);
+  } else {
+    validation::checkGeometry(plan, motion, timeline, options, report);
+  }
   checks.endState(timeline, motion);
   std::stable_sort(report.problems.begin(), report.problems.end(),
                    [](const ValidationProblem& a, const ValidationProblem& b) { return a.t < b.t; });

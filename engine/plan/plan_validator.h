@@ -15,9 +15,13 @@
 //    robot to hold the object and leaves it resting stably (scene/support.h) unless another robot still
 //    holds it; while two robots hold one object, their attachments agree; an inspect needs the TCP at
 //    the task pose while the requires_removed object is away from its start;
-//  - geometry at every instant (collision/collision_queries.h): samples at every point and event time
-//    and in between so that no robot body point, nor a point of a held object, moves more than
-//    max_step between consecutive samples;
+//  - geometry at every instant, certified (certified_geometry.h): between two point or event times
+//    every robot moves on a straight joint-space segment; conservative advancement with exact
+//    distances and per-body motion bounds proves each pair apart (robot-robot, robot-obstacle,
+//    robot-object, held object against everything, self pairs) or finds where it is not, with the
+//    depth. Contact is allowed only where it is meant (collision_world.h); every other pair must keep
+//    `clearance` apart. GeometryCheck::kSampled is the older check (samples no body point moves more
+//    than max_step apart, kept as the benchmark's baseline);
 //  - the end: every object rests (none is still held), every object with a goal is at it, every task
 //    has an inspect event.
 //
@@ -27,6 +31,7 @@
 //  - goal poses compare rotations exactly (no symmetry of cubes is assumed);
 //  - an object left unsupported because the object beneath it was taken away is not reported: the
 //    contract only asks a release to leave the object resting stably.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -87,11 +92,29 @@ struct ValidationProblem {
   std::string object;  ///< the object involved, if any
   std::string other;   ///< the other party (robot, obstacle, object, body), if any
   std::string message;
+  /// Certified collisions: the smallest signed distance the pair reached (negative: the penetration
+  /// depth; non-negative: closer than the clearance) and when. 0 and t otherwise.
+  double distance = 0.0;
+  double t_closest = 0.0;
+};
+
+/// The closest a pair of parts came over the plan (certified geometry only).
+struct PairClearance {
+  std::string a;  ///< a robot body ("ur5e_0.forearm") or a held object ("obj_3 (held by ur5e_0)")
+  std::string b;  ///< an obstacle, object, or another robot's part
+  double distance = 0.0;  ///< smallest signed distance found at a checked instant (m)
+  double t = 0.0;
+  bool contact_allowed = false;  ///< contact is meant (a gripper and a resting object, a held object and its support)
 };
 
 struct ValidationReport {
   std::vector<ValidationProblem> problems;  ///< sorted by time (stable)
-  std::size_t samples = 0;                  ///< instants checked for collisions
+  std::size_t samples = 0;                  ///< instants checked for collisions (pair evaluations when certified)
+  /// Certified geometry: the smallest distance found between any pair that must keep the clearance
+  /// (contact-meant pairs excluded), the pair and when; infinity when no pair came near another.
+  PairClearance closest{.distance = std::numeric_limits<double>::infinity()};
+  /// Certified geometry: per pair of parts whose swept boxes ever met, its smallest distance, closest first.
+  std::vector<PairClearance> pairs;
 
   bool valid() const { return problems.empty(); }
   bool has(ProblemKind kind) const;
@@ -112,7 +135,14 @@ struct ValidationOptions {
   double removed_distance = 0.05;            ///< m: "away from its start"
   double goal_position_tolerance = 0.01;     ///< m
   double goal_rotation_tolerance = 0.05;     ///< rad
-  double max_step = 0.01;  ///< m: the most any body point moves between consecutive geometry samples
+  enum class GeometryCheck { kCertified, kSampled };
+  GeometryCheck geometry = GeometryCheck::kCertified;
+  double clearance = 0.0;  ///< m: every pair not in contact by design keeps at least this apart (certified)
+  /// m of motion: conservative advancement never splits finer; a pair that stays within this of the
+  /// clearance is taken as clear (the certificate's resolution).
+  double certify_floor = 5e-5;
+  double max_step = 0.01;  ///< m: sampled check: the most any body point moves between consecutive samples;
+                           ///< certified check: handover attachment agreement is sampled this finely
   bool check_geometry = true;
   int threads = 0;  ///< geometry sampling threads; 0 = the hardware's
 };

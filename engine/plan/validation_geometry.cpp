@@ -249,13 +249,14 @@ class GeometryChecker {
       for (int j = 0; j < layout.size(); ++j) {
         if (!layout.isPresent(j)) continue;
         const Pose& X_j = layout.X_WO[at(j)];
-        const Aabb box_j = boxAabb(X_j, world_.object(j).half_extents);
+        const Aabb box_j = boxAabb(X_j, world_.object(j).contact_half_extents);
         for (int k = j + 1; k < layout.size(); ++k) {
           if (!layout.isPresent(k)) continue;
           const Pose& X_k = layout.X_WO[at(k)];
-          if (!box_j.intersects(boxAabb(X_k, world_.object(k).half_extents))) continue;
+          if (!box_j.intersects(boxAabb(X_k, world_.object(k).contact_half_extents))) continue;
           fcl::CollisionResultd result;
-          if (fcl::collide(world_.object(j).shape.get(), X_j, world_.object(k).shape.get(), X_k, request, result) > 0) {
+          if (fcl::collide(world_.object(j).contact_shape.get(), X_j, world_.object(k).contact_shape.get(), X_k, request,
+                           result) > 0) {
             hits.push_back({static_cast<std::size_t>(first - samples_.begin()), ProblemKind::kObjectObjectCollision,
                             CollisionElement::object(j), CollisionElement::object(k), 0.0});
           }

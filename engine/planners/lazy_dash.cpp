@@ -110,7 +110,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   applyTestFault(settings, deadline);
   seedOmplOnce(settings.seed);
   log::EventEmitter emitter(sink);
-  const CollisionWorld world(scene);
+  const CollisionWorld world(scene, {.clearance = params_.clearance});
   CollisionContext context(world);
   TaskLayer task(scene, world, context, emitter, settings.seed);
   MotionLayer motion(world, context, emitter, params_.motion);

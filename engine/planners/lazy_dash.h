@@ -7,6 +7,7 @@
 // Task conflict detection (Algorithm 2) and task space expansion happen before any motion is planned.
 #include <utility>
 
+#include "engine/collision/collision_world.h"
 #include "engine/motion/motion_layer.h"
 #include "engine/planners/planner.h"
 
@@ -18,6 +19,8 @@ struct LazyDashParams {
   /// turn down (no way to them, or a handover that cannot be scheduled) before the hyperarc itself goes
   /// back to the task query as a ban.
   int max_transition_resamples = 2;
+  /// Metres every check of the planner keeps between parts not in contact by design (collision_world.h).
+  double clearance = kDefaultPlanningClearance;
 };
 
 class LazyDash final : public Planner {

@@ -1,0 +1,131 @@
+#include "engine/plan/certified_geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+#include <tuple>
+
+#include "engine/collision/collision_context.h"
+#include "engine/collision/collision_world.h"
+#include "engine/collision/segment_queries.h"
+#include "engine/plan/certified_stretch.h"
+#include "engine/plan/validation_problems.h"
+
+namespace dash::validation {
+
+namespace {
+
+inline std::size_t at(int i) { return static_cast<std::size_t>(i); }
+
+/// Below this many stretches per thread, more threads cost more than they save.
+constexpr std::size_t kMinStretchesPerThread = 64;
+/// Handover agreement samples per stretch at most (joint limits keep real plans far below).
+constexpr int kMaxHandoverSteps = 100000;
+/// s: stretches of contact closer than this in time are one problem.
+constexpr double kJoinTolerance = 1e-9;
+
+std::vector<Stretch> buildStretches(const Plan& plan, const PlanMotion& motion, const Timeline& timeline) {
+  std::vector<double> times{0.0};
+  for (int r = 0; r < motion.robotCount(); ++r) {
+    if (const RobotTrajectory* traj = motion.trajectory(r)) {
+      for (const TrajectoryPoint& p : traj->points) times.push_back(p.t);
+    }
+  }
+  for (const Epoch& e : timeline.epochs) times.push_back(e.t);
+  times.push_back(plan.lastTime());
+  std::erase_if(times, [](double t) { return !(t >= 0.0) || !std::isfinite(t); });  // malformed plans built in code
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end()), times.end());
+  std::vector<Stretch> stretches;
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    const double t0 = times[k];
+    // A zero-length stretch at the end checks the final state (and a plan with a single instant).
+    const double t1 = k + 1 < times.size() ? times[k + 1] : t0;
+    const int epoch = timeline.indexAt(t0);
+    const bool same = !stretches.empty() && stretches.back().epoch == epoch;
+    if (k + 1 == times.size() && same) break;  // the last stretch already ends there
+    stretches.push_back({t0, t1, epoch, same});
+  }
+  return stretches;
+}
+
+/// While two robots hold one object, both attachments put it at the same place (sampled every
+/// max_step of motion: a tolerance check, not a contact).
+void checkHandovers(const CollisionWorld& world, const PlanMotion& motion, const Timeline& timeline,
+                    const ValidationOptions& options, const Stretch& stretch, std::vector<HandoverMismatch>& out) {
+  const Epoch& epoch = timeline.epochs[at(stretch.epoch)];
+  for (std::size_t j = 0; j < epoch.objects.size(); ++j) {
+    const auto& holders = epoch.objects[j].holders;
+    if (holders.size() < 2) continue;
+    int steps = 1;
+    for (int h = 0; h < 2; ++h) {
+      const int r = holders[at(h)].robot;
+      const HeldObject held{static_cast<int>(j), holders[at(h)].X_TO};
+      steps = std::clamp(segmentSteps(world, r, motion.q(r, stretch.t0), motion.q(r, stretch.t1), held, options.max_step),
+                         steps, kMaxHandoverSteps);
+    }
+    for (int s = 0; s <= steps; ++s) {
+      const double t = stretch.t0 + (stretch.t1 - stretch.t0) * static_cast<double>(s) / static_cast<double>(steps);
+      const double d = translationDistance(motion.tcp(holders[0].robot, t) * holders[0].X_TO,
+                                           motion.tcp(holders[1].robot, t) * holders[1].X_TO);
+      if (d > options.handover_tolerance) {
+        out.push_back({static_cast<int>(j), holders[0].robot, holders[1].robot, stretch.epoch, t, d});
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void checkGeometryCertified(const Plan& plan, const PlanMotion& motion, const Timeline& timeline,
+                            const ValidationOptions& options, ValidationReport& report) {
+  const Scene& scene = motion.scene();
+  const CollisionWorld world(scene);
+  const std::vector<Stretch> stretches = buildStretches(plan, motion, timeline);
+  CollisionContext context(world);
+  const Supports supports = findSupports(world, context, timeline);
+
+  std::size_t threads = options.threads > 0 ? static_cast<std::size_t>(options.threads)
+                                            : std::max(1u, std::thread::hardware_concurrency());
+  threads = std::max<std::size_t>(1, std::min(threads, stretches.size() / kMinStretchesPerThread));
+  struct Found {
+    std::vector<PairContact> contacts;
+    std::vector<HandoverMismatch> handovers;
+    PairMinima minima;
+    std::size_t evaluations = 0;
+  };
+  std::vector<Found> found(threads);
+  auto work = [&](std::size_t w) {
+    StretchChecker checker(world, motion, timeline, supports, options);
+    // Interleaved, so that every thread gets its share of the busy parts of the plan.
+    for (std::size_t i = w; i < stretches.size(); i += threads) {
+      checkHandovers(world, motion, timeline, options, stretches[i], found[w].handovers);
+      if (options.check_geometry) checker.check(stretches[i], found[w].contacts, found[w].minima);
+    }
+    found[w].evaluations = checker.evaluations();
+  };
+  if (threads == 1) {
+    work(0);
+  } else {
+    std::vector<std::thread> pool;
+    for (std::size_t w = 0; w < threads; ++w) pool.emplace_back(work, w);
+    for (auto& thread : pool) thread.join();
+  }
+  std::vector<PairContact> contacts;
+  std::vector<HandoverMismatch> handovers;
+  PairMinima minima;
+  for (Found& part : found) {
+    contacts.insert(contacts.end(), part.contacts.begin(), part.contacts.end());
+    handovers.insert(handovers.end(), part.handovers.begin(), part.handovers.end());
+    mergeMinima(minima, part.minima);
+    report.samples += part.evaluations;
+  }
+  if (options.check_geometry) {
+    for (const ValidationProblem& p : restingObjectProblems(world, timeline)) report.problems.push_back(p);
+  }
+  appendContactProblems(scene, options, std::move(contacts), kJoinTolerance, report.problems);
+  appendHandoverProblems(scene, options, std::move(handovers), report.problems);
+  fillClearances(scene, minima, report);
+}
+
+}  // namespace dash::validation
