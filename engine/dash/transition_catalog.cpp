@@ -44,6 +44,16 @@ JointVector backedOff(TransitionSampler& sampler, int robot, const JointVector& 
   return backOff(sampler, robot, q, held, distance).value_or(q);
 }
 
+/// The back-off a grasp sample uses: for a side grasp the farthest free deep back-off, else (or when
+/// none is free) the short one, else q itself.
+JointVector graspBackOff(TransitionSampler& sampler, int robot, const JointVector& q, const HeldObject& held,
+                         GraspClass grasp, const TransitionCatalogParams& params) {
+  if (grasp == GraspClass::kSide)
+    for (auto it = params.deep_approach_distances.rbegin(); it != params.deep_approach_distances.rend(); ++it)
+      if (auto deep = backOff(sampler, robot, q, held, *it)) return *deep;
+  return backedOff(sampler, robot, q, held, params.approach_distance);
+}
+
 /// The handover's own motions, with both robots: the receiver's approach while the giver holds the
 /// object in place, the giver's retreat while the receiver holds it, the receiver's retreat.
 bool handoverMotionsFree(TransitionSampler& sampler, const HandoverSample& h) {
@@ -96,7 +106,8 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
     for (int l = 0; l < static_cast<int>(space.locations(arc.object).size()); ++l) {
       if (deadline.expired()) return out;
       const Pose& X_WO = space.location(arc.object, l).X_WO;
-      for (const GraspConfig& gc : sampler.graspConfigs(arc.robot, arc.object, X_WO, arc.grasp, params.grasps_per_class)) {
+      for (const GraspConfig& gc :
+           sampler.graspConfigs(arc.robot, arc.object, X_WO, arc.grasp, params.grasps_per_class, params.approach_line)) {
         GraspSample s;
         s.robot = arc.robot;
         s.object = arc.object;
@@ -104,8 +115,8 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
         s.grasp = arc.grasp;
         s.held = HeldObject{arc.object, gc.X_TO};
         s.q = gc.q;
-        s.q_pre = backedOff(sampler, arc.robot, gc.q, HeldObject{}, params.approach_distance);
-        s.q_hold = backedOff(sampler, arc.robot, gc.q, s.held, params.approach_distance);
+        s.q_pre = graspBackOff(sampler, arc.robot, gc.q, HeldObject{}, arc.grasp, params);
+        s.q_hold = graspBackOff(sampler, arc.robot, gc.q, s.held, arc.grasp, params);
         obtain(arc.robot, s.held, arc.grasp);
         out.grasps.push_back(std::move(s));
       }
@@ -137,9 +148,9 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
     for (int p = 0; p < pose_count; ++p) {
       if (deadline.expired()) return false;
       const Pose& X_WO = poses[p];
-      const std::vector<JointVector> givers = sampler.holdConfigs(arc.robot, o, X_WO, g1.held.X_TO, 1);
+      const std::vector<JointVector> givers = sampler.holdConfigs(arc.robot, o, X_WO, g1.held.X_TO, 1, params.approach_line);
       if (givers.empty()) continue;
-      for (const GraspConfig& gc2 : sampler.graspConfigs(arc.robot2, o, X_WO, arc.grasp2, kReceiverCandidates)) {
+      for (const GraspConfig& gc2 : sampler.graspConfigs(arc.robot2, o, X_WO, arc.grasp2, kReceiverCandidates, params.approach_line)) {
         if (target ? gc2.X_TO.matrix() != target->matrix() : known(gc2.X_TO)) continue;
         const RobotState states[2] = {{arc.robot, givers.front(), g1.held}, {arc.robot2, gc2.q, HeldObject{}}};
         if (robotsInCollision(sampler.world(), sampler.context(), states, ObjectLayout::empty(scene), nullptr,
