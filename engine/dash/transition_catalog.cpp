@@ -132,14 +132,25 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
     std::vector<std::vector<char>> tried;  ///< [giver grasp][receiver grasp]
     std::vector<char> tried_new;           ///< [giver grasp]
     std::vector<int> kept;                 ///< [giver grasp]
+    /// The whole pose grid is searched once per hyperarc (its first search, for any grasp): when it
+    /// finds nothing the hyperarc is impossible, as Lazy-DaSH's handoverPossible cache (one entry per
+    /// giver, receiver, object and class pair, i.e. per hyperarc) concludes; later searches on a
+    /// possible hyperarc look at the start of the grid only.
+    enum class Grid { kUnsearched, kPossible, kImpossible } grid = Grid::kUnsearched;
   };
   std::vector<ArcState> state(handover_arcs.size());
   // One sample for this hyperarc and giver grasp, delivering `target` (nullptr: a grasp the receiver
   // does not have yet). False when no object pose works.
-  auto sample = [&](const TaskArc& arc, const Obtainable& g1, const Pose* target, bool& changed) {
+  auto sample = [&](const TaskArc& arc, ArcState& st, const Obtainable& g1, const Pose* target, bool& changed) {
     const int o = arc.object;
+    if (st.grid == ArcState::Grid::kImpossible) return false;
+    // Delivering a grasp the receiver already has looks at the start of the grid only: failing that
+    // says nothing about the hyperarc.
+    const bool whole_grid = st.grid == ArcState::Grid::kUnsearched && target == nullptr;
     const std::vector<Pose> poses = sampler.handoverPoses(arc.robot, arc.robot2);
-    const int pose_count = std::min<int>(params.handover_poses, static_cast<int>(poses.size()));
+    const int pose_count = std::min<int>(whole_grid ? params.handover_poses : params.targeted_handover_poses,
+                                         static_cast<int>(poses.size()));
+    if (whole_grid) st.grid = ArcState::Grid::kImpossible;  // until a pose works
     auto known = [&](const Pose& X_TO) {
       for (const Obtainable& h : obtainable[arc.robot2][o])
         if (h.held.X_TO.matrix() == X_TO.matrix()) return true;
@@ -175,6 +186,7 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
         h.q2_pre = *q2_pre;
         h.q2_post = backedOff(sampler, arc.robot2, h.q2, h.held2, params.approach_distance);
         if (!handoverMotionsFree(sampler, h)) continue;
+        st.grid = ArcState::Grid::kPossible;
         changed = obtain(arc.robot2, h.held2, arc.grasp2) || changed;
         out.handovers.push_back(std::move(h));
         return true;
@@ -202,11 +214,11 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
           st.tried[t][u] = 1;
           const Obtainable target = obtainable[arc.robot2][arc.object][u];
           if (target.grasp != arc.grasp2) continue;
-          if (sample(arc, g1, &target.held.X_TO, changed)) ++st.kept[t];
+          if (sample(arc, st, g1, &target.held.X_TO, changed)) ++st.kept[t];
         }
         if (st.kept[t] == 0 && !st.tried_new[t]) {
           st.tried_new[t] = 1;
-          if (sample(arc, g1, nullptr, changed)) ++st.kept[t];
+          if (sample(arc, st, g1, nullptr, changed)) ++st.kept[t];
         }
       }
     }

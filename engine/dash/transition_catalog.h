@@ -55,7 +55,13 @@ struct InspectSample {
 // MotionLayerParams): the paper names no difference between the planners' transition sampling.
 struct TransitionCatalogParams {
   int grasps_per_class = 6;          ///< grasp configurations per (robot, object, placement, class)
-  int handover_poses = 1040;         ///< object poses tried per handover hyperarc and giver grasp (the grid)
+  /// Object poses of the first search per handover hyperarc for a new receiver grasp (the whole grid):
+  /// when it finds none, the hyperarc is impossible (as Lazy-DaSH's handoverPossible cache concludes).
+  int handover_poses = 1040;
+  /// Object poses of every other search: for a grasp the receiver already has (DaSH's own chaining,
+  /// which Lazy-DaSH does not need as it samples per plan step), or on a hyperarc already found
+  /// possible: the start of the same grid.
+  int targeted_handover_poses = 16;
   int handovers_per_grasp = 2;       ///< handover samples per handover hyperarc and giver grasp
   int inspect_configs = 2;           ///< per inspect hyperarc
   double approach_distance = 0.06;   ///< metres the TCP backs off along its approach axis
