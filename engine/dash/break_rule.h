@@ -12,6 +12,7 @@
 // cannot move a sampled transition configuration. A conflict with no hyperarc to forbid can only grow
 // the roadmaps; with nothing to grow either, its node is dead.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "engine/core/rng.h"
@@ -21,7 +22,9 @@ namespace dash {
 
 struct BreakRuleParams {
   double grow_roadmap_probability = 0.3;  ///< chance to grow the roadmaps rather than the tree
-  int max_roadmap_growths = 8;            ///< per robot: then only the tree grows
+  /// Per robot: then only the tree grows. Unlimited by default: the roadmaps keep growing until the
+  /// deadline, as PRM's probabilistic completeness asks.
+  int max_roadmap_growths = std::numeric_limits<int>::max();
 };
 
 class BreakRule {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <queue>
+#include <unordered_set>
 
 namespace dash {
 
@@ -20,6 +21,7 @@ constexpr double kHome = 4e5;
 constexpr double kUndoMove = 5e5;
 constexpr double kUndo = 6e5;
 constexpr double kPartnerWaiting = 5e4;  // a handover partner already in place: go there first
+constexpr double kIdleMove = 7e5;        // complete pass: a move to where nothing can happen now
 
 using Kind = MotionVertex::Kind;
 using Type = MotionArc::Type;
@@ -48,7 +50,8 @@ std::pair<VertexId, VertexId> CombinedQuery::objectMove(HyperarcId a) const {
   return {from, to};
 }
 
-void CombinedQuery::refresh(const std::unordered_set<HyperarcId>& forbidden) {
+void CombinedQuery::refresh(const std::vector<HyperarcId>& forbidden_list) {
+  const std::unordered_set<HyperarcId> forbidden(forbidden_list.begin(), forbidden_list.end());
   const MotionGraph& g = graph_->graph();
   const TaskSpace& space = graph_->space();
   const Scene& scene = space.scene();
@@ -124,7 +127,7 @@ double CombinedQuery::regret(const HyperpathState& state, HyperarcId a) const {
   return graph_->cost(a) + costToGo(state, to) - costToGo(state, from);
 }
 
-double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summary& summary) const {
+double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summary& summary, bool complete) const {
   const MotionGraph& g = graph_->graph();
   const MotionArc& arc = g.property(a);
   if (arc.type == Type::kInspect) return 0.0;
@@ -170,7 +173,7 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
         level = std::min(level, kHoldMove - (waiting ? kPartnerWaiting : 0.0));
       }
     }
-    if (!std::isfinite(level)) return kInf;
+    if (!std::isfinite(level)) return complete ? kIdleMove + cost : kInf;
     return (r > kOnRoute ? kDetour : level) + r;
   }
   if (to == graph_->homeVertex(mv.robot)) return kHome + cost;
@@ -203,28 +206,43 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
     }
     best = std::min(best, value);
   }
+  if (!std::isfinite(best) && complete) best = kIdleMove;
   return best + cost;
 }
 
-HyperpathResult CombinedQuery::run(const std::unordered_set<HyperarcId>& forbidden, const CombinedQueryParams& params,
+HyperpathResult CombinedQuery::run(const std::vector<MotionConstraint>& constraints, const CombinedQueryParams& params,
                                    const Deadline& deadline, std::function<void(const ExtendedVertex&)> on_vertex,
                                    std::function<void(const ExtendedHyperarc&)> on_hyperarc) {
-  refresh(forbidden);
+  refresh(alwaysForbidden(constraints));
+  const MotionGraph& g = graph_->graph();
   HyperpathSearchParams search;
   search.algorithm = HyperpathAlgorithm::kGreedy;
-  search.allowed = [this, &forbidden](const HyperpathState& state, HyperarcId a) {
-    return !forbidden.contains(a) && placementFree(state, a);
+  search.allowed = [this, &constraints, &g](const HyperpathState& state, HyperarcId a) {
+    for (const MotionConstraint& c : constraints)
+      if (violates(g, state, a, c)) return false;
+    return placementFree(state, a);
   };
   // Only for pruning: a state the goal cannot be reached from (either way of counting).
   search.costToGo = [this](VertexId v) { return std::min(to_goal_[v.value()], to_away_[v.value()]); };
   search.arcCost = [this](HyperarcId a) { return graph_->cost(a); };
-  auto summary = std::make_shared<Summary>();
-  search.priority = [this, summary](const HyperpathState& state, HyperarcId a) { return priority(state, a, *summary); };
   search.deadline = deadline;
-  search.maxExpansions = params.max_expansions;
   search.onExtendedVertex = std::move(on_vertex);
   search.onExtendedHyperarc = std::move(on_hyperarc);
-  return findHyperpath(graph_->graph(), {graph_->source(), graph_->sink()}, search);
+  auto pass = [&](bool complete) {
+    auto summary = std::make_shared<Summary>();
+    search.priority = [this, summary, complete](const HyperpathState& state, HyperarcId a) {
+      return priority(state, a, *summary, complete);
+    };
+    search.maxExpansions = complete ? params.complete_max_expansions : params.max_expansions;
+    return findHyperpath(g, {graph_->source(), graph_->sink()}, search);
+  };
+  last_pass_ = 0;
+  HyperpathResult greedy = pass(false);
+  if (greedy.found() || greedy.status == HyperpathStatus::kDeadline || !params.complete_pass) return greedy;
+  last_pass_ = 1;
+  HyperpathResult complete = pass(true);
+  complete.stats.expansions += greedy.stats.expansions;
+  return complete;
 }
 
 }  // namespace dash

@@ -18,19 +18,26 @@
 //     away from its goal.
 // A shared placement (placement_sampling.h) holds one object at a time: a place onto it is applicable
 // only while no other object rests there (a property of the representation, not a learned constraint).
-// Moves to a configuration where nothing can happen now are not expanded: the robot can still go
-// there later, directly, because moves join every exit of a planning space to every entry.
-// Motion constraints forbid hyperarcs outright (the `forbidden` set).
-#include <unordered_set>
+// The greedy pass does not expand moves to a configuration where nothing can happen now (the robot
+// can usually go there later, directly, because moves join every exit of a planning space to every
+// entry). Under motion constraints that direct move may be forbidden while a detour through such a
+// configuration is not, so when the greedy pass exhausts its states, a complete pass searches again
+// with every move expanded (those last): over the finite states of H_M (one instance per robot,
+// object and task) the depth-first search with its state memo is then complete, so "no hyperpath"
+// means none exists in H_M under the constraints.
+// Motion constraints are CBS-MP's (motion_constraint.h): (robot, vertex or edge, time interval).
 #include <vector>
 
+#include "engine/dash/motion_constraint.h"
 #include "engine/dash/motion_hypergraph.h"
 #include "engine/hypergraph/hyperpath_search.h"
 
 namespace dash {
 
 struct CombinedQueryParams {
-  std::size_t max_expansions = 200000;
+  std::size_t max_expansions = 200000;            ///< greedy pass
+  std::size_t complete_max_expansions = 4000000;  ///< complete pass (then kBudget, never "none")
+  bool complete_pass = true;                      ///< false: the greedy pass only (tests)
 };
 
 class CombinedQuery {
@@ -38,21 +45,25 @@ class CombinedQuery {
   /// `graph` must outlive the query.
   explicit CombinedQuery(const MotionHypergraph& graph);
 
-  /// One query with the hyperarcs in `forbidden` (motion constraints) left out, the cost-to-go
-  /// included: it is computed for each query over what the constraints leave.
-  HyperpathResult run(const std::unordered_set<HyperarcId>& forbidden, const CombinedQueryParams& params,
+  /// One query under `constraints`, the cost-to-go included: it is computed for each query over the
+  /// hyperarcs that constraints for the whole plan leave. `greedy_only` reports the greedy pass's own
+  /// outcome (what the complete pass adds is tested against it).
+  HyperpathResult run(const std::vector<MotionConstraint>& constraints, const CombinedQueryParams& params,
                       const Deadline& deadline, std::function<void(const ExtendedVertex&)> on_vertex = {},
                       std::function<void(const ExtendedHyperarc&)> on_hyperarc = {});
+  /// Which pass found the last hyperpath (or ended the last query): 0 greedy, 1 complete.
+  int lastPass() const { return last_pass_; }
 
   /// Cost-to-go to the object's goal, as of the last run() (or with no constraints before one).
   double costToGo(VertexId v) const { return to_goal_[v.value()]; }
 
  private:
   struct Summary;
-  void refresh(const std::unordered_set<HyperarcId>& forbidden);
+  void refresh(const std::vector<HyperarcId>& forbidden);
   /// A place onto a shared placement another object rests at now is not applicable.
   bool placementFree(const HyperpathState& state, HyperarcId a) const;
-  double priority(const HyperpathState& state, HyperarcId a, Summary& summary) const;
+  /// `complete`: moves the greedy order drops come last instead of not at all.
+  double priority(const HyperpathState& state, HyperarcId a, Summary& summary, bool complete) const;
   /// The object state an object-moving hyperarc leaves and the one it reaches (invalid otherwise).
   std::pair<VertexId, VertexId> objectMove(HyperarcId a) const;
   double regret(const HyperpathState& state, HyperarcId a) const;
@@ -63,6 +74,7 @@ class CombinedQuery {
   std::vector<double> to_goal_;
   std::vector<double> to_away_;
   std::vector<std::vector<VertexId>> pending_of_;  ///< per object: pending tasks that need it away
+  int last_pass_ = 0;
 };
 
 }  // namespace dash

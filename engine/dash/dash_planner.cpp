@@ -37,21 +37,43 @@ double pathLength(const Plan& plan) {
   return total;
 }
 
-/// The conflict a failed schedule reports: the last move of each participant into the step that
-/// could not be scheduled (its transition when it did not move), or the ways home.
-MotionConflict scheduleConflict(const ExtractedPlan& plan, const ScheduleResult& schedule) {
+/// The robot's own vertex in the tail of hyperarc a, and the first tail vertex that is not its own
+/// (the object or handover partner the transition waits for: the interval of a schedule constraint).
+std::pair<VertexId, VertexId> ownAndOtherTail(const MotionGraph& g, HyperarcId a, int robot) {
+  VertexId own, other;
+  for (VertexId v : g.tail(a)) {
+    const MotionVertex& mv = g.property(v);
+    const bool robot_vertex = mv.kind == MotionVertex::Kind::kRobot || mv.kind == MotionVertex::Kind::kHolding;
+    if (robot_vertex && mv.robot == robot) own = v;
+    else if (!other.valid()) other = v;
+  }
+  return {own, other};
+}
+
+/// The conflict a failed schedule (or a contact the validator found) reports at plan step `step`:
+/// for each participant, the last move into the step (its transition when it did not move), not to be
+/// traversed while the object or partner of the step waits in the state the step consumes (CBS-MP:
+/// one constraint per robot in the conflict). Step -1: the ways home, at any time.
+MotionConflict scheduleConflict(const MotionHypergraph& graph, const ExtractedPlan& plan, int step,
+                                const std::string& why) {
   MotionConflict c;
   c.kind = MotionConflict::Kind::kSchedule;
-  c.step = schedule.failed_step;
-  c.what = schedule.reason;
-  if (schedule.failed_step >= 0) {
-    const TaskStep& step = plan.plan.steps[schedule.failed_step];
-    const int participants = step.action.type == TaskArcType::kHandover ? 2 : 1;
+  c.step = step;
+  c.what = why;
+  if (step >= 0) {
+    const TaskStep& s = plan.plan.steps[step];
+    const int participants = s.action.type == TaskArcType::kHandover ? 2 : 1;
     for (int role = 0; role < participants; ++role) {
-      const auto& moves = plan.step_moves[schedule.failed_step][role];
-      c.robots.push_back(role == 0 ? step.action.robot : step.action.robot2);
-      const HyperarcId arc = moves.empty() ? step.arc : moves.back();
+      const int robot = role == 0 ? s.action.robot : s.action.robot2;
+      const auto& moves = plan.step_moves[step][role];
+      c.robots.push_back(robot);
+      const HyperarcId arc = moves.empty() ? s.arc : moves.back();
       if (std::find(c.arcs.begin(), c.arcs.end(), arc) == c.arcs.end()) c.arcs.push_back(arc);
+      MotionConstraint k;
+      k.robot = robot;
+      k.edge = arc;
+      k.during = ownAndOtherTail(graph.graph(), s.arc, robot).second;
+      c.constraints.push_back(k);
     }
     return c;
   }
@@ -59,9 +81,35 @@ MotionConflict scheduleConflict(const ExtractedPlan& plan, const ScheduleResult&
     if (!plan.home_moves[r].empty()) {
       c.robots.push_back(r);
       c.arcs.push_back(plan.home_moves[r].back());
+      c.constraints.push_back(MotionConstraint{r, {}, plan.home_moves[r].back(), {}});
     }
   return c;
 }
+
+/// A collision between robots, held objects or resting objects (what conflict resolution checks).
+bool isContact(const ValidationProblem& problem) {
+  return problem.kind == ProblemKind::kRobotRobotCollision || problem.kind == ProblemKind::kHeldObjectCollision ||
+         problem.kind == ProblemKind::kRobotObjectCollision;
+}
+
+/// The plan step a contact the validator found belongs to: the first transition at or after it of a
+/// robot involved (the move into it is where the contact was), else the last before it; -1: none.
+int contactStep(const Scene& scene, const TaskPlan& plan, const std::vector<double>& step_times,
+                const ValidationProblem& problem) {
+  if (!isContact(problem) || step_times.size() != plan.steps.size()) return -1;
+  auto involved = [&](int r) {
+    return r >= 0 && (scene.robots[r].id == problem.robot || scene.robots[r].id == problem.other);
+  };
+  int after = -1, before = -1;
+  for (int k = 0; k < static_cast<int>(plan.steps.size()); ++k) {
+    if (!involved(plan.steps[k].action.robot) && !involved(plan.steps[k].action.robot2)) continue;
+    if (step_times[k] >= problem.t && (after < 0 || step_times[k] < step_times[after])) after = k;
+    if (step_times[k] < problem.t && (before < 0 || step_times[k] > step_times[before])) before = k;
+  }
+  return after >= 0 ? after : before;
+}
+
+constexpr int kMaxRechecksPerNode = 3;  // as Lazy-DaSH's kMaxRechecksPerRound
 
 }  // namespace
 
@@ -168,11 +216,18 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   emitCounters();
   if (deadline.expired()) return timeout("motion hypergraph construction");
 
-  // 3-4. Query, conflict resolution, constraint tree (depth first).
+  // 3-4. Query, conflict resolution, constraint tree (depth first), until solved or the deadline: a
+  // PRM-based planner never proves a problem infeasible, so an exhausted tree (or a root without a
+  // hyperpath) grows every roadmap and starts the tree again.
   CombinedQuery query(*motion);
-  std::vector<std::vector<HyperarcId>> open{{}};
-  std::set<std::vector<HyperarcId>> seen{{}};
+  using Node = std::vector<MotionConstraint>;
+  std::vector<Node> open{{}};
+  std::set<Node> seen{{}};
   BreakRule break_rule(world.robotCount(), params_.break_rule, Rng::derive(settings.seed, 29));
+  // One scheduler for the whole run, as Lazy-DaSH's: its memo carries the steps a new hyperpath
+  // shares with the last one scheduled, and the instants the validator found contacts at.
+  Scheduler scheduler(world, context, params_.scheduler);
+  std::int64_t rechecks = 0, validation_feedbacks = 0, reused_steps = 0, restarts = 0;
   std::function<void(const ExtendedVertex&)> on_vertex = [&](const ExtendedVertex& v) {
     emitter.vertex(log::Layer::MotionExtended, static_cast<std::uint32_t>(extended_vertices++),
                    emitter.enabled() ? motion->label(v.vertex) : std::string());
@@ -200,38 +255,43 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
     eager += checks() - before;
     emitCounters();
   };
+  std::vector<int> all_robots;
+  for (int r = 0; r < world.robotCount(); ++r) all_robots.push_back(r);
   std::string last_failure = "no hyperpath from the start to the goal in the motion hypergraph";
   emitter.counter("roadmap_growths", 0);
   emitter.counter("constraint_tree_branchings", 0);
-  while (!open.empty()) {
+  for (;;) {
     if (deadline.expired()) return timeout("constraint tree");
-    if (queries >= params_.max_tree_nodes)
-      return finish(PlanOutcome::kInfeasible, "gave up after " + std::to_string(queries) +
-                                                  " constraint tree nodes; last conflict: " + last_failure);
-    const std::vector<HyperarcId> node = std::move(open.back());
+    if (open.empty()) {
+      // Every node is dead or exhausted under the current roadmaps: denser ones may add hyperpaths
+      // or ways round; grow them all and start from the root again.
+      growRoadmaps(all_robots);
+      emitter.counter("constraint_tree_restarts", ++restarts);
+      open = {{}};
+      seen = {{}};
+    }
+    const Node node = std::move(open.back());
     open.pop_back();
     emitter.setIteration(queries++);
     emitter.counter("constraint_tree_nodes", queries);
-    const std::unordered_set<HyperarcId> forbidden(node.begin(), node.end());
     HyperpathResult path;
     {
       log::PhaseTimer timer(emitter, log::Phase::MotionQuery);
-      path = query.run(forbidden, params_.query, deadline, on_vertex, on_hyperarc);
+      path = query.run(node, params_.query, deadline, on_vertex, on_hyperarc);
     }
+    emitter.counter("complete_query_passes", query.lastPass());
     if (!path.found()) {
       if (path.status == HyperpathStatus::kDeadline) return timeout("combined query");
       // Under constraints: back up the tree. Without any, the representation itself has no
       // hyperpath (a move a sparse roadmap misses, e.g. into a narrow cubby): only denser roadmaps
-      // can add one, so the roadmaps of every robot with budget left grow and the root is queried
-      // again; with no budget left, the run ends infeasible.
+      // can add one, so every robot's roadmaps grow and the root is queried again.
       if (!node.empty()) continue;
       MotionConflict none;
       none.what = last_failure;
-      for (int r = 0; r < world.robotCount(); ++r) none.robots.push_back(r);
+      none.robots = all_robots;
       const BreakRule::Choice choice = break_rule.decide(none);
       emitter.counter("roadmap_growths", break_rule.roadmapDecisions());
-      if (choice.decision != BreakRule::Decision::kGrowRoadmaps) continue;
-      growRoadmaps(choice.robots);
+      growRoadmaps(choice.decision == BreakRule::Decision::kGrowRoadmaps ? choice.robots : all_robots);
       open.push_back(node);
       continue;
     }
@@ -243,30 +303,51 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
     }
     std::optional<MotionConflict> conflict;
     ScheduleResult schedule;
+    Plan plan;
     {
       log::PhaseTimer timer(emitter, log::Phase::ConflictResolution);
       const std::int64_t before = checks();
       RestingConflictStats resting;
       shortcutPaths(extracted, world, context);
       conflict = resolveRestingConflicts(extracted, *motion, world, context, roadmaps, deadline, resting);
-      if (!conflict) {
-        Scheduler scheduler(world, context, params_.scheduler);
-        const MoveReplanner replan = [&](int r, const JointVector& from, const JointVector& to,
-                                         const MotionContext& ctx) {
-          return roadmaps[static_cast<std::size_t>(r) * 2 + (ctx.held.holding() ? 1 : 0)]->plan(from, to, ctx, deadline);
-        };
+      const MoveReplanner replan = [&](int r, const JointVector& from, const JointVector& to, const MotionContext& ctx) {
+        return roadmaps[static_cast<std::size_t>(r) * 2 + (ctx.held.holding() ? 1 : 0)]->plan(from, to, ctx, deadline);
+      };
+      // A contact the validator finds between the scheduler's check instants: that instant is checked
+      // from then on and the same hyperpath scheduled again (as Lazy-DaSH does); a contact that stays
+      // is a conflict like any other, never an error.
+      for (int recheck = 0; !conflict; ++recheck) {
         schedule = scheduler.build(extracted.plan, extracted.transitions, extracted.motion, space, replan, deadline);
-        if (!schedule.ok) conflict = scheduleConflict(extracted, schedule);
+        reused_steps += schedule.stats.reused_steps;
+        if (!schedule.ok) {
+          conflict = scheduleConflict(*motion, extracted, schedule.failed_step, schedule.reason);
+          break;
+        }
+        plan = std::move(schedule.plan);
+        plan.planner = name();
+        const ValidationReport report = validatePlan(scene, plan);
+        if (report.valid()) break;
+        const ValidationProblem& problem = report.problems.front();
+        if (recheck < kMaxRechecksPerNode && isContact(problem)) {
+          scheduler.alsoCheckAt(problem.t);
+          if (problem.t_end > problem.t) scheduler.alsoCheckAt(problem.t_end);
+          scheduler.forgetFrom(problem.t);
+          emitter.counter("validation_rechecks", ++rechecks);
+          continue;
+        }
+        // Only a contact can be a missed conflict; anything else the validator finds is a bug.
+        if (!isContact(problem))
+          return finish(PlanOutcome::kInfeasible, "internal error: the planned schedule failed validation: " +
+                                                      problem.message);
+        const int step = contactStep(scene, extracted.plan, schedule.step_times, problem);
+        scheduler.forgetFrom(problem.t);
+        emitter.counter("validation_feedbacks", ++validation_feedbacks);
+        conflict = scheduleConflict(*motion, extracted, step, "validation: " + problem.message);
       }
+      emitter.counter("scheduled_steps_reused", reused_steps);
       lazy += checks() - before;
     }
     if (!conflict) {
-      Plan plan = std::move(schedule.plan);
-      plan.planner = name();
-      const ValidationReport report = validatePlan(scene, plan);
-      if (!report.valid())  // a plan that fails validation is a bug in the planner, never a result
-        return finish(PlanOutcome::kInfeasible, "internal error: the planned schedule failed validation: " +
-                                                    report.problems.front().message);
       result.stats.makespan = plan.makespan;
       result.stats.path_length = pathLength(plan);
       result.plan = std::move(plan);
@@ -285,19 +366,17 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
       open.push_back(node);
       continue;
     }
-    for (auto it = conflict->arcs.rbegin(); it != conflict->arcs.rend(); ++it) {
-      std::vector<HyperarcId> child = node;
+    for (auto it = conflict->constraints.rbegin(); it != conflict->constraints.rend(); ++it) {
+      Node child = node;
+      if (std::find(child.begin(), child.end(), *it) != child.end()) continue;  // already there: no change
       child.push_back(*it);
       std::sort(child.begin(), child.end());
       if (!seen.insert(child).second) continue;
       emitter.constraint(log::ConstraintKind::Motion, log::ConstraintAction::Created,
-                         static_cast<std::uint32_t>(motion_constraints++), "forbid " + motion->label(*it), {},
-                         conflict->what);
+                         static_cast<std::uint32_t>(motion_constraints++), describe(*motion, *it), {}, conflict->what);
       open.push_back(std::move(child));
     }
   }
-  return finish(PlanOutcome::kInfeasible, "constraint tree exhausted: no hyperpath avoids the motion constraints; "
-                                          "last conflict: " + last_failure);
 }
 
 }  // namespace dash

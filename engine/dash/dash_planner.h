@@ -8,16 +8,23 @@
 //     configurations for every transition of H_T (transition_catalog.h), fully validated PRM roadmaps
 //     (og::PRM, validated_roadmap.h) and move hyperarcs joining every transition in every planning
 //     space; every collision check here is "eager";
-//  3. the combined task-and-motion query on H_M (combined_query.h), the greedy hyperpath query with
-//     motion costs;
+//  3. the combined task-and-motion query on H_M (combined_query.h): the greedy hyperpath query with
+//     motion costs, then a complete search over H_M when the greedy pass finds none;
 //  4. conflict resolution: resting-object conflicts by CBS-MP's low-level search (resting_conflicts.h),
 //     robot-robot conflicts by the Scheduler Lazy-DaSH also uses (the paper gives both planners the
-//     same scheduler "for a fair comparison"); an unresolved conflict triggers CBS-MP's probabilistic
-//     break rule (break_rule.h): the roadmaps of the robots involved grow and the same node is
-//     queried again, or the constraint tree grows by one child per motion hyperarc involved, each
-//     forbidding it in the queries below (a motion constraint).
+//     same scheduler "for a fair comparison"), with the same memo of the last schedule and the same
+//     re-checks of contacts the validator finds (a contact that stays is a conflict, never an error);
+//     an unresolved conflict triggers CBS-MP's probabilistic break rule (break_rule.h): the roadmaps
+//     of the robots involved grow and the same node is queried again, or the constraint tree grows by
+//     one child per robot involved, each with a CBS-MP constraint (motion_constraint.h: robot, vertex
+//     or edge of H_M, time interval).
+// The transition candidates (grasps, handover poses, approach-line checks, back-off depths) are
+// Lazy-DaSH's (transition_catalog.h). Like any PRM-based planner DaSH never declares a problem
+// infeasible: a root without a hyperpath, or an exhausted constraint tree, grows every roadmap and
+// starts again, until the deadline.
 // Counters in the event stream: "constraint_tree_nodes" (queries), "roadmap_growths" and
-// "constraint_tree_branchings" (the break rule's decisions).
+// "constraint_tree_branchings" (the break rule's decisions), "constraint_tree_restarts",
+// "complete_query_passes", "validation_rechecks", "validation_feedbacks".
 // DaSH has no task conflict detection and no task space expansion: only motion constraints drive its
 // replanning. That is what the paper shows failing on Wall, Shelf-wall and Stocking.
 //
@@ -45,7 +52,6 @@ struct DashParams {
   std::size_t holding_roadmap_samples = 60;   ///< og::PRM milestones per robot, holding
   std::size_t growth_samples = 50;            ///< milestones added per roadmap growth
   BreakRuleParams break_rule;                 ///< CBS-MP: grow roadmaps or the constraint tree
-  int max_tree_nodes = 400;                   ///< constraint tree nodes queried at most
   CombinedQueryParams query;
   SchedulerParams scheduler;
   /// Metres every check of the planner keeps between parts not in contact by design (collision_world.h).

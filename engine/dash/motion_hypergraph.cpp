@@ -239,6 +239,14 @@ void MotionHypergraph::connectMoves(RoadmapSet& roadmaps, const std::vector<int>
   }
 }
 
+VertexId MotionHypergraph::objectVertex(int object, int placement) const {
+  MotionVertex v;
+  v.kind = MotionVertex::Kind::kObject;
+  v.object = i16(object);
+  v.placement = i16(placement);
+  return graph_.find(v).value_or(VertexId());
+}
+
 std::string MotionHypergraph::label(VertexId id) const {
   const MotionVertex& v = graph_.property(id);
   const Scene& scene = space_->scene();

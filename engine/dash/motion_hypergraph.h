@@ -115,6 +115,8 @@ class MotionHypergraph {
   const std::vector<VertexId>& spotVertices(int spot) const { return spot_vertices_[spot]; }
   /// The robot whose planning space a move hyperarc lies in.
   int moveRobot(HyperarcId a) const { return moves_[graph_.property(a).index].robot; }
+  /// The vertex of `object` resting at location `placement` of the TaskSpace (invalid if none).
+  VertexId objectVertex(int object, int placement) const;
   std::string label(VertexId v) const;
   std::string label(HyperarcId a) const;
 

@@ -7,19 +7,44 @@ namespace dash {
 
 namespace {
 
-/// Objects resting before each step and after the last one, in the plan's order.
-std::vector<ObjectLayout> layoutsAlong(const TaskPlan& plan, const TaskSpace& space) {
+/// Objects resting before each step and after the last one, in the plan's order, with the location
+/// (index in the TaskSpace, -1 while held) of each.
+struct Layouts {
+  std::vector<ObjectLayout> layouts;
+  std::vector<std::vector<int>> locations;
+};
+Layouts layoutsAlong(const TaskPlan& plan, const TaskSpace& space) {
   ObjectLayout layout = ObjectLayout::atStart(space.scene());
-  for (int o = 0; o < space.objectCount(); ++o) layout.place(o, space.location(o, space.startLocation(o)).X_WO);
-  std::vector<ObjectLayout> out;
-  for (const TaskStep& step : plan.steps) {
-    out.push_back(layout);
-    if (step.action.type == TaskArcType::kPick) layout.remove(step.action.object);
-    if (step.action.type == TaskArcType::kPlace)
-      layout.place(step.action.object, space.location(step.action.object, step.action.location).X_WO);
+  std::vector<int> at(static_cast<std::size_t>(space.objectCount()));
+  for (int o = 0; o < space.objectCount(); ++o) {
+    layout.place(o, space.location(o, space.startLocation(o)).X_WO);
+    at[o] = space.startLocation(o);
   }
-  out.push_back(layout);
+  Layouts out;
+  for (const TaskStep& step : plan.steps) {
+    out.layouts.push_back(layout);
+    out.locations.push_back(at);
+    if (step.action.type == TaskArcType::kPick) {
+      layout.remove(step.action.object);
+      at[step.action.object] = -1;
+    }
+    if (step.action.type == TaskArcType::kPlace) {
+      layout.place(step.action.object, space.location(step.action.object, step.action.location).X_WO);
+      at[step.action.object] = step.action.location;
+    }
+  }
+  out.layouts.push_back(layout);
+  out.locations.push_back(at);
   return out;
+}
+
+/// The robot's own vertex in the tail of hyperarc a (where it must be to start it).
+VertexId robotTailVertex(const MotionGraph& g, HyperarcId a, int robot) {
+  for (VertexId v : g.tail(a)) {
+    const MotionVertex& mv = g.property(v);
+    if ((mv.kind == MotionVertex::Kind::kRobot || mv.kind == MotionVertex::Kind::kHolding) && mv.robot == robot) return v;
+  }
+  return {};
 }
 
 class Checker {
@@ -84,8 +109,21 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
                                                       RestingConflictStats& stats) {
   const TaskSpace& space = graph.space();
   const Scene& scene = space.scene();
-  const std::vector<ObjectLayout> layouts = layoutsAlong(plan.plan, space);
+  const Layouts along = layoutsAlong(plan.plan, space);
+  const std::vector<ObjectLayout>& layouts = along.layouts;
   Checker check(world, context);
+  // The H_M vertex of the first object resting at step `at` for which `hits` holds alone (invalid if
+  // none does: then only the objects together are in the way, and the constraint holds always).
+  auto blocker = [&](int at, auto hits) {
+    const std::vector<int>& where = along.locations[at];
+    for (int o = 0; o < static_cast<int>(where.size()); ++o) {
+      if (where[o] < 0) continue;
+      ObjectLayout one = ObjectLayout::empty(scene);
+      one.place(o, space.location(o, where[o]).X_WO);
+      if (hits(one)) return graph.objectVertex(o, where[o]);
+    }
+    return VertexId();
+  };
   for (int r = 0; r < static_cast<int>(plan.motion.robots.size()); ++r) {
     RobotMotionPlan& robot = plan.motion.robots[r];
     for (StepVisit& v : robot.visits) {
@@ -93,13 +131,28 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
       const int role = v.receiver ? 1 : 0;
       const HyperarcId transition = plan.plan.steps[k].arc;
       const HeldObject& at_q = v.held_before.holding() ? v.held_before : v.held_after;
-      if (check.stateHits(r, v.q_pre, v.held_before, layouts[k]) || check.stateHits(r, v.q, at_q, layouts[k]) ||
-          check.segmentHits(r, v.q_pre, v.q, v.held_before, layouts[k]) ||
-          check.stateHits(r, v.q_post, v.held_after, layouts[k + 1]) ||
-          check.segmentHits(r, v.q, v.q_post, v.held_after, layouts[k + 1]))
-        return MotionConflict{MotionConflict::Kind::kTransition, k, {r}, {transition},
+      auto approachHits = [&](const ObjectLayout& l) {
+        return check.stateHits(r, v.q, at_q, l) || check.segmentHits(r, v.q_pre, v.q, v.held_before, l);
+      };
+      auto retreatHits = [&](const ObjectLayout& l) {
+        return check.stateHits(r, v.q_post, v.held_after, l) || check.segmentHits(r, v.q, v.q_post, v.held_after, l);
+      };
+      const bool pre_hits = check.stateHits(r, v.q_pre, v.held_before, layouts[k]);
+      if (pre_hits || approachHits(layouts[k]) || retreatHits(layouts[k + 1])) {
+        MotionConstraint c;
+        c.robot = r;
+        if (pre_hits) {  // the robot may not wait at q_pre while the object rests there
+          c.vertex = robotTailVertex(graph.graph(), transition, r);
+          c.during = blocker(k, [&](const ObjectLayout& l) { return check.stateHits(r, v.q_pre, v.held_before, l); });
+        } else {
+          c.edge = transition;
+          c.during = approachHits(layouts[k]) ? blocker(k, approachHits) : blocker(k + 1, retreatHits);
+        }
+        if (!c.vertex.valid() && !c.edge.valid()) c.edge = transition;
+        return MotionConflict{MotionConflict::Kind::kTransition, k, {r}, {transition}, {c},
                               "step " + std::to_string(k) + " (" + describeStep(plan.plan.steps[k], space) +
                                   "): a transition configuration of " + scene.robots[r].id + " hits a resting object"};
+      }
       if (!check.pathHits(r, v.transit, v.held_before, layouts[k])) continue;
       const MotionContext ctx{v.held_before, layouts[k], {}};
       auto& roadmap = *roadmaps[static_cast<std::size_t>(r) * 2 + (v.held_before.holding() ? 1 : 0)];
@@ -116,7 +169,14 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
           hit = m;
           break;
         }
-      return MotionConflict{MotionConflict::Kind::kMove, k, {r}, {hit},
+      MotionConstraint c;
+      c.robot = r;
+      c.edge = hit;
+      if (hit != transition)
+        c.during = blocker(k, [&](const ObjectLayout& l) {
+          return check.pathHits(r, graph.move(graph.graph().property(hit).index).path, v.held_before, l);
+        });
+      return MotionConflict{MotionConflict::Kind::kMove, k, {r}, {hit}, {c},
                             scene.robots[r].id + " has no way round the resting objects to step " + std::to_string(k) +
                                 " (" + describeStep(plan.plan.steps[k], space) + ")"};
     }
@@ -134,7 +194,13 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
         hit = m;
         break;
       }
-    return MotionConflict{MotionConflict::Kind::kMove, -1, {r}, {hit},
+    MotionConstraint c;
+    c.robot = r;
+    c.edge = hit;
+    c.during = blocker(static_cast<int>(layouts.size()) - 1, [&](const ObjectLayout& l) {
+      return check.pathHits(r, graph.move(graph.graph().property(hit).index).path, HeldObject{}, l);
+    });
+    return MotionConflict{MotionConflict::Kind::kMove, -1, {r}, {hit}, {c},
                           scene.robots[r].id + " has no way home round the resting objects"};
   }
   return std::nullopt;

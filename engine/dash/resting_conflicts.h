@@ -5,12 +5,15 @@
 // search under that constraint: the robot's validated roadmap with the resting objects in the way
 // (ValidatedRoadmap::plan). What cannot be resolved there comes back as a conflict naming the motion
 // hyperarcs involved, for the constraint tree: a transition whose configurations touch a resting
-// object (no replanning moves a sampled configuration), or a move with no way round.
+// object (no replanning moves a sampled configuration), or a move with no way round. Its constraint
+// (motion_constraint.h) keeps the robot off that configuration or hyperarc while the object in the
+// way rests where it does.
 // Robot-robot conflicts are the Scheduler's (engine/conflict), shared with Lazy-DaSH.
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "engine/dash/motion_constraint.h"
 #include "engine/dash/motion_hypergraph.h"
 #include "engine/dash/plan_extraction.h"
 
@@ -21,7 +24,9 @@ struct MotionConflict {
   Kind kind = Kind::kMove;
   int step = -1;                   ///< plan step (-1: the way home)
   std::vector<int> robots;         ///< robots whose motions are involved
-  std::vector<HyperarcId> arcs;    ///< the motion hyperarcs a constraint may forbid
+  std::vector<HyperarcId> arcs;    ///< the motion hyperarcs involved
+  /// CBS-MP: one child of the constraint tree per entry, each adding that constraint.
+  std::vector<MotionConstraint> constraints;
   std::string what;
 };
 

@@ -44,6 +44,16 @@ JointVector backedOff(TransitionSampler& sampler, int robot, const JointVector& 
   return backOff(sampler, robot, q, held, distance).value_or(q);
 }
 
+/// The back-off a grasp sample uses: for a side grasp the farthest free deep back-off, else (or when
+/// none is free) the short one, else q itself.
+JointVector graspBackOff(TransitionSampler& sampler, int robot, const JointVector& q, const HeldObject& held,
+                         GraspClass grasp, const TransitionCatalogParams& params) {
+  if (grasp == GraspClass::kSide)
+    for (auto it = params.deep_approach_distances.rbegin(); it != params.deep_approach_distances.rend(); ++it)
+      if (auto deep = backOff(sampler, robot, q, held, *it)) return *deep;
+  return backedOff(sampler, robot, q, held, params.approach_distance);
+}
+
 /// The handover's own motions, with both robots: the receiver's approach while the giver holds the
 /// object in place, the giver's retreat while the receiver holds it, the receiver's retreat.
 bool handoverMotionsFree(TransitionSampler& sampler, const HandoverSample& h) {
@@ -96,7 +106,8 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
     for (int l = 0; l < static_cast<int>(space.locations(arc.object).size()); ++l) {
       if (deadline.expired()) return out;
       const Pose& X_WO = space.location(arc.object, l).X_WO;
-      for (const GraspConfig& gc : sampler.graspConfigs(arc.robot, arc.object, X_WO, arc.grasp, params.grasps_per_class)) {
+      for (const GraspConfig& gc :
+           sampler.graspConfigs(arc.robot, arc.object, X_WO, arc.grasp, params.grasps_per_class, params.approach_line)) {
         GraspSample s;
         s.robot = arc.robot;
         s.object = arc.object;
@@ -104,8 +115,8 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
         s.grasp = arc.grasp;
         s.held = HeldObject{arc.object, gc.X_TO};
         s.q = gc.q;
-        s.q_pre = backedOff(sampler, arc.robot, gc.q, HeldObject{}, params.approach_distance);
-        s.q_hold = backedOff(sampler, arc.robot, gc.q, s.held, params.approach_distance);
+        s.q_pre = graspBackOff(sampler, arc.robot, gc.q, HeldObject{}, arc.grasp, params);
+        s.q_hold = graspBackOff(sampler, arc.robot, gc.q, s.held, arc.grasp, params);
         obtain(arc.robot, s.held, arc.grasp);
         out.grasps.push_back(std::move(s));
       }
@@ -121,14 +132,25 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
     std::vector<std::vector<char>> tried;  ///< [giver grasp][receiver grasp]
     std::vector<char> tried_new;           ///< [giver grasp]
     std::vector<int> kept;                 ///< [giver grasp]
+    /// The whole pose grid is searched once per hyperarc (its first search, for any grasp): when it
+    /// finds nothing the hyperarc is impossible, as Lazy-DaSH's handoverPossible cache (one entry per
+    /// giver, receiver, object and class pair, i.e. per hyperarc) concludes; later searches on a
+    /// possible hyperarc look at the start of the grid only.
+    enum class Grid { kUnsearched, kPossible, kImpossible } grid = Grid::kUnsearched;
   };
   std::vector<ArcState> state(handover_arcs.size());
   // One sample for this hyperarc and giver grasp, delivering `target` (nullptr: a grasp the receiver
   // does not have yet). False when no object pose works.
-  auto sample = [&](const TaskArc& arc, const Obtainable& g1, const Pose* target, bool& changed) {
+  auto sample = [&](const TaskArc& arc, ArcState& st, const Obtainable& g1, const Pose* target, bool& changed) {
     const int o = arc.object;
+    if (st.grid == ArcState::Grid::kImpossible) return false;
+    // Delivering a grasp the receiver already has looks at the start of the grid only: failing that
+    // says nothing about the hyperarc.
+    const bool whole_grid = st.grid == ArcState::Grid::kUnsearched && target == nullptr;
     const std::vector<Pose> poses = sampler.handoverPoses(arc.robot, arc.robot2);
-    const int pose_count = std::min<int>(params.handover_poses, static_cast<int>(poses.size()));
+    const int pose_count = std::min<int>(whole_grid ? params.handover_poses : params.targeted_handover_poses,
+                                         static_cast<int>(poses.size()));
+    if (whole_grid) st.grid = ArcState::Grid::kImpossible;  // until a pose works
     auto known = [&](const Pose& X_TO) {
       for (const Obtainable& h : obtainable[arc.robot2][o])
         if (h.held.X_TO.matrix() == X_TO.matrix()) return true;
@@ -137,9 +159,9 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
     for (int p = 0; p < pose_count; ++p) {
       if (deadline.expired()) return false;
       const Pose& X_WO = poses[p];
-      const std::vector<JointVector> givers = sampler.holdConfigs(arc.robot, o, X_WO, g1.held.X_TO, 1);
+      const std::vector<JointVector> givers = sampler.holdConfigs(arc.robot, o, X_WO, g1.held.X_TO, 1, params.approach_line);
       if (givers.empty()) continue;
-      for (const GraspConfig& gc2 : sampler.graspConfigs(arc.robot2, o, X_WO, arc.grasp2, kReceiverCandidates)) {
+      for (const GraspConfig& gc2 : sampler.graspConfigs(arc.robot2, o, X_WO, arc.grasp2, kReceiverCandidates, params.approach_line)) {
         if (target ? gc2.X_TO.matrix() != target->matrix() : known(gc2.X_TO)) continue;
         const RobotState states[2] = {{arc.robot, givers.front(), g1.held}, {arc.robot2, gc2.q, HeldObject{}}};
         if (robotsInCollision(sampler.world(), sampler.context(), states, ObjectLayout::empty(scene), nullptr,
@@ -164,6 +186,7 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
         h.q2_pre = *q2_pre;
         h.q2_post = backedOff(sampler, arc.robot2, h.q2, h.held2, params.approach_distance);
         if (!handoverMotionsFree(sampler, h)) continue;
+        st.grid = ArcState::Grid::kPossible;
         changed = obtain(arc.robot2, h.held2, arc.grasp2) || changed;
         out.handovers.push_back(std::move(h));
         return true;
@@ -191,11 +214,11 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
           st.tried[t][u] = 1;
           const Obtainable target = obtainable[arc.robot2][arc.object][u];
           if (target.grasp != arc.grasp2) continue;
-          if (sample(arc, g1, &target.held.X_TO, changed)) ++st.kept[t];
+          if (sample(arc, st, g1, &target.held.X_TO, changed)) ++st.kept[t];
         }
         if (st.kept[t] == 0 && !st.tried_new[t]) {
           st.tried_new[t] = 1;
-          if (sample(arc, g1, nullptr, changed)) ++st.kept[t];
+          if (sample(arc, st, g1, nullptr, changed)) ++st.kept[t];
         }
       }
     }

@@ -51,12 +51,24 @@ struct InspectSample {
   JointVector q_pre;  ///< approach start and retreat end
 };
 
+// The same candidates as Lazy-DaSH's task conflict detection and motion layer (TaskConflictParams,
+// MotionLayerParams): the paper names no difference between the planners' transition sampling.
 struct TransitionCatalogParams {
-  int grasps_per_class = 2;          ///< grasp configurations per (robot, object, placement, class)
-  int handover_poses = 16;           ///< object poses tried per handover hyperarc and giver grasp
+  int grasps_per_class = 6;          ///< grasp configurations per (robot, object, placement, class)
+  /// Object poses of the first search per handover hyperarc for a new receiver grasp (the whole grid):
+  /// when it finds none, the hyperarc is impossible (as Lazy-DaSH's handoverPossible cache concludes).
+  int handover_poses = 1040;
+  /// Object poses of every other search: for a grasp the receiver already has (DaSH's own chaining,
+  /// which Lazy-DaSH does not need as it samples per plan step), or on a hyperarc already found
+  /// possible: the start of the same grid.
+  int targeted_handover_poses = 16;
   int handovers_per_grasp = 2;       ///< handover samples per handover hyperarc and giver grasp
   int inspect_configs = 2;           ///< per inspect hyperarc
   double approach_distance = 0.06;   ///< metres the TCP backs off along its approach axis
+  /// Side grasps (into a shelf cubby) back off by the farthest of these that is free, as Lazy-DaSH's
+  /// motion layer does when the short back-off is not reached: DaSH anchors its roadmaps there.
+  std::vector<double> deep_approach_distances = {0.15, 0.2, 0.25, 0.3, 0.35};
+  bool approach_line = true;         ///< side grasps prefer an IK branch with a free approach line
 };
 
 struct TransitionCatalog {

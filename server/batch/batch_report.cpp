@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/scenarios/scenario_registry.h"
+#include "server/batch/batch_store.h"
 
 namespace dash::batch {
 namespace {
@@ -115,13 +116,25 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
     slot.planner_order = planner_order[planner];
     slot.runs.push_back(&r);
   }
+  // Runs the axis stop rule skipped (axis_stop.h): per family, (params, planner) -> count and reason.
+  std::map<std::string, std::map<std::pair<std::string, std::string>, std::pair<int, std::string>>> skipped;
+  if (!options.batch_id.empty()) {
+    const BatchStore store(db.path(), log::OpenMode::ReadOnly);
+    for (const StoredRun& r : store.runs(options.batch_id)) {
+      if (r.skipped.empty()) continue;
+      if (!families.count(r.spec.family) && !skipped.count(r.spec.family)) family_order.push_back(r.spec.family);
+      auto& slot = skipped[r.spec.family][{r.spec.paramsText(), r.spec.label}];
+      ++slot.first;
+      slot.second = r.skipped;
+    }
+  }
   if (family_order.empty()) {
     return options.batch_id.empty() ? "no finished runs\n" : "no finished runs in batch " + options.batch_id + "\n";
   }
   // Families in the registry's order, unknown ones after.
   std::vector<std::string> ordered_families;
   for (const auto& f : scenarioFamilies()) {
-    if (families.count(f.name)) ordered_families.push_back(f.name);
+    if (families.count(f.name) || skipped.count(f.name)) ordered_families.push_back(f.name);
   }
   for (const auto& f : family_order) {
     if (!findScenarioFamily(f)) ordered_families.push_back(f);
@@ -210,6 +223,12 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
                    std::to_string(infeasible), std::to_string(crashed), rate});
     }
     out << "Success rate\n" << success.str() << "\n";
+    if (skipped.count(family)) {
+      Table skips({"params", "planner", "runs", "why"}, 4);
+      for (const auto& [key, value] : skipped[family])
+        skips.add({key.first, key.second, std::to_string(value.first), value.second});
+      out << "Skipped by the axis stop rule (not run)\n" << skips.str() << "\n";
+    }
   }
   return out.str();
 }

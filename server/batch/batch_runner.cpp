@@ -18,6 +18,7 @@
 
 #include "engine/core/stopwatch.h"
 #include "engine/log/sqlite_recorder.h"
+#include "server/batch/axis_stop.h"
 #include "server/batch/batch_store.h"
 #include "server/batch/run_process.h"
 #include "server/batch/run_protocol.h"
@@ -119,6 +120,7 @@ struct BatchRunner::Impl {
   ProgressCallback callback;
   std::string batch_id;
   std::vector<RunSpec> todo;
+  std::unique_ptr<AxisStop> axis;  ///< over every run of the batch (finished ones fed in)
 
   int wake_read = -1;
   int wake_write = -1;
@@ -275,8 +277,37 @@ struct BatchRunner::Impl {
     children.clear();
   }
 
+  /// The next run of `waiting` that may start (its index there), marking the ones the axis stop rule
+  /// skips on the way; none when every one left waits for a smaller size still running.
+  std::optional<std::size_t> nextRun(std::vector<std::size_t>& waiting) {
+    for (std::size_t i = 0; i < waiting.size();) {
+      const RunSpec& run = todo[waiting[i]];
+      const AxisStop::Decision d = axis->decide(run);
+      if (d.verdict == AxisStop::Verdict::kRun) return i;
+      if (d.verdict == AxisStop::Verdict::kWait) {
+        ++i;
+        continue;
+      }
+      storeForWrite().markSkipped(batch_id, run.key, d.reason);
+      axis->finished(run, false);
+      ++finished_here;
+      {
+        std::lock_guard lock(mutex);
+        ++progress.axis_skipped;
+        ++progress.done;
+      }
+      waiting.erase(waiting.begin() + static_cast<std::ptrdiff_t>(i));
+      publish();
+    }
+    // Nothing runnable and nothing running: cannot happen (the smallest size never waits), but
+    // never deadlock on it.
+    if (!waiting.empty() && children.empty()) return 0;
+    return std::nullopt;
+  }
+
   void loop() {
-    std::size_t next = 0;
+    std::vector<std::size_t> waiting(todo.size());
+    for (std::size_t i = 0; i < todo.size(); ++i) waiting[i] = i;
     auto last_heartbeat = Clock::now();
     auto last_flush = Clock::now();
     auto last_tick = Clock::now();
@@ -298,13 +329,16 @@ struct BatchRunner::Impl {
         }
       }
       bool spawned = false;
-      while (!cancelling && children.size() < static_cast<std::size_t>(std::max(1, options.workers)) &&
-             next < todo.size()) {
-        spawn(todo[next++]);
+      while (!cancelling && children.size() < static_cast<std::size_t>(std::max(1, options.workers))) {
+        const std::optional<std::size_t> pick = nextRun(waiting);
+        if (!pick) break;
+        const std::size_t index = waiting[*pick];
+        waiting.erase(waiting.begin() + static_cast<std::ptrdiff_t>(*pick));
+        spawn(todo[index]);
         spawned = true;
       }
       if (spawned) publish();
-      if (children.empty() && (cancelling || next >= todo.size())) break;
+      if (children.empty() && (cancelling || waiting.empty())) break;
 
       waitForActivity();
 
@@ -522,6 +556,8 @@ struct BatchRunner::Impl {
     db->finishRun(c.uuid, s);
     c.recorder.reset();
     ++finished_here;
+    if (s.status != log::RunStatus::Cancelled && s.status != log::RunStatus::Running)
+      axis->finished(c.run, s.status == log::RunStatus::Solved);
     {
       std::lock_guard lock(mutex);
       count(s.status);
@@ -560,6 +596,7 @@ std::string BatchRunner::start(const BatchSpec& spec, const std::string& db_path
   DASH_THROW_UNLESS(spec.unknown_planners.empty(), "the spec names planners this build does not have");
   m.markDeadBatches();
   m.todo = expandRuns(spec);
+  m.axis = std::make_unique<AxisStop>(m.todo);
   m.progress.name = spec.name;
   m.db->putBatch(log::BatchRecord{.id = m.batch_id, .name = spec.name, .spec_json = spec.json, .status = "queued"});
   m.storeForWrite().addRuns(m.batch_id, m.todo);
@@ -596,10 +633,20 @@ std::string BatchRunner::resume(const std::string& batch_id, const std::string& 
                                          " has no stored run list (it was not started by "
                                          "`dashbench batch run`)");
   m.progress.name = batch->name;
+  std::vector<RunSpec> all;
+  for (const StoredRun& r : stored) all.push_back(r.spec);
+  m.axis = std::make_unique<AxisStop>(all);
   for (const StoredRun& r : stored) {
     if (r.complete()) {
       ++m.progress.skipped;
+      if (!r.skipped.empty()) {
+        ++m.progress.axis_skipped;
+        ++m.progress.done;
+        m.axis->finished(r.spec, false);
+        continue;
+      }
       m.count(log::parseRunStatus(*r.status));
+      m.axis->finished(r.spec, *r.status == "solved");
       continue;
     }
     if (!r.run_uuid.empty()) m.storeForWrite().deleteRun(r.run_uuid);

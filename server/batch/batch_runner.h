@@ -63,6 +63,7 @@ struct BatchProgress {
   std::int64_t timeouts = 0;
   std::int64_t crashed = 0;
   std::int64_t cancelled = 0;  ///< stopped by cancel() (re-run by a later resume)
+  std::int64_t axis_skipped = 0;  ///< not run: the axis stop rule skipped them (counted in done)
   std::int64_t running = 0;
   std::int64_t remaining = 0;  ///< total - done
   double elapsed = 0.0;        ///< seconds since this runner started

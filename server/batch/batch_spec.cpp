@@ -117,7 +117,7 @@ class Checker {
 std::string at(const std::string& where, std::size_t i) { return where + "[" + std::to_string(i) + "]"; }
 
 ScenarioEntry parseScenario(const Checker& check, const Json& j, const std::string& where) {
-  check.keys(j, where, {"family", "params", "description"}, {"family"});
+  check.keys(j, where, {"family", "params", "description", "stop_axis"}, {"family"});
   ScenarioEntry entry;
   entry.family = check.string(j["family"], where + ".family");
   const ScenarioFamily* family = findScenarioFamily(entry.family);
@@ -171,6 +171,18 @@ ScenarioEntry parseScenario(const Checker& check, const Json& j, const std::stri
       }
     }
     entry.params.emplace_back(p.name, std::move(values));
+  }
+  if (j.contains("stop_axis")) {
+    entry.stop_axis = check.string(j["stop_axis"], where + ".stop_axis");
+    const bool known = std::any_of(family->params.begin(), family->params.end(),
+                                   [&](const ParamSpec& p) { return p.name == entry.stop_axis; });
+    if (!known) {
+      std::vector<std::string> names;
+      for (const auto& p : family->params) names.push_back(p.name);
+      check.fail(SpecErrorKind::kBadValue, where + ".stop_axis",
+                 "'" + entry.stop_axis + "' is not a parameter of " + entry.family + " (its parameters: " +
+                     joinNames(names) + ")");
+    }
   }
   return entry;
 }
@@ -323,6 +335,7 @@ std::string RunSpec::toJson() const {
   j["test_fault"] = test_fault;
   j["time_limit"] = time_limit;
   j["memory_limit"] = memory_limit_mb;
+  if (!stop_axis.empty()) j["stop_axis"] = stop_axis;
   return j.dump();
 }
 
@@ -342,6 +355,7 @@ RunSpec RunSpec::fromJson(const std::string& text) {
     r.test_fault = j.at("test_fault").get<std::string>();
     r.time_limit = j.at("time_limit").get<double>();
     r.memory_limit_mb = j.at("memory_limit").get<double>();
+    if (j.contains("stop_axis")) r.stop_axis = j.at("stop_axis").get<std::string>();
     return r;
   } catch (const nlohmann::json::exception& e) {
     throw InputError(std::string("malformed run description: ") + e.what());
@@ -452,6 +466,7 @@ std::vector<RunSpec> expandRuns(const BatchSpec& spec) {
           r.test_fault = p.test_fault;
           r.time_limit = spec.time_limit;
           r.memory_limit_mb = spec.memory_limit_mb;
+          r.stop_axis = e.stop_axis;
           std::string params;
           for (const auto& [k, v] : combo) params += (params.empty() ? "" : ",") + k + "=" + std::to_string(v);
           r.key = e.family + "/" + params + "/seed=" + std::to_string(seed) + "/" + p.label;
@@ -464,7 +479,47 @@ std::vector<RunSpec> expandRuns(const BatchSpec& spec) {
   return runs;
 }
 
-std::string formatRunList(const BatchSpec& spec, const std::vector<RunSpec>& runs) {
+DurationEstimate estimateDuration(const std::vector<RunSpec>& runs, int workers, double setup) {
+  DASH_THROW_UNLESS(workers >= 1, "workers must be at least 1");
+  DurationEstimate e;
+  // Stopped: per stop-axis line only the smallest size runs.
+  std::map<std::string, int> smallest;
+  auto lineOf = [](const RunSpec& r) {
+    std::string line = r.family + "/";
+    for (const auto& [k, v] : r.params)
+      if (k != r.stop_axis) line += k + "=" + std::to_string(v) + ",";
+    return line + "/" + r.label;
+  };
+  auto axisValue = [](const RunSpec& r) {
+    for (const auto& [k, v] : r.params)
+      if (k == r.stop_axis) return v;
+    return 0;
+  };
+  for (const RunSpec& r : runs) {
+    if (r.stop_axis.empty()) continue;
+    const std::string line = lineOf(r);
+    const auto it = smallest.find(line);
+    if (it == smallest.end() || axisValue(r) < it->second) smallest[line] = axisValue(r);
+  }
+  for (const RunSpec& r : runs) {
+    const double t = r.time_limit + setup;
+    e.worst_seconds += t;
+    if (r.stop_axis.empty() || axisValue(r) == smallest[lineOf(r)]) e.stopped_seconds += t;
+  }
+  e.worst_seconds /= workers;
+  e.stopped_seconds /= workers;
+  return e;
+}
+
+namespace {
+std::string hours(double seconds) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.1f h", seconds / 3600.0);
+  return buf;
+}
+}  // namespace
+
+std::string formatRunList(const BatchSpec& spec, const std::vector<RunSpec>& runs, int workers) {
   std::ostringstream out;
   out << "batch " << spec.name << ": " << runs.size() << " runs";
   out << " (time limit " << spec.time_limit << " s, memory limit ";
@@ -473,6 +528,12 @@ std::string formatRunList(const BatchSpec& spec, const std::vector<RunSpec>& run
   } else {
     out << "none)\n";
   }
+  const DurationEstimate e = estimateDuration(runs, workers);
+  out << "duration with " << workers << " worker" << (workers == 1 ? "" : "s") << ": at most " << hours(e.worst_seconds)
+      << " (every run to its time limit)";
+  if (e.stopped_seconds < e.worst_seconds)
+    out << "; " << hours(e.stopped_seconds) << " when every stop-axis line stops after its smallest size";
+  out << "\n";
   if (!spec.description.empty()) out << spec.description << "\n";
   for (const RunSpec& r : runs) out << "  " << r.ordinal + 1 << "  " << r.key << "\n";
   return out.str();

@@ -10,7 +10,8 @@
 //     "description": "Lazy-DaSH vs DaSH on sorting",
 //     "time_limit": 300,          // seconds per run (the planner's deadline, enforced from outside too)
 //     "memory_limit": 8192,       // MB per run (RLIMIT_AS of the run's process); 0: none
-//     "scenarios": [ {"family": "sorting", "params": {"robots": [4, 8], "objects": [8, 16]}} ],
+//     "scenarios": [ {"family": "sorting", "params": {"robots": [4, 8], "objects": [8, 16]},
+//                     "stop_axis": "objects"} ],   // optional: see axis_stop.h
 //     "planners": [ {"name": "lazy-dash", "settings": {"task_only": false}, "label": "lazy-dash"} ],
 //     "seeds": {"from": 1, "count": 5}      // or a list: [1, 2, 3]
 //   }
@@ -70,6 +71,9 @@ struct ScenarioEntry {
   std::string family;
   /// Every parameter of the family, in the family's order, with the values to sweep.
   std::vector<std::pair<std::string, std::vector<int>>> params;
+  /// A parameter along which a planner that fails a size on every seed skips the larger sizes
+  /// (axis_stop.h); empty: none.
+  std::string stop_axis;
 };
 
 struct BatchSpec {
@@ -99,6 +103,7 @@ struct RunSpec {
   std::string test_fault;
   double time_limit = 60.0;
   double memory_limit_mb = 0.0;
+  std::string stop_axis;  ///< the scenario entry's stop_axis (axis_stop.h); empty: none
 
   /// {"robots":4,"objects":8}: the run's scenario parameters as a flat JSON object.
   std::string paramsJson() const;
@@ -121,7 +126,16 @@ std::vector<RunSpec> expandRuns(const BatchSpec& spec);
 /// The number of runs expandRuns would return.
 std::size_t countRuns(const BatchSpec& spec);
 
-/// `dashbench batch plan`: a header (name, limits, run count) and one line per run.
-std::string formatRunList(const BatchSpec& spec, const std::vector<RunSpec>& runs);
+/// `dashbench batch plan`: a header (name, limits, run count, duration estimate) and one line per run.
+std::string formatRunList(const BatchSpec& spec, const std::vector<RunSpec>& runs, int workers = 1);
+
+/// How long a batch may take with `workers` runs at once: `worst` has every run reach its time limit
+/// (plus `setup` seconds each to generate its scene); `stopped` is the same bound when every stop
+/// axis line fails at its smallest size (what the axis stop rule can save at most).
+struct DurationEstimate {
+  double worst_seconds = 0.0;
+  double stopped_seconds = 0.0;
+};
+DurationEstimate estimateDuration(const std::vector<RunSpec>& runs, int workers, double setup = 5.0);
 
 }  // namespace dash::batch

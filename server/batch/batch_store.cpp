@@ -29,6 +29,12 @@ CREATE TABLE IF NOT EXISTS dash_batch_runs (
   PRIMARY KEY (batch_id, run_key)
 ) WITHOUT ROWID;
 CREATE INDEX IF NOT EXISTS dash_batch_runs_uuid ON dash_batch_runs(run_uuid);
+CREATE TABLE IF NOT EXISTS dash_batch_skipped (
+  batch_id TEXT NOT NULL,
+  run_key TEXT NOT NULL,
+  reason TEXT NOT NULL,
+  PRIMARY KEY (batch_id, run_key)
+) WITHOUT ROWID;
 CREATE TABLE IF NOT EXISTS dash_batch_runner (
   batch_id TEXT PRIMARY KEY,
   pid INTEGER NOT NULL,
@@ -63,6 +69,7 @@ void transaction(sqlite3* db, F&& body) {
 }  // namespace
 
 bool StoredRun::complete() const {
+  if (!skipped.empty()) return true;
   if (!status) return false;
   if (*status == "running" || *status == "cancelled") return false;
   if (*status == "crashed" && error.rfind("interrupted:", 0) == 0) return false;
@@ -82,6 +89,7 @@ bool RunnerInfo::alive() const {
 struct BatchStore::Impl {
   sql::Connection db;
   bool has_tables = false;
+  bool has_skipped = false;  ///< dash_batch_skipped exists (a file written before it may lack it)
   std::vector<std::string> run_tables;  ///< tables with a run_id column (event tables, tags)
 };
 
@@ -94,6 +102,7 @@ BatchStore::BatchStore(const std::string& path, log::OpenMode mode) : impl_(new 
     DASH_THROW_UNLESS(tableExists(db, "dash_runs"), path + " is not a dashbench results database");
     if (mode == log::OpenMode::ReadWrite) sql::exec(db, kBatchTables);
     impl_->has_tables = tableExists(db, "dash_batch_runs");
+    impl_->has_skipped = tableExists(db, "dash_batch_skipped");
     sql::Statement tables(db,
                           "SELECT m.name FROM sqlite_schema m, pragma_table_info(m.name) p "
                           "WHERE m.type = 'table' AND p.name = 'run_id' ORDER BY m.name");
@@ -126,8 +135,13 @@ std::vector<StoredRun> BatchStore::runs(const std::string& batch_id) const {
   std::vector<StoredRun> out;
   if (!impl_->has_tables) return out;
   sql::Statement st(impl_->db.get(),
-                    "SELECT b.spec, b.run_uuid, b.attempts, r.status, r.error FROM dash_batch_runs b "
-                    "LEFT JOIN dash_runs r ON r.uuid = b.run_uuid WHERE b.batch_id = ? ORDER BY b.ordinal");
+                    impl_->has_skipped
+                        ? "SELECT b.spec, b.run_uuid, b.attempts, r.status, r.error, s.reason FROM dash_batch_runs b "
+                          "LEFT JOIN dash_runs r ON r.uuid = b.run_uuid "
+                          "LEFT JOIN dash_batch_skipped s ON s.batch_id = b.batch_id AND s.run_key = b.run_key "
+                          "WHERE b.batch_id = ? ORDER BY b.ordinal"
+                        : "SELECT b.spec, b.run_uuid, b.attempts, r.status, r.error, NULL FROM dash_batch_runs b "
+                          "LEFT JOIN dash_runs r ON r.uuid = b.run_uuid WHERE b.batch_id = ? ORDER BY b.ordinal");
   st.bind(1, batch_id);
   while (st.step()) {
     StoredRun r;
@@ -136,6 +150,7 @@ std::vector<StoredRun> BatchStore::runs(const std::string& batch_id) const {
     r.attempts = static_cast<int>(st.columnInt(2));
     if (!st.isNull(3)) r.status = st.columnText(3);
     if (!st.isNull(4)) r.error = st.columnText(4);
+    if (!st.isNull(5)) r.skipped = st.columnText(5);
     out.push_back(std::move(r));
   }
   return out;
@@ -183,6 +198,20 @@ int BatchStore::deleteOrphans(const std::string& batch_id) {
   }
   for (const auto& uuid : orphans) deleteRun(uuid);
   return static_cast<int>(orphans.size());
+}
+
+void BatchStore::markSkipped(const std::string& batch_id, const std::string& key, const std::string& reason) {
+  sqlite3* db = impl_->db.get();
+  std::string uuid;
+  {
+    sql::Statement st(db, "SELECT run_uuid FROM dash_batch_runs WHERE batch_id = ? AND run_key = ?");
+    st.bind(1, batch_id).bind(2, key);
+    DASH_THROW_UNLESS(st.step(), "batch " + batch_id + " has no run " + key);
+    if (!st.isNull(0)) uuid = st.columnText(0);
+  }
+  if (!uuid.empty()) deleteRun(uuid);
+  sql::Statement insert(db, "INSERT OR REPLACE INTO dash_batch_skipped (batch_id, run_key, reason) VALUES (?,?,?)");
+  insert.bind(1, batch_id).bind(2, key).bind(3, reason).run();
 }
 
 void BatchStore::setScene(const std::string& uuid, const std::string& scene) {
@@ -243,7 +272,10 @@ std::vector<BatchInfo> listBatchInfo(const std::string& db_path, const std::stri
     }
     const std::vector<StoredRun> runs = store.runs(b.id);
     info.total = static_cast<std::int64_t>(runs.size());
-    for (const StoredRun& r : runs) info.pending += r.complete() ? 0 : 1;
+    for (const StoredRun& r : runs) {
+      info.pending += r.complete() ? 0 : 1;
+      if (!r.skipped.empty()) ++info.by_status["skipped"];
+    }
     out.push_back(std::move(info));
   }
   DASH_THROW_UNLESS(batch_id.empty() || !out.empty(), "no batch " + batch_id + " in " + db_path);
@@ -253,7 +285,7 @@ std::vector<BatchInfo> listBatchInfo(const std::string& db_path, const std::stri
 std::string formatBatchInfo(const std::vector<BatchInfo>& batches) {
   if (batches.empty()) return "no batches\n";
   std::vector<std::vector<std::string>> rows = {{"batch", "name", "status", "runs", "solved", "timeout", "infeasible",
-                                                 "crashed", "cancelled", "running", "pending", "created"}};
+                                                 "crashed", "cancelled", "skipped", "running", "pending", "created"}};
   for (const BatchInfo& b : batches) {
     auto count = [&](const char* s) {
       const auto it = b.by_status.find(s);
@@ -261,7 +293,7 @@ std::string formatBatchInfo(const std::vector<BatchInfo>& batches) {
     };
     // 'running' rows of a batch whose runner is gone are runs to re-run, not live ones.
     rows.push_back({b.record.id, b.record.name, b.status, std::to_string(b.total), count("solved"), count("timeout"),
-                    count("infeasible"), count("crashed"), count("cancelled"),
+                    count("infeasible"), count("crashed"), count("cancelled"), count("skipped"),
                     b.status == "running" ? count("running") : "0", std::to_string(b.pending), b.record.created});
   }
   std::vector<std::size_t> width(rows[0].size(), 0);

@@ -6,6 +6,8 @@
 //                     run_uuid (the dash_runs row of the key's current attempt; NULL before its
 //                     first start), attempts. Written when a batch starts: the expanded run list
 //                     with stable keys, which is what `batch resume` runs from.
+//   dash_batch_skipped (batch_id, run_key) -> reason: runs the axis stop rule (axis_stop.h) skipped;
+//                     they have no dash_runs row and count as complete.
 //   dash_batch_runner (batch_id) -> pid, host, started, heartbeat (unix seconds), workers: the
 //                     process running the batch; a heartbeat older than kStaleHeartbeatSeconds
 //                     means that process is gone (the batch shows as 'interrupted').
@@ -35,9 +37,11 @@ struct StoredRun {
   int attempts = 0;
   std::optional<std::string> status;  ///< the dash_runs row's status; nullopt: no row
   std::string error;
+  std::string skipped;  ///< why the axis stop rule skipped it; empty: not skipped
 
   /// True when the run has a final result that resume keeps: solved, timeout, infeasible, or
-  /// crashed (unless the crash is a runner's death closed by markInterrupted: "interrupted: ...").
+  /// crashed (unless the crash is a runner's death closed by markInterrupted: "interrupted: ..."),
+  /// or it was skipped by the axis stop rule.
   bool complete() const;
 };
 
@@ -78,6 +82,9 @@ class BatchStore {
   /// steps). Returns how many.
   int deleteOrphans(const std::string& batch_id);
 
+  /// Records that the axis stop rule skipped the run (its dash_runs row, if any, is deleted first).
+  void markSkipped(const std::string& batch_id, const std::string& key, const std::string& reason);
+
   /// Sets dash_runs.scene of a run (the name is known once its process generated the scene).
   void setScene(const std::string& uuid, const std::string& scene);
 
@@ -97,7 +104,7 @@ struct BatchInfo {
   /// record.status, except 'running' whose runner is gone (RunnerInfo::alive): 'interrupted'.
   std::string status;
   std::int64_t total = 0;                         ///< runs in the stored run list (0 if none was stored)
-  std::map<std::string, std::int64_t> by_status;  ///< dash_runs rows of the batch per status
+  std::map<std::string, std::int64_t> by_status;  ///< dash_runs rows of the batch per status, and "skipped"
   std::int64_t pending = 0;                       ///< keys without a final result (never started, or to re-run)
   std::optional<RunnerInfo> runner;
 };

@@ -25,7 +25,7 @@ namespace dash::cli {
 
 extern const char* const kBatchHelp;
 const char* const kBatchHelp =
-    "usage: dashbench batch plan FILE [--max-runs N]\n"
+    "usage: dashbench batch plan FILE [--max-runs N] [--workers N]\n"
     "       dashbench batch run FILE --db DB [--workers N] [--quiet] [--max-runs N] [--id ID]\n"
     "       dashbench batch run FILE --db DB --backend slurm [--partition P] [--account A] [--max-parallel N]\n"
     "                           [--runs-per-task K] [--shard-dir DIR] [--detach] [--poll SEC] [--id ID]\n"
@@ -34,7 +34,8 @@ const char* const kBatchHelp =
     "       dashbench batch cancel --db DB BATCH_ID\n"
     "Experiment batches: a spec file (see experiments/README.md) is a grid of scenario families and\n"
     "parameters x planner configurations x seeds, with a time and memory limit per run.\n"
-    "  plan     validate FILE and print the expanded runs without running them\n"
+    "  plan     validate FILE and print the expanded runs without running them, with an estimate of\n"
+    "           the batch's duration with N workers\n"
     "  run      run every run of FILE, each in its own process, into the results database DB\n"
     "           (created if missing). The batch id is printed first; progress goes to stderr.\n"
     "  resume   run what batch BATCH_ID is missing after its runner was killed or cancelled:\n"
@@ -221,10 +222,10 @@ int runSlurmRun(const Args& args, const std::string& db_path) {
 }
 
 int runPlanCommand(const std::vector<std::string>& words) {
-  Args args(words, {.options = {"max-runs"}, .flags = {}});
+  Args args(words, {.options = {"max-runs", "workers"}, .flags = {}});
   DASH_THROW_UNLESS(args.positional().size() == 1, "batch plan needs exactly one spec FILE");
   const batch::BatchSpec spec = batch::loadBatchSpec(args.positional()[0], {.max_runs = maxRuns(args)});
-  std::fputs(batch::formatRunList(spec, batch::expandRuns(spec)).c_str(), stdout);
+  std::fputs(batch::formatRunList(spec, batch::expandRuns(spec), workers(args)).c_str(), stdout);
   return kExitOk;
 }
 

@@ -197,9 +197,104 @@ TEST(CombinedQuery, FindsAHyperpathAndHonoursMotionConstraints) {
       break;
     }
   ASSERT_TRUE(used.valid());
-  const HyperpathResult second = query.run({used}, {}, Deadline());
+  const MotionConstraint never{b.motion->moveRobot(used), {}, used, {}};
+  const HyperpathResult second = query.run({never}, {}, Deadline());
   ASSERT_TRUE(second.found());
   for (const HyperpathStep& s : second.steps) EXPECT_NE(s.hyperarc, used);
+}
+
+// A hand-built case the greedy pass misses: robot r may leave home only for configurations where
+// nothing can happen at the start (a pick at an object's goal, empty until r brings it there). The
+// greedy order never expands such a move, so its pass exhausts its states; the only way is a detour
+// through such a configuration, which the complete pass finds.
+TEST(CombinedQuery, CompletePassFindsTheDetourTheGreedyPassMisses) {
+  Built& b = sorting22();
+  if (!b.motion) {
+    log::EventEmitter emitter(nullptr);
+    b.buildMotion(emitter);
+  }
+  const MotionGraph& g = b.motion->graph();
+  const int r = 0;
+  const VertexId home = b.motion->homeVertex(r);
+  // A head is idle at the start when every transition from it is a pick of an object away from its start.
+  auto idleAtStart = [&](VertexId v) {
+    const auto& transitions = b.motion->transitionsFrom(v);
+    if (transitions.empty()) return false;
+    for (HyperarcId t : transitions) {
+      if (g.property(t).type != MotionArc::Type::kPick) return false;
+      for (VertexId u : g.tail(t)) {
+        const MotionVertex& mv = g.property(u);
+        if (mv.kind == MotionVertex::Kind::kObject && mv.placement == b.space.startLocation(mv.object)) return false;
+      }
+    }
+    return true;
+  };
+  std::vector<MotionConstraint> constraints;
+  std::vector<VertexId> idle_heads;
+  for (HyperarcId a : g.outgoing(home)) {
+    if (g.property(a).type != MotionArc::Type::kMove) continue;
+    const VertexId to = g.head(a).front();
+    if (idleAtStart(to)) idle_heads.push_back(to);
+    else constraints.push_back({r, {}, a, {}});
+  }
+  ASSERT_FALSE(idle_heads.empty());
+  ASSERT_FALSE(constraints.empty());
+  CombinedQuery query(*b.motion);
+  CombinedQueryParams greedy_only;
+  greedy_only.complete_pass = false;
+  const HyperpathResult greedy = query.run(constraints, greedy_only, Deadline());
+  EXPECT_EQ(greedy.status, HyperpathStatus::kExhausted);
+  const HyperpathResult complete = query.run(constraints, {}, Deadline());
+  ASSERT_TRUE(complete.found()) << toString(complete.status);
+  EXPECT_EQ(query.lastPass(), 1);
+  bool detour = false;
+  for (const HyperpathStep& s : complete.steps) {
+    for (const MotionConstraint& c : constraints) EXPECT_NE(s.hyperarc, c.edge);
+    if (g.property(s.hyperarc).type == MotionArc::Type::kMove && g.tail(s.hyperarc).front() == home &&
+        idleAtStart(g.head(s.hyperarc).front()))
+      detour = true;
+  }
+  EXPECT_TRUE(detour);
+  // The hyperpath still extracts to a plan whose robots' visits chain.
+  const ExtractedPlan plan = extractPlan(*b.motion, complete);
+  for (const RobotMotionPlan& rp : plan.motion.robots)
+    for (std::size_t i = 1; i < rp.visits.size(); ++i) EXPECT_EQ(rp.visits[i].transit.front(), rp.visits[i - 1].q_post);
+}
+
+// A constraint with an interval: robot r kept off a vertex only while an object rests at its start.
+TEST(MotionConstraint, AnIntervalHoldsOnlyWhileItsVertexIsOnTheFrontier) {
+  Built& b = sorting22();
+  if (!b.motion) {
+    log::EventEmitter emitter(nullptr);
+    b.buildMotion(emitter);
+  }
+  CombinedQuery query(*b.motion);
+  const HyperpathResult first = query.run({}, {}, Deadline());
+  ASSERT_TRUE(first.found());
+  const MotionGraph& g = b.motion->graph();
+  // The first pick: its robot's entry vertex, while the object rests at its start.
+  for (const HyperpathStep& s : first.steps) {
+    if (g.property(s.hyperarc).type != MotionArc::Type::kPick) continue;
+    MotionConstraint c;
+    for (VertexId v : g.tail(s.hyperarc)) {
+      const MotionVertex& mv = g.property(v);
+      if (mv.kind == MotionVertex::Kind::kObject) c.during = v;
+      if (mv.kind == MotionVertex::Kind::kRobot) {
+        c.vertex = v;
+        c.robot = mv.robot;
+      }
+    }
+    ASSERT_TRUE(c.vertex.valid() && c.during.valid());
+    const HyperpathResult second = query.run({c}, {}, Deadline());
+    ASSERT_TRUE(second.found()) << toString(second.status);
+    for (const HyperpathStep& t : second.steps) {
+      // The constrained pick (robot at the vertex while the object rests there) never happens.
+      EXPECT_NE(t.hyperarc, s.hyperarc);
+    }
+    EXPECT_TRUE(describe(*b.motion, c).find("while") != std::string::npos);
+    return;
+  }
+  FAIL() << "no pick in the first hyperpath";
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // DaSH on the paper's scenes (Wall with five robots and two walls is in dash_wall_test.cpp): it
-// solves Lab, and it fails honestly on Shelf-wall (the paper: not even with 2 robots within the time
-// limit): it must end without a plan (timeout or infeasible), having logged what it built, never with
-// a plan that does not validate. Sorting with 4 robots and 8 objects is in the conformance suite.
+// solves Lab; on Shelf-wall (the paper: not solved even with 2 robots within the time limit) it runs
+// to its deadline or solves, having logged what it built, never "infeasible" and never with a plan
+// that does not validate. Sorting with 4 robots and 8 objects is in the conformance suite.
 #include <gtest/gtest.h>
 
 #include "engine/dash/dash_planner.h"
@@ -37,9 +37,10 @@ TEST(DashScenes, ShelfWallEndsWithoutAPlanAndLogsEverything) {
   settings.time_limit = 6.0;
   log::MemorySink sink;
   const PlanResult r = planner->solve(scene, settings, Deadline(settings.time_limit), &sink);
-  EXPECT_NE(r.outcome, PlanOutcome::kSolved) << r.message;
-  EXPECT_TRUE(r.outcome == PlanOutcome::kTimeout || r.outcome == PlanOutcome::kInfeasible) << toString(r.outcome);
-  EXPECT_FALSE(r.plan.has_value());
+  EXPECT_TRUE(r.outcome == PlanOutcome::kTimeout || r.outcome == PlanOutcome::kSolved) << toString(r.outcome);
+  if (r.plan) {
+    EXPECT_TRUE(validatePlan(scene, *r.plan).valid());
+  }
   EXPECT_EQ(r.message.find("internal error"), std::string::npos) << r.message;
   EXPECT_GT(sink.count(log::Layer::Task, log::ElementKind::Vertex), 0);
   EXPECT_EQ(sink.count(log::Layer::Task, log::ElementKind::Vertex), static_cast<std::int64_t>(r.stats.sizes.task_vertices));
@@ -51,23 +52,21 @@ TEST(DashScenes, ShelfWallEndsWithoutAPlanAndLogsEverything) {
   EXPECT_GT(sink.phaseSeconds(log::Phase::MotionConstruction), 0.0);
 }
 
-// Shelf-wall's cubby approaches holding a cube are beyond what the validated PRM connects: the
-// unconstrained query finds no hyperpath, which only roadmap growth can change (break_rule.h). With
-// a budget of one growth per robot, DaSH grows once, queries the root again and ends infeasible.
-TEST(DashScenes, NoHyperpathGrowsTheRoadmapsUntilTheBudgetIsSpent) {
+// A PRM-based planner never proves a generated (feasible) scene infeasible: on Shelf-wall, DaSH keeps
+// growing its roadmaps (and, with a hyperpath, its constraint tree) until solved or the deadline.
+TEST(DashScenes, ShelfWallRunsToTheDeadlineOrSolves) {
   const Scene scene = test::dashScene("shelf-wall", {{"robots", "2"}, {"objects", "2"}});
-  DashParams params;
-  params.break_rule.max_roadmap_growths = 1;
-  DashPlanner planner(params);
+  DashPlanner planner;
   PlannerSettings settings;
   log::MemorySink sink;
-  const PlanResult r = planner.solve(scene, settings, Deadline(120.0), &sink);  // ends in seconds
-  ASSERT_EQ(r.outcome, PlanOutcome::kInfeasible) << r.message;
-  EXPECT_NE(r.message.find("no hyperpath"), std::string::npos) << r.message;
-  EXPECT_EQ(sink.counter("roadmap_growths", -1), 1);
-  EXPECT_EQ(sink.counter("constraint_tree_branchings", -1), 0);
-  EXPECT_EQ(sink.counter("constraint_tree_nodes", -1), 2);
-  EXPECT_EQ(r.stats.iterations, 2);
+  const PlanResult r = planner.solve(scene, settings, Deadline(20.0), &sink);
+  EXPECT_NE(r.outcome, PlanOutcome::kInfeasible) << r.message;
+  if (r.outcome == PlanOutcome::kSolved) {
+    EXPECT_TRUE(validatePlan(scene, *r.plan).valid());
+  } else {
+    EXPECT_EQ(r.outcome, PlanOutcome::kTimeout) << r.message;
+    EXPECT_GE(sink.counter("roadmap_growths", -1) + sink.counter("constraint_tree_branchings", -1), 1);
+  }
   EXPECT_GT(r.stats.roadmap_vertices, 0);
   EXPECT_EQ(sink.counter("roadmap_vertices", -1), r.stats.roadmap_vertices);
 }

@@ -1,0 +1,181 @@
+// `dashbench report DB --figures DIR` on a small results database: the files exist and hold the
+// expected panels and series, the time panels share one y range, skipped sizes are drawn.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+#include <stdlib.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "engine/core/check.h"
+#include "report/figures/comparison_figures.h"
+
+namespace dash::figures {
+namespace {
+
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "dash_figures_XXXXXX").string();
+    EXPECT_NE(mkdtemp(pattern.data()), nullptr);
+    path_ = pattern;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+/// One finished run: sizes and phase seconds scaled by `k`.
+void addRun(log::ResultsDb& db, const std::string& family, const std::string& params, std::uint64_t seed,
+            const std::string& planner, log::RunStatus status, double k) {
+  const std::string uuid = db.beginRun(log::RunMetadata{.batch_id = "b1", .family = family, .params_json = params,
+                                                        .seed = seed, .planner = planner,
+                                                        .planner_config_name = planner});
+  log::RunSummary s;
+  s.status = status;
+  s.total_time = 6 * k;
+  log::PhaseTotals phases{};
+  phases[static_cast<int>(log::Phase::TaskConstruction)] = 0.5 * k;
+  phases[static_cast<int>(log::Phase::MotionConstruction)] = 1.5 * k;
+  phases[static_cast<int>(log::Phase::MotionQuery)] = 2 * k;
+  phases[static_cast<int>(log::Phase::ConflictResolution)] = 2 * k;
+  s.phase_seconds = phases;
+  log::RepresentationSizes sizes;
+  for (int layer = 0; layer < log::kLayerCount; ++layer) {
+    sizes.vertices[layer] = static_cast<std::int64_t>(10 * k);
+    sizes.hyperarcs[layer] = static_cast<std::int64_t>(100 * k);
+  }
+  s.sizes = sizes;
+  db.finishRun(uuid, s);
+}
+
+std::string read(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::vector<std::string> attributes(const std::string& svg, const std::string& cls, const std::string& attr) {
+  std::vector<std::string> out;
+  const std::regex re("class=\"" + cls + "\" " + attr + "=\"([^\"]*)\"");
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), re); it != std::sregex_iterator(); ++it)
+    out.push_back((*it)[1]);
+  return out;
+}
+
+class Figures : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    log::ResultsDb db(dir.file("r.db"));
+    db.putBatch(log::BatchRecord{.id = "b1", .name = "figs", .spec_json = "{}", .status = "finished"});
+    for (std::uint64_t seed : {1, 2}) {
+      for (int objects : {2, 4}) {
+        const std::string params = R"({"robots":4,"objects":)" + std::to_string(objects) + "}";
+        addRun(db, "sorting", params, seed, "lazy-dash", log::RunStatus::Solved, objects);
+        addRun(db, "sorting", params, seed, "dash", objects == 4 ? log::RunStatus::Timeout : log::RunStatus::Solved,
+               10.0 * objects);
+      }
+      addRun(db, "lab", R"({"containers":1})", seed, "lazy-dash", log::RunStatus::Solved, 1);
+      addRun(db, "lab", R"({"containers":2})", seed, "lazy-dash", log::RunStatus::Solved, 2);
+    }
+    db.flush();
+  }
+  TempDir dir;
+};
+
+TEST_F(Figures, EveryFamilyGetsItsThreeFiguresAsSvgAndPng) {
+  const log::ResultsDb db(dir.file("r.db"), log::OpenMode::ReadOnly);
+  const FigureFiles files = writeComparisonFigures(db, FigureOptions{.batch_id = "b1", .dir = dir.file("figs")});
+  EXPECT_EQ(files.families, (std::vector<std::string>{"sorting", "lab"}));
+  EXPECT_EQ(files.files.size(), 12u);
+  for (const char* family : {"sorting", "lab"})
+    for (const char* what : {"sizes", "time", "success"})
+      for (const char* ext : {".svg", ".png"}) {
+        const std::string path = dir.file("figs/" + std::string(family) + "-" + what + ext);
+        ASSERT_TRUE(std::filesystem::exists(path)) << path;
+        EXPECT_GT(std::filesystem::file_size(path), 500u) << path;
+      }
+  EXPECT_EQ(read(dir.file("figs/lab-time.png")).substr(1, 3), "PNG");
+
+  const std::string sizes = read(dir.file("figs/sorting-sizes.svg"));
+  EXPECT_EQ(attributes(sizes, "panel", "data-title"),
+            (std::vector<std::string>{"H_T vertices", "H_T hyperarcs", "H_M vertices", "H_M hyperarcs"}));
+  const std::vector<std::string> series = attributes(sizes, "series", "data-name");
+  EXPECT_EQ(std::set<std::string>(series.begin(), series.end()), (std::set<std::string>{"dash", "lazy-dash"}));
+  EXPECT_EQ(series.size(), 8u);  // two planners in each of four panels
+  EXPECT_NE(sizes.find("log scale"), std::string::npos);
+  EXPECT_NE(sizes.find("problem size: objects (count)"), std::string::npos);
+
+  const std::string time = read(dir.file("figs/sorting-time.svg"));
+  EXPECT_EQ(attributes(time, "panel", "data-title"),
+            (std::vector<std::string>{"construction (task + motion)", "query (task + motion)", "conflict resolution",
+                                      "total"}));
+  EXPECT_NE(time.find("time (s, log scale)"), std::string::npos);
+  // Lab's size axis is its containers (objects does not vary there).
+  EXPECT_NE(read(dir.file("figs/lab-success.svg")).find("problem size: containers (count)"), std::string::npos);
+}
+
+TEST_F(Figures, TimePanelsShareOneRangeAndSuccessCountsUnsolvedRuns) {
+  const log::ResultsDb db(dir.file("r.db"), log::OpenMode::ReadOnly);
+  const FigureRuns runs = collectFigureRuns(db, "b1");
+  ASSERT_EQ(runs.families.size(), 2u);
+  const FamilyData& sorting = runs.families[0];
+  EXPECT_EQ(sorting.x_param, "objects");
+  const Figure time = timeFigure(sorting);
+  ASSERT_EQ(time.panels.size(), 4u);
+  for (const Panel& p : time.panels) {
+    ASSERT_TRUE(p.y_range.has_value());
+    EXPECT_EQ(*p.y_range, *time.panels[0].y_range);
+  }
+  // Largest value: dash's total at objects=2, 6 * 20 = 120 s -> the range reaches 1000 s.
+  EXPECT_DOUBLE_EQ(time.panels[0].y_range->second, 1000.0);
+  const Figure success = successFigure(sorting);
+  for (const Series& s : success.panels[0].series) {
+    if (s.name != "dash") continue;
+    EXPECT_EQ(s.points, (std::vector<std::pair<double, double>>{{2, 100.0}, {4, 0.0}}));
+  }
+  // Sizes are medians over solved runs only: dash has no point at objects=4.
+  const Figure sizes = sizeFigure(sorting);
+  for (const Series& s : sizes.panels[0].series)
+    if (s.name == "dash") {
+      EXPECT_EQ(s.points.size(), 1u);
+    }
+}
+
+TEST_F(Figures, SkippedSizesAreDrawnAndAnEmptyBatchIsAnError) {
+  // A skipped run as the batch runner records it (server/batch/batch_store.h).
+  {
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(dir.file("r.db").c_str(), &raw), SQLITE_OK);
+    auto exec = [&](const std::string& sql) { EXPECT_EQ(sqlite3_exec(raw, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sql; };
+    exec(
+        "CREATE TABLE IF NOT EXISTS dash_batch_runs (batch_id TEXT, run_key TEXT, ordinal INTEGER, spec TEXT, "
+        "run_uuid TEXT, attempts INTEGER)");
+    exec("CREATE TABLE IF NOT EXISTS dash_batch_skipped (batch_id TEXT, run_key TEXT, reason TEXT)");
+    exec(
+        "INSERT INTO dash_batch_runs VALUES ('b1', 'k', 9, '{\"family\":\"sorting\",\"params\":[[\"robots\",4],"
+        "[\"objects\",8]],\"label\":\"dash\"}', NULL, 0)");
+    exec("INSERT INTO dash_batch_skipped VALUES ('b1', 'k', 'dash solved none of the 2 runs at objects=4')");
+    sqlite3_close(raw);
+  }
+  const log::ResultsDb db(dir.file("r.db"), log::OpenMode::ReadOnly);
+  const FigureFiles files = writeComparisonFigures(db, FigureOptions{.batch_id = "b1", .dir = dir.file("f"), .png = false});
+  EXPECT_EQ(files.files.size(), 6u);
+  const std::string success = read(dir.file("f/sorting-success.svg"));
+  EXPECT_NE(success.find("class=\"skipped\""), std::string::npos);
+  EXPECT_NE(success.find("not run (failed a smaller size on every seed)"), std::string::npos);
+  EXPECT_THROW(writeComparisonFigures(db, FigureOptions{.batch_id = "nope", .dir = dir.file("g"), .png = false}),
+               InputError);
+}
+
+}  // namespace
+}  // namespace dash::figures
