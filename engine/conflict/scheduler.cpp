@@ -29,6 +29,15 @@ ObjectLayout startLayout(const TaskSpace& space) {
 
 }  // namespace
 
+void applySchedulerParameters(SchedulerParams& params, const ParamValues& values) {
+  const std::pair<const char*, bool*> flags[] = {{"staggered_arrivals", &params.staggered_arrivals},
+                                                 {"idle_arms_home", &params.idle_arms_home},
+                                                 {"parking", &params.parking},
+                                                 {"schedule_memo", &params.schedule_memo}};
+  for (const auto& [name, field] : flags)
+    if (values.contains(name)) *field = paramBool(values, name);
+}
+
 Scheduler::Scheduler(const CollisionWorld& world, CollisionContext& context, SchedulerParams params)
     : world_(&world), context_(&context), params_(params), checker_(world, context) {}
 
@@ -129,7 +138,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
   };
 
   // The steps this plan shares with the last one built are taken as they were scheduled then.
-  const int shared = memo_.resume(plan, transitions, state);
+  const int shared = params_.schedule_memo ? memo_.resume(plan, transitions, state) : 0;
   memo_.restart(shared);
   result.stats.reused_steps = shared;
   for (int k = 0; k < shared; ++k) {
@@ -194,7 +203,8 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
         const HeldObject held = timelines[r].heldAtEnd();
         problem.start.push_back(timelines[r].last());
         problem.goal.push_back(i < parts.size() ? parts[i].visit->q_pre
-                                                : parkingConfiguration(*world_, *context_, r, held, work, problem.layout));
+                               : params_.parking ? parkingConfiguration(*world_, *context_, r, held, work, problem.layout)
+                                                 : scene.robots[r].home);
         problem.held.push_back(held);
       }
       for (const RobotState& st : parkedAt(-1, depart))
@@ -253,7 +263,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
     // When each participant reaches its approach start (it then waits there and approaches so as to
     // arrive at T). Two robots arriving together can cross each other's way; staggering them (giver
     // first, or receiver first waiting back at its approach start) often clears it without delay.
-    const int modes = parts.size() == 2 ? 3 : 1;
+    const int modes = parts.size() == 2 && params_.staggered_arrivals ? 3 : 1;
     auto arrivals = [&](int mode, double T) {
       auto travel = [&](int i) {
         return parts[i].staggered[mode].empty() ? parts[i].transit_time : parts[i].staggered_time[mode];
@@ -358,7 +368,8 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
         }
         // Moving around it did not help (gantries share one rail; an arm may stand right over the
         // spot): send the idle robot home first (ARC's subproblem with the blocker as a mover).
-        if (conflict && conflict->other >= 0 && !internal && timelines[conflict->other].end() <= conflict->t &&
+        if (params_.idle_arms_home && conflict && conflict->other >= 0 && !internal &&
+            timelines[conflict->other].end() <= conflict->t &&
             std::find(evicted.begin(), evicted.end(), conflict->other) == evicted.end()) {
           evicted.push_back(conflict->other);
           if (sendHome(conflict->other)) {

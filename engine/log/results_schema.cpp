@@ -265,6 +265,11 @@ void migrateToV4(sqlite3* db) {
   }
 }
 
+// The planner's in-loop plan validation as a phase of its own (events.h Phase::Validation).
+constexpr const char* kSchemaV5 = R"sql(
+ALTER TABLE dash_runs ADD COLUMN time_validation REAL;
+)sql";
+
 struct Migration {
   int to;  ///< the version after it
   void (*apply)(sqlite3* db);
@@ -276,6 +281,7 @@ constexpr std::array<Migration, kSchemaVersion> kMigrations = {{
     {2, [](sqlite3* db) { sql::exec(db, kSchemaV2); }},
     {3, [](sqlite3* db) { sql::exec(db, kSchemaV3); }},
     {4, migrateToV4},
+    {5, [](sqlite3* db) { sql::exec(db, kSchemaV5); }},
 }};
 
 std::string newerMessage(int version) {
