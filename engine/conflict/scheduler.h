@@ -27,6 +27,8 @@
 
 namespace dash {
 
+struct ScheduleBuild;
+
 struct SchedulerParams {
   double velocity_scale = 0.5;    ///< fraction of each joint's velocity_max used for motions
   double dwell = 0.1;             ///< seconds a gripper needs to close or open
@@ -81,7 +83,12 @@ class Scheduler {
   void alsoCheckAt(double t) { checker_.alsoCheckAt(t); }
 
  private:
-  struct Attempt;
+  friend struct ScheduleBuild;  // step_scheduler.h: the timing helpers below
+  friend class StepScheduler;
+  /// Every robot home at the end (when the scene wants it): the motion layer's way home, replanned
+  /// around robots standing in the way; why not, or nullopt.
+  std::optional<std::string> bringHome(ScheduleBuild& build) const;
+  static Plan toPlan(const Scene& scene, ScheduleState& state);
   double duration(int robot, const JointVector& a, const JointVector& b) const;
   void appendPath(RobotTimeline& timeline, double start, const std::vector<JointVector>& path) const;
   double pathDuration(int robot, const std::vector<JointVector>& path) const;

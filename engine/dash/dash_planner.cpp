@@ -68,6 +68,14 @@ MotionConflict scheduleConflict(const ExtractedPlan& plan, const ScheduleResult&
 PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& settings, const Deadline& deadline,
                               log::EventSink* sink) {
   applyTestFault(settings);
+  // The named parameters DaSH has (the scheduler's, engine/core/planner_params.h), checked and applied.
+  SchedulerParams scheduler_params = params_.scheduler;
+  {
+    const ParamValues effective = resolveParameters(name(), settings.params);
+    ParamValues overrides;
+    for (const auto& entry : settings.params) overrides[entry.first] = effective.at(entry.first);
+    applySchedulerParameters(scheduler_params, overrides);
+  }
   seedOmplOnce(settings.seed);
   log::EventEmitter emitter(sink);
   const CollisionWorld world(scene);
@@ -250,7 +258,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
       shortcutPaths(extracted, world, context);
       conflict = resolveRestingConflicts(extracted, *motion, world, context, roadmaps, deadline, resting);
       if (!conflict) {
-        Scheduler scheduler(world, context, params_.scheduler);
+        Scheduler scheduler(world, context, scheduler_params);
         const MoveReplanner replan = [&](int r, const JointVector& from, const JointVector& to,
                                          const MotionContext& ctx) {
           return roadmaps[static_cast<std::size_t>(r) * 2 + (ctx.held.holding() ? 1 : 0)]->plan(from, to, ctx, deadline);
