@@ -126,7 +126,9 @@ TEST(LazyDashEndToEnd, StarvedRoadmapsGetOtherConfigurationsAndMoreBudgetInstead
       first_ban = i;
   }
   ASSERT_GE(first_motion, 0);
-  if (first_ban >= 0) EXPECT_LT(first_motion, first_ban);
+  if (first_ban >= 0) {
+    EXPECT_LT(first_motion, first_ban);
+  }
 }
 
 TEST(LazyDashEndToEnd, StopFlagEndsTheRunPromptly) {
