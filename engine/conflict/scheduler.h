@@ -21,10 +21,13 @@
 #include "engine/conflict/schedule_checker.h"
 #include "engine/conflict/schedule_memo.h"
 #include "engine/core/deadline.h"
+#include "engine/core/planner_params.h"
 #include "engine/motion/motion_layer.h"
 #include "engine/plan/plan.h"
 
 namespace dash {
+
+struct ScheduleBuild;
 
 struct SchedulerParams {
   double velocity_scale = 0.5;    ///< fraction of each joint's velocity_max used for motions
@@ -35,7 +38,16 @@ struct SchedulerParams {
   int max_composite_robots = 4;   ///< ARC's robot set stops growing here
   int composite_attempts = 3;     ///< composite replans per step
   std::size_t composite_iterations = 5000; ///< work budget of one composite replan (RRT-Connect iterations)
+  // Beyond the paper (named planner parameters, engine/core/planner_params.h):
+  bool staggered_arrivals = true;  ///< handover arrival modes 1 and 2 (one robot in place first)
+  bool idle_arms_home = true;      ///< an idle robot in the way is sent home
+  bool parking = true;             ///< robots stepping aside go to a parking configuration, else home
+  bool schedule_memo = true;       ///< resume from the last schedule's shared leading steps
 };
+
+/// The scheduler's named parameters (staggered_arrivals, idle_arms_home, parking, schedule_memo) from
+/// a resolved parameter set (resolveParameters); names it lacks are left alone.
+void applySchedulerParameters(SchedulerParams& params, const ParamValues& values);
 
 struct ScheduleStats {
   int delays = 0;       ///< retiming steps taken
@@ -71,7 +83,12 @@ class Scheduler {
   void alsoCheckAt(double t) { checker_.alsoCheckAt(t); }
 
  private:
-  struct Attempt;
+  friend struct ScheduleBuild;  // step_scheduler.h: the timing helpers below
+  friend class StepScheduler;
+  /// Every robot home at the end (when the scene wants it): the motion layer's way home, replanned
+  /// around robots standing in the way; why not, or nullopt.
+  std::optional<std::string> bringHome(ScheduleBuild& build) const;
+  static Plan toPlan(const Scene& scene, ScheduleState& state);
   double duration(int robot, const JointVector& a, const JointVector& b) const;
   void appendPath(RobotTimeline& timeline, double start, const std::vector<JointVector>& path) const;
   double pathDuration(int robot, const std::vector<JointVector>& path) const;

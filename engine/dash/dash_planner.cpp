@@ -116,6 +116,14 @@ constexpr int kMaxRechecksPerNode = 3;  // as Lazy-DaSH's kMaxRechecksPerRound
 PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& settings, const Deadline& deadline,
                               log::EventSink* sink) {
   applyTestFault(settings);
+  // The named parameters DaSH has (the scheduler's, engine/core/planner_params.h), checked and applied.
+  SchedulerParams scheduler_params = params_.scheduler;
+  {
+    const ParamValues effective = resolveParameters(name(), settings.params);
+    ParamValues overrides;
+    for (const auto& entry : settings.params) overrides[entry.first] = effective.at(entry.first);
+    applySchedulerParameters(scheduler_params, overrides);
+  }
   seedOmplOnce(settings.seed);
   log::EventEmitter emitter(sink);
   const CollisionWorld world(scene, {.clearance = params_.clearance});
@@ -226,7 +234,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   BreakRule break_rule(world.robotCount(), params_.break_rule, Rng::derive(settings.seed, 29));
   // One scheduler for the whole run, as Lazy-DaSH's: its memo carries the steps a new hyperpath
   // shares with the last one scheduled, and the instants the validator found contacts at.
-  Scheduler scheduler(world, context, params_.scheduler);
+  Scheduler scheduler(world, context, scheduler_params);
   std::int64_t rechecks = 0, validation_feedbacks = 0, reused_steps = 0, restarts = 0;
   std::function<void(const ExtendedVertex&)> on_vertex = [&](const ExtendedVertex& v) {
     emitter.vertex(log::Layer::MotionExtended, static_cast<std::uint32_t>(extended_vertices++),

@@ -51,6 +51,7 @@ constexpr Column kRunColumns[] = {
     {"time_motion_construction", "r.time_motion_construction"},
     {"time_motion_query", "r.time_motion_query"},
     {"time_conflict_resolution", "r.time_conflict_resolution"},
+    {"time_validation", "r.time_validation"},
     {"time_other", "r.time_other"},
     {"task_vertices", "r.task_vertices"},
     {"task_hyperarcs", "r.task_hyperarcs"},

@@ -5,7 +5,9 @@
 // An emitter without a sink (nullptr) drops everything after one branch, so planners can emit
 // unconditionally. The emitter itself is not thread safe (the iteration and the phase totals are
 // plain members): threads that emit in parallel each use their own emitter over the same sink.
+#include <algorithm>
 #include <array>
+#include <iterator>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -63,28 +65,66 @@ class EventEmitter {
     emit(CounterEvent{std::move(name), value});
   }
 
-  /// Low-level phase boundaries (PhaseTimer is the usual way). beginPhase returns the start time
-  /// to hand to endPhase, which adds the interval to phaseTotals() and returns its length.
+  /// Low-level phase boundaries (PhaseTimer is the usual way). Phases are exclusive: a phase begun
+  /// while another is open pauses it (its interval so far is ended and booked) and the enclosing
+  /// phase resumes when the inner one ends, so the totals add up to at most the wall time and no
+  /// second is booked twice. beginPhase returns the start time; endPhase books the last interval of
+  /// `phase` and returns its length.
   double beginPhase(Phase phase) {
     const double t = clock_.seconds();
+    if (!open_.empty()) closeInterval(open_.back(), t);
+    open_.push_back({phase, t});
     if (sink_ != nullptr) sink_->onEvent(Event{t, iteration_, PhaseEvent{phase, PhaseBoundary::Start, 0.0}});
     return t;
   }
-  double endPhase(Phase phase, double start_t) {
+  double endPhase(Phase phase, double /*start_t*/) {
     const double t = clock_.seconds();
-    const double duration = t - start_t;
-    totals_[static_cast<int>(phase)] += duration;
-    if (sink_ != nullptr) sink_->onEvent(Event{t, iteration_, PhaseEvent{phase, PhaseBoundary::End, duration}});
+    // The innermost open interval of `phase` (normally the top: PhaseTimers nest).
+    auto it = std::find_if(open_.rbegin(), open_.rend(), [&](const OpenPhase& o) { return o.phase == phase; });
+    if (it == open_.rend()) return 0.0;
+    const bool top = it == open_.rbegin();
+    const double duration = closeInterval(*it, t);
+    open_.erase(std::next(it).base());
+    if (top && !open_.empty()) {
+      open_.back().start = t;
+      if (sink_ != nullptr) sink_->onEvent(Event{t, iteration_, PhaseEvent{open_.back().phase, PhaseBoundary::Start, 0.0}});
+    }
     return duration;
+  }
+  /// Books `seconds` of the innermost open phase's current interval to `phase` instead (work
+  /// interleaved too finely for PhaseTimer: Lazy-PRM's roadmap growth between its lazy collision
+  /// checks). At most the interval's length so far; nothing when no phase is open.
+  void rebook(Phase phase, double seconds) {
+    if (open_.empty() || !(seconds > 0.0)) return;
+    OpenPhase& top = open_.back();
+    const double t = clock_.seconds();
+    seconds = std::min(seconds, t - top.start);
+    if (top.phase == phase) return;
+    top.start += seconds;
+    totals_[static_cast<int>(phase)] += seconds;
+    if (sink_ != nullptr) sink_->onEvent(Event{t, iteration_, PhaseEvent{phase, PhaseBoundary::End, seconds}});
   }
 
   const PhaseTotals& phaseTotals() const { return totals_; }
 
  private:
+  struct OpenPhase {
+    Phase phase;
+    double start;  ///< of its current (unpaused) interval
+  };
+  /// Ends `o`'s current interval at t: booked to the totals and emitted. Returns its length.
+  double closeInterval(const OpenPhase& o, double t) {
+    const double duration = t - o.start;
+    totals_[static_cast<int>(o.phase)] += duration;
+    if (sink_ != nullptr) sink_->onEvent(Event{t, iteration_, PhaseEvent{o.phase, PhaseBoundary::End, duration}});
+    return duration;
+  }
+
   EventSink* sink_;
   Stopwatch clock_;
   int iteration_ = 0;
   PhaseTotals totals_{};
+  std::vector<OpenPhase> open_;  ///< innermost last
 };
 
 /// RAII phase interval: emits Start now and End when it goes out of scope (or at stop()), and

@@ -38,9 +38,10 @@ enum class Phase : std::uint8_t {
   MotionConstruction,
   MotionQuery,
   ConflictResolution,
+  Validation,  ///< the plan validator run on a candidate plan inside the planning loop
   Other,
 };
-inline constexpr int kPhaseCount = 7;
+inline constexpr int kPhaseCount = 8;
 
 enum class PhaseBoundary : std::uint8_t { Start, End };
 
@@ -128,7 +129,7 @@ inline constexpr std::array<const char*, kLayerCount> kLayerNames = {"task", "ta
                                                                      "motion_extended"};
 inline constexpr std::array<const char*, kPhaseCount> kPhaseNames = {
     "task_construction", "task_query",      "task_conflict_detection", "motion_construction",
-    "motion_query",      "conflict_resolution", "other"};
+    "motion_query",      "conflict_resolution", "validation",           "other"};
 inline constexpr std::array<const char*, kConstraintKindCount> kConstraintKindNames = {
     "frontier", "history", "motion", "interaction"};
 

@@ -20,7 +20,7 @@ struct sqlite3;
 
 namespace dash::log {
 
-inline constexpr int kSchemaVersion = 4;
+inline constexpr int kSchemaVersion = 5;
 /// PRAGMA application_id of a dashbench results file ("DaSH").
 inline constexpr int kApplicationId = 0x44615348;
 

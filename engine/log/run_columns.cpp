@@ -5,7 +5,7 @@ namespace dash::log {
 const char* const kFinishAssignments =
     "end_time = ?, status = ?, error = ?, exit_signal = ?, total_time = ?, time_task_construction = ?, "
     "time_task_query = ?, time_task_conflict_detection = ?, time_motion_construction = ?, time_motion_query = ?, "
-    "time_conflict_resolution = ?, time_other = ?, iterations = ?, task_vertices = ?, task_hyperarcs = ?, "
+    "time_conflict_resolution = ?, time_validation = ?, time_other = ?, iterations = ?, task_vertices = ?, task_hyperarcs = ?, "
     "task_extended_vertices = ?, task_extended_hyperarcs = ?, motion_vertices = ?, motion_hyperarcs = ?, "
     "motion_extended_vertices = ?, motion_extended_hyperarcs = ?, roadmap_vertices = ?, roadmap_edges = ?, "
     "constraints_frontier = ?, constraints_history = ?, constraints_motion = ?, constraints_interaction = ?, "
@@ -17,14 +17,14 @@ const char* const kRunSelectColumns =
     "(SELECT name FROM dash_planner_configs WHERE id = r.planner_config_id), r.time_limit, r.memory_limit, "
     "r.code_version, r.host, r.cpu_info, r.start_time, r.end_time, r.status, r.error, r.exit_signal, r.total_time, "
     "r.time_task_construction, r.time_task_query, r.time_task_conflict_detection, r.time_motion_construction, "
-    "r.time_motion_query, r.time_conflict_resolution, r.time_other, r.iterations, r.task_vertices, r.task_hyperarcs, "
+    "r.time_motion_query, r.time_conflict_resolution, r.time_validation, r.time_other, r.iterations, r.task_vertices, r.task_hyperarcs, "
     "r.task_extended_vertices, r.task_extended_hyperarcs, r.motion_vertices, r.motion_hyperarcs, "
     "r.motion_extended_vertices, r.motion_extended_hyperarcs, r.roadmap_vertices, r.roadmap_edges, "
     "r.constraints_frontier, r.constraints_history, r.constraints_motion, r.constraints_interaction, "
     "r.task_space_expansions, r.collision_checks, r.collision_checks_eager, r.collision_checks_lazy, r.makespan, "
     "r.path_length, r.peak_memory, r.event_count, r.note, "
     "(SELECT group_concat(tag, char(31)) FROM dash_run_tags WHERE run_id = r.id)";
-const int kRunSelectColumnCount = 53;
+const int kRunSelectColumnCount = 54;
 
 RunRecord readRunRecord(const sql::Statement& st) {
   RunRecord r;

@@ -16,6 +16,7 @@
 
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/segment_queries.h"
+#include "engine/core/stopwatch.h"
 #include "engine/motion/ompl_validity.h"
 
 namespace ob = ompl::base;
@@ -35,6 +36,7 @@ struct LazyRoadmap::Checker {
   int robot;
   int dof;
   MotionContext motion;
+  mutable double check_seconds = 0.0;  ///< spent in the two validity functions (lazy validation)
 
   bool stateValid(const JointVector& q) const {
     const RobotState self{robot, q, motion.held};
@@ -76,8 +78,19 @@ LazyRoadmap::LazyRoadmap(const CollisionWorld& world, CollisionContext& context,
   si_ = std::make_shared<ob::SpaceInformation>(space);
   const Checker* c = checker_.get();
   installValidity(
-      si_, [c](const ob::State* s) { return c->stateValid(jointsOf(s, c->dof)); },
-      [c](const ob::State* a, const ob::State* b) { return c->motionValid(jointsOf(a, c->dof), jointsOf(b, c->dof)); });
+      si_,
+      [c](const ob::State* s) {
+        const Stopwatch watch;
+        const bool valid = c->stateValid(jointsOf(s, c->dof));
+        c->check_seconds += watch.seconds();
+        return valid;
+      },
+      [c](const ob::State* a, const ob::State* b) {
+        const Stopwatch watch;
+        const bool valid = c->motionValid(jointsOf(a, c->dof), jointsOf(b, c->dof));
+        c->check_seconds += watch.seconds();
+        return valid;
+      });
   si_->setup();
   planner_ = std::make_shared<og::LazyPRM>(si_, false);
   const double range = model.kinematics == KinematicsKind::kUrDh ? params_.max_edge_length : 0.3;
@@ -115,7 +128,14 @@ std::optional<std::vector<JointVector>> LazyRoadmap::solve(ob::Planner& planner,
       [&, end = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget)] {
         return ++evaluations > work || deadline.expired() || std::chrono::steady_clock::now() >= end;
       });
+  // Phases (paper, "Planning Time"): the planner's own work (sampling, neighbours, graph search, the
+  // trees of global sampling) is roadmap construction and growth, booked as motion construction; its
+  // lazy collision checks stay with the phase that asked (motion query or conflict resolution).
+  const Stopwatch watch;
+  const double checks_before = checker_->check_seconds;
   const ob::PlannerStatus status = planner.solve(ptc);
+  if (emitter_ != nullptr)
+    emitter_->rebook(log::Phase::MotionConstruction, watch.seconds() - (checker_->check_seconds - checks_before));
   if (status != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
   auto path = std::static_pointer_cast<og::PathGeometric>(pdef->getSolutionPath());
   if (params_.simplify) {

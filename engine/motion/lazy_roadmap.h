@@ -11,6 +11,7 @@
 
 #include "engine/collision/collision_context.h"
 #include "engine/core/deadline.h"
+#include "engine/log/event_emitter.h"
 #include "engine/motion/motion_context.h"
 
 namespace ompl::geometric {
@@ -63,6 +64,8 @@ class LazyRoadmap {
                                                      const MotionContext& motion, const Deadline& deadline);
   /// Multiplies the per-query budgets (after a motion failure was found to have no alternative).
   void scaleBudget(double factor);
+  /// Where the roadmap books its construction time (see solve()); nullptr: nowhere.
+  void setEmitter(log::EventEmitter* emitter) { emitter_ = emitter; }
   std::size_t vertexCount() const;
   std::size_t edgeCount() const;
   int robot() const { return robot_; }
@@ -85,6 +88,7 @@ class LazyRoadmap {
   std::shared_ptr<ompl::base::SpaceInformation> si_;
   std::shared_ptr<ompl::geometric::LazyPRM> planner_;
   std::optional<MotionContext> last_context_;
+  log::EventEmitter* emitter_ = nullptr;
 };
 
 /// OMPL's random generator is process-global: seed it once per process, before any planner exists

@@ -87,13 +87,20 @@ namespace {
 
 MotionLayer::MotionLayer(const CollisionWorld& world, CollisionContext& context, log::EventEmitter& emitter,
                          MotionLayerParams params)
-    : world_(&world), context_(&context), emitter_(&emitter), params_(params) {
+    : world_(&world),
+      context_(&context),
+      emitter_(&emitter),
+      params_(params),
+      graph_(emitter, [scene = &world.scene()](const lazy::MotionVertex& v) { return motionVertexLabel(*scene, v); }) {
   roadmaps_.resize(static_cast<std::size_t>(world.robotCount()) * 2);
 }
 
 LazyRoadmap& MotionLayer::roadmap(int robot, bool holding) {
   auto& slot = roadmaps_[static_cast<std::size_t>(robot) * 2 + (holding ? 1 : 0)];
-  if (!slot) slot = std::make_unique<LazyRoadmap>(*world_, *context_, robot, params_.roadmap);
+  if (!slot) {
+    slot = std::make_unique<LazyRoadmap>(*world_, *context_, robot, params_.roadmap);
+    slot->setEmitter(emitter_);
+  }
   return *slot;
 }
 
@@ -101,6 +108,16 @@ void MotionLayer::scaleBudget(double factor) {
   params_.roadmap.scale(factor);
   for (auto& r : roadmaps_)
     if (r) r->scaleBudget(factor);
+}
+
+std::size_t MotionLayer::roadmapVertices(int robot, bool holding) const {
+  const auto& slot = roadmaps_[static_cast<std::size_t>(robot) * 2 + (holding ? 1 : 0)];
+  return slot ? slot->vertexCount() : 0;
+}
+
+std::size_t MotionLayer::roadmapEdges(int robot, bool holding) const {
+  const auto& slot = roadmaps_[static_cast<std::size_t>(robot) * 2 + (holding ? 1 : 0)];
+  return slot ? slot->edgeCount() : 0;
 }
 
 std::size_t MotionLayer::roadmapVertices() const {
@@ -115,27 +132,11 @@ std::size_t MotionLayer::roadmapEdges() const {
   return n;
 }
 
-std::uint32_t MotionLayer::motionVertex(const std::string& label) {
-  const auto id = static_cast<std::uint32_t>(motion_vertices_++);
-  emitter_->vertex(log::Layer::Motion, id, label);
-  return id;
-}
-
-void MotionLayer::motionArc(const char* type, std::uint32_t from, std::uint32_t to) {
-  const auto id = static_cast<std::uint32_t>(motion_hyperarcs_++);
-  emitter_->hyperarc(log::Layer::Motion, type, id, {to}, {from});
-  // The motion query traverses it: one motion-extended vertex and hyperarc.
-  const auto ev = static_cast<std::uint32_t>(extended_vertices_++);
-  emitter_->vertex(log::Layer::MotionExtended, ev);
-  emitter_->hyperarc(log::Layer::MotionExtended, type, static_cast<std::uint32_t>(extended_hyperarcs_++), {ev},
-                     {ev > 0 ? ev - 1 : ev});
-}
-
 std::optional<std::vector<JointVector>> MotionLayer::connect(int robot, const JointVector& from, const JointVector& to,
                                                              const MotionContext& motion, const Deadline& deadline) {
   if (jointDistance(from, to) < 1e-9) return std::vector<JointVector>{from};
   // Cheapest check first: the straight segment.
-  if (motion.parked.empty() &&
+  if (params_.straight_first && motion.parked.empty() &&
       !segmentInCollision(*world_, *context_, RobotState{robot, from, motion.held}, to, motion.layout))
     return std::vector<JointVector>{from, to};
   return roadmap(robot, motion.held.holding()).query(from, to, motion, deadline);
@@ -186,13 +187,19 @@ std::optional<JointVector> MotionLayer::farthestBackOff(int robot, const JointVe
 
 MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
                                     const TaskSpace& space, const Deadline& deadline) {
+  MotionLayerResult result = trace(plan, transitions, space, deadline);
+  if (result.status != MotionStatus::kTimeout) recordInHypergraph(plan, transitions, space, result, deadline);
+  return result;
+}
+
+MotionLayerResult MotionLayer::trace(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
+                                     const TaskSpace& space, const Deadline& deadline) {
   const Scene& scene = space.scene();
   const int robots = static_cast<int>(scene.robots.size());
   MotionLayerResult result;
   result.robots.resize(static_cast<std::size_t>(robots));
   const std::vector<ObjectLayout> layouts = layoutsAlong(plan, space);
   std::vector<JointVector> at(static_cast<std::size_t>(robots));
-  std::vector<std::uint32_t> last_vertex(static_cast<std::size_t>(robots));
   // Whether each robot's last retreat backed off along its own approach axis (so may back off farther).
   std::vector<bool> own_retreat(static_cast<std::size_t>(robots), false);
   // Out of a cubby: the robot's last retreat, if along its own axis, backs off as far as it validly can
@@ -207,7 +214,6 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
   };
   for (int r = 0; r < robots; ++r) {
     at[r] = scene.robots[r].home;
-    last_vertex[r] = motionVertex(scene.robots[r].id + " home");
   }
 
   for (int k = 0; k < static_cast<int>(plan.steps.size()); ++k) {
@@ -286,7 +292,7 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
         if (changed) transit = connect(r, at[r], visit.q_pre, context, deadline);
       }
       // Global sampling: trees grown from both ends.
-      if (!transit && !deadline.expired())
+      if (!transit && params_.global_sampling && !deadline.expired())
         transit = roadmap(r, held.before.holding()).queryTrees(at[r], visit.q_pre, context, deadline);
       if (!transit) {
         result.status = deadline.expired() ? MotionStatus::kTimeout : MotionStatus::kFailed;
@@ -300,15 +306,6 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
         return result;
       }
       visit.transit = *transit;
-      const std::string name = scene.robots[r].id + " step " + std::to_string(k);
-      const std::uint32_t v_pre = motionVertex(name + " pre");
-      const std::uint32_t v_q = motionVertex(name);
-      const std::uint32_t v_post = motionVertex(name + " post");
-      motionArc("move", last_vertex[r], v_pre);
-      motionArc("move", v_pre, v_q);
-      motionArc("transition", v_q, v_q);
-      motionArc("move", v_q, v_post);
-      last_vertex[r] = v_post;
       at[r] = visit.q_post;
       own_retreat[r] = own_axis;
       result.robots[r].visits.push_back(std::move(visit));
@@ -322,7 +319,7 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
       // As for a transit: out of a cubby, the last retreat backs off farther along its axis.
       if (!home && !deadline.expired() && backOutOfLastRetreat(r))
         home = connect(r, at[r], scene.robots[r].home, context, deadline);
-      if (!home && !deadline.expired())
+      if (!home && params_.global_sampling && !deadline.expired())
         home = roadmap(r, false).queryTrees(at[r], scene.robots[r].home, context, deadline);
       if (!home) {
         result.status = deadline.expired() ? MotionStatus::kTimeout : MotionStatus::kFailed;
@@ -331,8 +328,6 @@ MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<Tran
         return result;
       }
       result.robots[r].home_path = *home;
-      const std::uint32_t v_home = motionVertex(scene.robots[r].id + " home (end)");
-      motionArc("move", last_vertex[r], v_home);
     }
   }
   emitter_->counter("roadmap_vertices", static_cast<std::int64_t>(roadmapVertices()));

@@ -13,6 +13,7 @@
 
 #include "engine/log/event_emitter.h"
 #include "engine/motion/lazy_roadmap.h"
+#include "engine/motion/motion_hypergraph.h"
 #include "engine/task/task_conflict_detection.h"
 #include "engine/task/task_plan.h"
 
@@ -41,8 +42,13 @@ struct MotionLayerParams {
   /// Farther back-offs, when no transit reaches the short ones (a shelf cubby): the farthest valid
   /// one is used (ascending list).
   std::vector<double> deep_approach_distances = {0.15, 0.2, 0.25, 0.3, 0.35};
+  bool straight_first = true;   ///< the straight segment before a roadmap query (beyond the paper)
+  bool global_sampling = true;  ///< RRT-Connect when the roadmap finds no way between valid ends
   RoadmapParams roadmap;
 };
+
+/// "ur5e_0+obj_2 (top)", "obj_2@1": a motion vertex's task element, for event labels.
+std::string motionVertexLabel(const Scene& scene, const lazy::MotionVertex& v);
 
 enum class MotionStatus { kOk, kFailed, kTimeout };
 
@@ -71,10 +77,15 @@ class MotionLayer {
   void scaleBudget(double factor);
   std::size_t roadmapVertices() const;
   std::size_t roadmapEdges() const;
-  std::size_t motionVertices() const { return motion_vertices_; }
-  std::size_t motionHyperarcs() const { return motion_hyperarcs_; }
-  std::size_t extendedVertices() const { return extended_vertices_; }
-  std::size_t extendedHyperarcs() const { return extended_hyperarcs_; }
+  /// Per planning space (robot, empty hand or holding): that roadmap's sizes (0 when never built).
+  std::size_t roadmapVertices(int robot, bool holding) const;
+  std::size_t roadmapEdges(int robot, bool holding) const;
+  /// H_M as it stands (live sizes) and H_ME summed over every motion query of the run.
+  const lazy::MotionHypergraph& hypergraph() const { return graph_; }
+  std::size_t motionVertices() const { return graph_.vertexCount(); }
+  std::size_t motionHyperarcs() const { return graph_.hyperarcCount(); }
+  std::size_t extendedVertices() const { return graph_.extendedVertexCount(); }
+  std::size_t extendedHyperarcs() const { return graph_.extendedHyperarcCount(); }
 
   /// A path from -> to in `context`: the straight segment if it is free, else a roadmap query.
   std::optional<std::vector<JointVector>> connect(int robot, const JointVector& from, const JointVector& to,
@@ -97,17 +108,22 @@ class MotionLayer {
   /// The farthest of the deep approach distances q can back off by (backedOff), if any.
   std::optional<JointVector> farthestBackOff(int robot, const JointVector& q, const HeldObject& held,
                                              const ObjectLayout& layout);
+  /// Algorithm 1's motion query along the unvalidated schedule: the moves between the transition
+  /// configurations, found and validated lazily in schedule order.
+  MotionLayerResult trace(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
+                          const TaskSpace& space, const Deadline& deadline);
   LazyRoadmap& roadmap(int robot, bool holding);
-  std::uint32_t motionVertex(const std::string& label);
-  void motionArc(const char* type, std::uint32_t from, std::uint32_t to);
+  /// Adds the traced part of `result` (every step whose visits were all found; the way home when
+  /// `result` is complete) to H_M and runs the motion query along it (motion_layer_graph.cpp).
+  void recordInHypergraph(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
+                          const TaskSpace& space, const MotionLayerResult& result, const Deadline& deadline);
 
   const CollisionWorld* world_;
   CollisionContext* context_;
   log::EventEmitter* emitter_;
   MotionLayerParams params_;
   std::vector<std::unique_ptr<LazyRoadmap>> roadmaps_;  ///< [robot * 2 + holding]
-  std::size_t motion_vertices_ = 0, motion_hyperarcs_ = 0;
-  std::size_t extended_vertices_ = 0, extended_hyperarcs_ = 0;
+  lazy::MotionHypergraph graph_;
 };
 
 }  // namespace dash

@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cstdlib>
 #include <initializer_list>
+#include <optional>
+#include <type_traits>
 #include <unordered_map>
 #include <utility>
 
 #include "engine/collision/collision_context.h"
 #include "engine/collision/collision_world.h"
 #include "engine/conflict/scheduler.h"
+#include "engine/motion/motion_constraints.h"
 #include "engine/motion/motion_layer.h"
 #include "engine/plan/plan_validator.h"
 #include "engine/task/task_layer.h"
@@ -49,12 +52,10 @@ void fillTaskStats(const TaskLayer& task, PlanStats& stats) {
 
 namespace {
 
-constexpr int kMaxMotionRounds = 200;
-constexpr double kBudgetGrowthAfterLift = 4.0;
+constexpr int kMaxTaskRounds = 200;  // task plans tried at most (Algorithm 1's outer loop)
+constexpr double kBudgetGrowth = 4.0;
 constexpr int kMaxHomeBudgetGrowths = 3;
 constexpr int kMaxBudgetGrowths = 3;  // after lifted motion bans: at most 64x the first budget
-constexpr int kMaxValidationFeedbacks = 5;
-constexpr int kMaxRechecksPerRound = 3;
 
 /// A collision between robots, held objects or resting objects (what conflict resolution checks).
 bool isContact(const ValidationProblem& problem) {
@@ -105,16 +106,89 @@ TaskConstraint motionFeedback(const TaskPlan& plan, int step, const std::string&
 
 }  // namespace
 
+void applyParameters(LazyDashParams& p, const ParamValues& v) {
+  auto set = [&](const char* name, auto& field) {
+    if (!v.contains(name)) return;
+    using T = std::decay_t<decltype(field)>;
+    if constexpr (std::is_same_v<T, bool>) field = paramBool(v, name);
+    else field = static_cast<T>(paramInt(v, name));
+  };
+  set("straight_first", p.motion.straight_first);
+  set("global_sampling", p.motion.global_sampling);
+  set("path_simplification", p.motion.roadmap.simplify);
+  set("roadmap_query_samples", p.motion.roadmap.query_samples);
+  if (v.contains("deep_backoffs") && !paramBool(v, "deep_backoffs")) p.motion.deep_approach_distances.clear();
+  set("round_trip_removal", p.task.query.remove_round_trips);
+  set("approach_line_preference", p.task.conflicts.prefer_free_approach);
+  set("handover_class_bans", p.task.handover_class_bans);
+  set("transition_resamples", p.max_transition_resamples);
+  set("budget_growth", p.budget_growth);
+  set("validator_rechecks", p.validator_rechecks);
+  set("validation_feedbacks", p.validation_feedbacks);
+  set("motion_budget", p.motion_budget);
+  applySchedulerParameters(p.scheduler, v);
+}
+
+namespace {
+
+/// Algorithm 1's one failure type: where a motion round on a task plan stopped, and what it learned as
+/// a motion constraint (the histories in conflict and the region).
+struct MotionFailure {
+  enum class Where { kMotionQuery, kConflictResolution, kValidation };
+  Where where = Where::kMotionQuery;
+  int step = -1;                // the task step it belongs to; -1: none (the way home)
+  MotionConstraint constraint;  // C_M
+  /// The region is transition configurations, and others for the same transitions may do.
+  bool resampleable = false;
+};
+
+/// One motion round (Algorithm 1, lines 9-13): solved, failed (with what it learned), or stopped
+/// (out of time, or a failure nothing can be learned from).
+struct MotionRound {
+  enum class Kind { kSolved, kFailed, kStopped };
+  Kind kind = Kind::kFailed;
+  MotionFailure failure;  // kFailed
+  PlanOutcome outcome = PlanOutcome::kInfeasible;  // kStopped
+  std::string message;                             // kStopped
+  Plan plan;                                       // kSolved
+};
+
+MotionRound stopped(PlanOutcome outcome, std::string message) {
+  MotionRound r;
+  r.kind = MotionRound::Kind::kStopped;
+  r.outcome = outcome;
+  r.message = std::move(message);
+  return r;
+}
+
+MotionRound failed(MotionFailure failure) {
+  MotionRound r;
+  r.kind = MotionRound::Kind::kFailed;
+  r.failure = std::move(failure);
+  return r;
+}
+
+}  // namespace
+
 PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, const Deadline& deadline,
                            log::EventSink* sink) {
   applyTestFault(settings, deadline);
+  // Named parameters: checked (InputError naming a bad one), then applied over the constructor's.
+  const ParamValues effective = resolveParameters(name(), settings.params);
+  LazyDashParams params = params_;
+  ParamValues overrides;
+  for (const auto& [key, value] : settings.params) overrides[key] = effective.at(key);
+  applyParameters(params, overrides);
   seedOmplOnce(settings.seed);
   log::EventEmitter emitter(sink);
-  const CollisionWorld world(scene, {.clearance = params_.clearance});
+  log::PhaseTimer setup(emitter, log::Phase::Other);
+  const CollisionWorld world(scene, {.clearance = params.clearance});
   CollisionContext context(world);
-  TaskLayer task(scene, world, context, emitter, settings.seed);
-  MotionLayer motion(world, context, emitter, params_.motion);
-  Scheduler scheduler(world, context);
+  TaskLayer task(scene, world, context, emitter, settings.seed, params.task);
+  MotionLayer motion(world, context, emitter, params.motion);
+  Scheduler scheduler(world, context, params.scheduler);
+  setup.stop();
+  MotionConstraintSet motion_constraints;
   PlanResult result;
   auto finish = [&](PlanOutcome outcome, std::string message) {
     fillTaskStats(task, result.stats);
@@ -125,7 +199,16 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
     result.stats.roadmap_vertices = static_cast<std::int64_t>(motion.roadmapVertices());
     result.stats.roadmap_edges = static_cast<std::int64_t>(motion.roadmapEdges());
     result.stats.collision_checks_lazy = static_cast<std::int64_t>(context.counters().configuration_checks);
+    result.stats.motion_constraints = static_cast<std::int64_t>(motion_constraints.size());
     result.stats.phase_seconds = emitter.phaseTotals();
+    result.stats.wall_seconds = emitter.now();
+    for (int r = 0; r < world.robotCount(); ++r)
+      for (const bool holding : {false, true}) {
+        const std::string space = scene.robots[r].id + (holding ? "/holding" : "/empty");
+        emitter.counter("roadmap_vertices:" + space, static_cast<std::int64_t>(motion.roadmapVertices(r, holding)));
+        emitter.counter("roadmap_edges:" + space, static_cast<std::int64_t>(motion.roadmapEdges(r, holding)));
+      }
+    emitter.counter("motion_hyperarcs_coupled", static_cast<std::int64_t>(motion.hypergraph().coupledHyperarcCount()));
     result.outcome = outcome;
     result.message = std::move(message);
     emitter.counter("collision_checks_lazy", result.stats.collision_checks_lazy);
@@ -136,121 +219,176 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   int validation_feedbacks = 0;
   int budget_growths = 0;
   std::unordered_map<std::uint32_t, int> transition_resamples;  // per task hyperarc
-  // Other configurations for a step's transition instead of a ban on its hyperarc (at most
-  // max_transition_resamples per hyperarc): true when one of `configs` is newly rejected.
-  auto resampleTransition = [&](const TaskStep& step, std::initializer_list<std::pair<int, const JointVector*>> configs,
-                                const std::string& why) {
-    int& resamples = transition_resamples[step.arc.value()];
-    if (resamples >= params_.max_transition_resamples) return false;
-    bool rejected = false;
-    for (const auto& [robot, q] : configs) rejected = task.rejectTransition(robot, *q, why) || rejected;
-    if (rejected) ++resamples;
-    return rejected;
-  };
   std::int64_t reused_steps = 0;  // steps conflict resolution took from the previous round's schedule
   std::int64_t rechecks = 0;      // schedules built again after the validator found a contact
-  for (int round = 0; round < kMaxMotionRounds; ++round) {
-    const TaskLayerResult layer = task.plan(deadline);
+  auto nextIteration = [&] { emitter.setIteration(emitter.iteration() + 1); };
+
+  // Lines 9-13 of Algorithm 1 on one task plan: the motion hypergraph and the motion query (MotionLayer:
+  // H_M, the optimistic schedule), motion conflict resolution (Scheduler), and the validator. `motions`
+  // is kept between rounds whose transitions did not change (a validator contact only reschedules).
+  auto motionRound = [&](const TaskLayerResult& layer, std::optional<MotionLayerResult>& motions) -> MotionRound {
+    if (!motions) motions = motion.plan(layer.plan, layer.transitions, task.space(), deadline);
+    if (motions->status == MotionStatus::kTimeout) return stopped(outcomeOf(TaskLayerStatus::kTimeout, deadline), "motion layer: timeout");
+    if (motions->status == MotionStatus::kFailed) {
+      MotionFailure f;
+      f.where = MotionFailure::Where::kMotionQuery;
+      f.step = motions->failed_step;
+      f.constraint.cause = "motion query: " + motions->reason;
+      if (f.step >= 0) {
+        f.constraint.histories = {{motions->failed_robot, f.step}};
+        f.constraint.configurations = {{motions->failed_robot, motions->failed_q}};
+        f.resampleable = motions->ends_free;
+      }
+      motions.reset();
+      return failed(std::move(f));
+    }
+    ScheduleResult schedule;
+    {
+      log::PhaseTimer timer(emitter, log::Phase::ConflictResolution);
+      const MoveReplanner replan = [&](int r, const JointVector& from, const JointVector& to, const MotionContext& ctx) {
+        return motion.connect(r, from, to, ctx, deadline);
+      };
+      schedule = scheduler.build(layer.plan, layer.transitions, *motions, task.space(), replan, deadline);
+    }
+    reused_steps += schedule.stats.reused_steps;
+    emitter.counter("scheduled_steps_reused", reused_steps);
+    if (!schedule.ok) {
+      if (deadline.expired()) return stopped(outcomeOf(TaskLayerStatus::kTimeout, deadline), "conflict resolution: timeout");
+      if (schedule.failed_step < 0) return stopped(PlanOutcome::kInfeasible, "conflict resolution: " + schedule.reason);
+      MotionFailure f;
+      f.where = MotionFailure::Where::kConflictResolution;
+      f.step = schedule.failed_step;
+      f.constraint.cause = "conflict resolution: " + schedule.reason;
+      const TaskArc& a = layer.plan.steps[f.step].action;
+      const TransitionConfig& tc = layer.transitions[f.step];
+      f.constraint.histories = {{a.robot, f.step}};
+      f.constraint.configurations = {{a.robot, tc.q}};
+      if (a.type == TaskArcType::kHandover) {
+        f.constraint.histories.push_back({a.robot2, f.step});
+        f.constraint.configurations.push_back({a.robot2, tc.q2});
+        f.resampleable = true;  // another handover configuration (pose, IK branches)
+      }
+      return failed(std::move(f));
+    }
+    MotionRound round;
+    round.plan = std::move(schedule.plan);
+    round.plan.planner = name();
+    ValidationReport report;
+    {
+      log::PhaseTimer timer(emitter, log::Phase::Validation);
+      report = validatePlan(scene, round.plan);
+    }
+    if (report.valid()) {
+      round.kind = MotionRound::Kind::kSolved;
+      return round;
+    }
+    // A plan that fails validation is never a result. A contact between the instants the scheduler's
+    // continuous check sampled is a conflict like any other; anything else is a bug in the planner.
+    const ValidationProblem& problem = report.problems.front();
+    const int step = missedConflictStep(scene, layer.plan, schedule.step_times, problem);
+    if (step < 0) return stopped(PlanOutcome::kInfeasible, "internal error: the planned schedule failed validation: " + problem.message);
+    MotionFailure f;
+    f.where = MotionFailure::Where::kValidation;
+    f.step = step;
+    f.constraint.cause = "validation: " + problem.message;
+    for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r)
+      if (scene.robots[r].id == problem.robot || scene.robots[r].id == problem.other) f.constraint.histories.push_back({r, step});
+    f.constraint.t_begin = problem.t;
+    f.constraint.t_end = std::max(problem.t, problem.t_end);
+    return failed(std::move(f));
+  };
+
+  // The one feedback function (Algorithm 1, lines 10-15). While the task plan's motion budget lasts, a
+  // failure becomes a motion constraint and the motion loop goes on with the same task plan (true): its
+  // configuration region makes task conflict detection choose other transition configurations for the
+  // same plan; its time region makes conflict resolution check those instants. A failure with no region
+  // to learn (the way home) makes the roadmaps search harder instead. Otherwise it becomes a task
+  // constraint for the task query (false). nullopt: nothing more can be done (infeasible).
+  int plan_rechecks = 0;
+  auto feedback = [&](const MotionFailure& f, TaskLayerResult& layer, std::optional<MotionLayerResult>& motions,
+                      int motion_round) -> std::optional<bool> {
+    auto learn = [&](const MotionConstraint& c) {
+      const std::uint32_t id = motion_constraints.add(c);
+      emitter.constraint(log::ConstraintKind::Motion, log::ConstraintAction::Created, id, c.describe(scene), {}, c.cause);
+    };
+    const bool budget_left = motion_round + 1 < params.motion_budget;
+    if (f.where == MotionFailure::Where::kValidation) {
+      if (plan_rechecks < params.validator_rechecks) {
+        ++plan_rechecks;
+        learn(f.constraint);
+        scheduler.alsoCheckAt(f.constraint.t_begin);
+        if (f.constraint.t_end > f.constraint.t_begin) scheduler.alsoCheckAt(f.constraint.t_end);
+        scheduler.forgetFrom(f.constraint.t_begin);
+        emitter.counter("validation_rechecks", ++rechecks);
+        return true;
+      }
+      if (validation_feedbacks++ >= params.validation_feedbacks) return std::nullopt;
+      emitter.counter("validation_feedbacks", validation_feedbacks);
+      scheduler.forgetFrom(f.constraint.t_begin);
+      task.addConstraint(motionFeedback(layer.plan, f.step, f.constraint.cause));
+      return false;
+    }
+    if (f.step < 0) {  // no way home: no task hyperarc to blame
+      if (!params.budget_growth || home_budget_growths++ >= kMaxHomeBudgetGrowths) return std::nullopt;
+      motion.scaleBudget(kBudgetGrowth);
+      return true;
+    }
+    const TaskStep& step = layer.plan.steps[f.step];
+    int& resamples = transition_resamples[step.arc.value()];
+    if (budget_left && f.resampleable && resamples < params.max_transition_resamples) {
+      bool rejected = false;
+      for (const auto& [robot, q] : f.constraint.configurations) rejected = task.rejectTransition(robot, q) || rejected;
+      if (rejected) {
+        ++resamples;
+        learn(f.constraint);
+        if (auto transitions = task.resampleTransitions(layer.plan, deadline)) {
+          layer.transitions = std::move(*transitions);
+          motions.reset();
+          return true;
+        }
+      }
+    }
+    task.addConstraint(motionFeedback(layer.plan, f.step, f.constraint.cause));
+    return false;
+  };
+
+  for (int task_round = 0; task_round < kMaxTaskRounds; ++task_round) {  // Algorithm 1, line 3
+    TaskLayerResult layer = task.plan(deadline);                        // lines 4-7
     if (layer.status != TaskLayerStatus::kFeasible)
       return finish(outcomeOf(layer.status, deadline),
                     "task layer: " + std::string(toString(layer.status)) + (layer.reason.empty() ? "" : " (" + layer.reason + ")"));
     // No schedule avoids the hyperarcs the motion layer failed on: search harder on the same ones.
-    if (layer.motion_bans_lifted && budget_growths < kMaxBudgetGrowths) {
+    if (layer.motion_bans_lifted && params.budget_growth && budget_growths < kMaxBudgetGrowths) {
       ++budget_growths;
-      motion.scaleBudget(kBudgetGrowthAfterLift);
+      motion.scaleBudget(kBudgetGrowth);
     }
     if (settings.task_only) {
       result.task_plan_json = layer.plan.toJson(task.space());
       return finish(PlanOutcome::kSolved, layer.plan.describe(task.space()));
     }
-    // The motion layer times its own construction (H_M's anchors) and query (moves, roadmap growth).
-    MotionLayerResult motions = motion.plan(layer.plan, layer.transitions, task.space(), deadline);
-    if (motions.status == MotionStatus::kTimeout) return finish(outcomeOf(TaskLayerStatus::kTimeout, deadline), "motion layer: timeout");
-    if (motions.status == MotionStatus::kFailed) {
-      if (motions.failed_step < 0) {
-        // No way home: no task hyperarc to blame; the roadmaps search harder (a bounded number of times).
-        if (home_budget_growths++ < kMaxHomeBudgetGrowths) {
-          motion.scaleBudget(kBudgetGrowthAfterLift);
-          emitter.setIteration(emitter.iteration() + 1);
-          continue;
-        }
-        return finish(PlanOutcome::kInfeasible, "motion layer: " + motions.reason);
+    std::optional<MotionLayerResult> motions;
+    plan_rechecks = 0;
+    for (int motion_round = 0;; ++motion_round) {  // line 8: while S_T valid and S_M not valid
+      MotionRound round = motionRound(layer, motions);
+      if (round.kind == MotionRound::Kind::kSolved) {
+        result.stats.makespan = round.plan.makespan;
+        result.stats.path_length = pathLength(round.plan);
+        result.plan = std::move(round.plan);
+        return finish(PlanOutcome::kSolved, "solved");
       }
-      // Both ends were free but the roadmap found no way: first another configuration for the same
-      // transition (task conflict detection samples again), then a ban on the hyperarc.
-      if (motions.ends_free && resampleTransition(layer.plan.steps[motions.failed_step],
-                                                  {{motions.failed_robot, &motions.failed_q}},
-                                                  "motion query: " + motions.reason)) {
-        emitter.setIteration(emitter.iteration() + 1);
-        continue;
+      if (round.kind == MotionRound::Kind::kStopped) return finish(round.outcome, std::move(round.message));
+      const std::optional<bool> stay = feedback(round.failure, layer, motions, motion_round);
+      if (!stay) {
+        const std::string why = round.failure.constraint.cause;
+        return finish(PlanOutcome::kInfeasible, round.failure.where == MotionFailure::Where::kValidation
+                                                    ? "internal error: the planned schedule failed validation: " + why
+                                                    : why);
       }
-      task.addConstraint(motionFeedback(layer.plan, motions.failed_step, "motion query: " + motions.reason));
-      emitter.setIteration(emitter.iteration() + 1);
-      continue;
+      nextIteration();
+      if (!*stay) break;  // lines 14-15: a task constraint, back to the task query
     }
-    // A plan that fails validation is never a result. A contact the validator finds between the instants
-    // the scheduler's continuous check sampled (same resolution, other instants): the scheduler checks
-    // that instant too from now on and schedules again from there, the same task plan and the steps
-    // before it kept (a few times per round; then it goes back to the task query like any conflict).
-    ScheduleResult schedule;
-    Plan plan;
-    ValidationReport report;
-    for (int recheck = 0;; ++recheck) {
-      {
-        log::PhaseTimer timer(emitter, log::Phase::ConflictResolution);
-        const MoveReplanner replan = [&](int r, const JointVector& from, const JointVector& to,
-                                         const MotionContext& ctx) { return motion.connect(r, from, to, ctx, deadline); };
-        schedule = scheduler.build(layer.plan, layer.transitions, motions, task.space(), replan, deadline);
-      }
-      reused_steps += schedule.stats.reused_steps;
-      emitter.counter("scheduled_steps_reused", reused_steps);
-      if (!schedule.ok) break;
-      plan = std::move(schedule.plan);
-      plan.planner = name();
-      report = validatePlan(scene, plan);
-      if (report.valid() || recheck >= kMaxRechecksPerRound || !isContact(report.problems.front())) break;
-      const ValidationProblem& contact = report.problems.front();
-      scheduler.alsoCheckAt(contact.t);
-      if (contact.t_end > contact.t) scheduler.alsoCheckAt(contact.t_end);
-      scheduler.forgetFrom(contact.t);
-      emitter.counter("validation_rechecks", ++rechecks);
-    }
-    if (!schedule.ok) {
-      if (deadline.expired()) return finish(outcomeOf(TaskLayerStatus::kTimeout, deadline), "conflict resolution: timeout");
-      if (schedule.failed_step < 0) return finish(PlanOutcome::kInfeasible, "conflict resolution: " + schedule.reason);
-      // A handover that cannot be scheduled: first another handover configuration (pose, IK branches)
-      // for the same task plan, then a ban on the hyperarc.
-      const TaskStep& failed = layer.plan.steps[schedule.failed_step];
-      const TransitionConfig& tc = layer.transitions[schedule.failed_step];
-      if (failed.action.type == TaskArcType::kHandover &&
-          resampleTransition(failed, {{failed.action.robot, &tc.q}, {failed.action.robot2, &tc.q2}},
-                             "conflict resolution: " + schedule.reason)) {
-        emitter.setIteration(emitter.iteration() + 1);
-        continue;
-      }
-      task.addConstraint(motionFeedback(layer.plan, schedule.failed_step, "conflict resolution: " + schedule.reason));
-      emitter.setIteration(emitter.iteration() + 1);
-      continue;
-    }
-    if (!report.valid()) {
-      // Still a contact after the rechecks: back to the task query like any conflict, a few times per
-      // run; anything else is a bug in the planner.
-      const int step = missedConflictStep(scene, layer.plan, schedule.step_times, report.problems.front());
-      if (step < 0 || validation_feedbacks++ >= kMaxValidationFeedbacks)
-        return finish(PlanOutcome::kInfeasible, "internal error: the planned schedule failed validation: " +
-                                                    report.problems.front().message);
-      emitter.counter("validation_feedbacks", validation_feedbacks);
-      scheduler.forgetFrom(report.problems.front().t);
-      task.addConstraint(motionFeedback(layer.plan, step, "validation: " + report.problems.front().message));
-      emitter.setIteration(emitter.iteration() + 1);
-      continue;
-    }
-    result.stats.makespan = plan.makespan;
-    result.stats.path_length = pathLength(plan);
-    result.plan = std::move(plan);
-    return finish(PlanOutcome::kSolved, "solved");
   }
-  return finish(PlanOutcome::kInfeasible, "gave up after " + std::to_string(kMaxMotionRounds) + " motion rounds");
+  return finish(PlanOutcome::kInfeasible, "gave up after " + std::to_string(kMaxTaskRounds) + " task plans");
 }
 
 }  // namespace dash

@@ -8,20 +8,35 @@
 #include <utility>
 
 #include "engine/collision/collision_world.h"
+#include "engine/conflict/scheduler.h"
+#include "engine/core/planner_params.h"
 #include "engine/motion/motion_layer.h"
 #include "engine/planners/planner.h"
+#include "engine/task/task_layer.h"
 
 namespace dash {
 
+/// Every field that is a named planner parameter (engine/core/planner_params.h) has the registry's
+/// default; applyParameters sets them from a resolved set.
 struct LazyDashParams {
   MotionLayerParams motion;
+  TaskLayerParams task;
+  SchedulerParams scheduler;
   /// Transition configurations of one task hyperarc that the motion layer or conflict resolution may
   /// turn down (no way to them, or a handover that cannot be scheduled) before the hyperarc itself goes
   /// back to the task query as a ban.
   int max_transition_resamples = 2;
   /// Metres every check of the planner keeps between parts not in contact by design (collision_world.h).
   double clearance = kDefaultPlanningClearance;
+  bool budget_growth = true;     ///< roadmap budgets raised when a failure has no alternative
+  int validator_rechecks = 3;    ///< per round: schedule again checking the validator's contact instant
+  int validation_feedbacks = 5;  ///< per run: validator contacts fed back as task constraints
+  /// Motion rounds on one task plan (Algorithm 1's inner loop) before its failure becomes a task constraint.
+  int motion_budget = 3;
 };
+
+/// Sets the fields named by `values` (a resolveParameters("lazy-dash", ...) set, or part of one).
+void applyParameters(LazyDashParams& params, const ParamValues& values);
 
 class LazyDash final : public Planner {
  public:

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/core/deadline.h"
+#include "engine/core/planner_params.h"
 #include "engine/log/event_emitter.h"
 #include "engine/log/events.h"
 #include "engine/plan/plan.h"
@@ -26,6 +27,9 @@ struct PlannerSettings {
   /// Faults for the batch runner's own tests (never used by a real run):
   /// "abort" calls std::abort() at the start; "ignore-deadline" plans past its deadline by spinning.
   std::string test_fault;
+  /// Named planner parameters set for this run (engine/core/planner_params.h); the rest keep their
+  /// defaults. The planner checks them (InputError naming a bad one).
+  ParamValues params;
 };
 
 /// Sizes of the four representations of the paper, at the end of the run. Extended hypergraphs are
@@ -38,7 +42,10 @@ struct RepresentationCounts {
 };
 
 struct PlanStats {
+  /// Seconds per phase; phases are exclusive (a nested one pauses the enclosing one), so their sum is
+  /// the planner's accounted time, at most wall_seconds.
   log::PhaseTotals phase_seconds{};
+  double wall_seconds = 0.0;
   RepresentationCounts sizes;
   int iterations = 0;
   std::int64_t collision_checks_eager = 0;  ///< checks done before they were needed (validated roadmaps, IK filters)

@@ -82,7 +82,7 @@ class ChainSearch {
     switch (a.type) {
       case TaskArcType::kPick: {
         const Pose X_WO = space_.location(o, a.location).X_WO;
-        for (const GraspConfig& gc : sampler_.graspConfigs(a.robot, o, X_WO, a.grasp, params_.grasp_candidates, true)) {
+        for (const GraspConfig& gc : sampler_.graspConfigs(a.robot, o, X_WO, a.grasp, params_.grasp_candidates, params_.prefer_free_approach)) {
           if (!free({a.robot, gc.q, HeldObject{o, gc.X_TO}}, k)) continue;
           if (!placeableNext(i, gc.X_TO)) continue;
           assignment_[i] = {true, gc.q, {}, X_WO, gc.X_TO, Pose::Identity()};
@@ -93,7 +93,7 @@ class ChainSearch {
       }
       case TaskArcType::kPlace: {
         const Pose X_WO = space_.location(o, a.location).X_WO;
-        for (const JointVector& q : sampler_.holdConfigs(a.robot, o, X_WO, X_TO, 3, true)) {
+        for (const JointVector& q : sampler_.holdConfigs(a.robot, o, X_WO, X_TO, 3, params_.prefer_free_approach)) {
           if (!free({a.robot, q, HeldObject{o, X_TO}}, k)) continue;
           assignment_[i] = {true, q, {}, X_WO, X_TO, Pose::Identity()};
           return solve(i + 1, Pose::Identity());  // the next step starts a new grasp: no reason to retry

@@ -39,6 +39,8 @@ struct TaskConflictParams {
   int chain_budget = 8000;        ///< sampler calls per object chain
   int grasp_candidates = 6;       ///< per grasp class and pose
   int handover_poses = 1040;      ///< object poses tried per handover (the whole search grid)
+  /// Side grasps prefer the IK branch whose approach line is free (beyond the paper).
+  bool prefer_free_approach = true;
 };
 
 struct TaskConflictResult {

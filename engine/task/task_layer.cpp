@@ -86,7 +86,8 @@ bool TaskLayer::addConstraint(const TaskConstraint& given) {
   // A motion failure at a handover is one of its configurations (the handover pose sampled for that
   // pair of robots and grasps), which every object of that size shares: the whole class is banned,
   // so that the next schedule does not try the same handover with the next object.
-  if (c.temporary && c.from_motion && c.arc.valid() && graph_.graph().property(c.arc).type == TaskArcType::kHandover) {
+  if (params_.handover_class_bans && c.temporary && c.from_motion && c.arc.valid() &&
+      graph_.graph().property(c.arc).type == TaskArcType::kHandover) {
     const TaskArc& a = graph_.graph().property(c.arc);
     c.arc = HyperarcId();
     c.giver = a.robot;
@@ -109,26 +110,31 @@ bool TaskLayer::addConstraint(const TaskConstraint& given) {
     content = "(" + graph_.label(c.pre, space_) + ", " + graph_.label(c.post, space_) + ")";
     vertices = {c.pre.value(), c.post.value()};
   }
-  // Motion failures fed back as temporary hyperarc bans are the paper's motion constraints.
-  const log::ConstraintKind kind = c.from_motion ? log::ConstraintKind::Motion : toLogKind(c.kind);
+  // A motion failure whose task plan spent its motion budget comes back as a task constraint (a
+  // temporary ban on the hyperarc); the motion constraints before it are logged by the planner.
+  const log::ConstraintKind kind = toLogKind(c.kind);
   emitter_->constraint(kind, log::ConstraintAction::Created,
                        static_cast<std::uint32_t>(constraints_.size() - 1), std::move(content), std::move(vertices),
                        c.cause);
   return true;
 }
 
-bool TaskLayer::rejectTransition(int robot, const JointVector& q, const std::string& cause) {
-  if (!rejected_.add(robot, q)) return false;
-  emitter_->constraint(log::ConstraintKind::Motion, log::ConstraintAction::Created,
-                       static_cast<std::uint32_t>(constraints_.size() + rejected_.size() - 1),
-                       "avoid this transition configuration of " + scene_->robots[robot].id, {}, cause);
-  return true;
+bool TaskLayer::rejectTransition(int robot, const JointVector& q) { return rejected_.add(robot, q); }
+
+std::optional<std::vector<TransitionConfig>> TaskLayer::resampleTransitions(const TaskPlan& plan,
+                                                                            const Deadline& deadline) {
+  log::PhaseTimer timer(*emitter_, log::Phase::TaskConflictDetection);
+  TaskConflictDetector detector(sampler_, space_, graph_, rng_, params_.conflicts);
+  detector.avoid(rejected_);
+  TaskConflictResult conflicts = detector.detect(plan, deadline);
+  if (!conflicts.feasible()) return std::nullopt;
+  return std::move(conflicts.transitions);
 }
 
 TaskLayer::Lifted TaskLayer::liftTemporaryConstraints(const std::string& why) {
   Lifted out;
   for (const TaskConstraint& c : constraints_.removeTemporary()) {
-    emitter_->constraint(c.from_motion ? log::ConstraintKind::Motion : toLogKind(c.kind), log::ConstraintAction::Lifted,
+    emitter_->constraint(toLogKind(c.kind), log::ConstraintAction::Lifted,
                          0, why, {}, c.cause);
     out.any = true;
     out.motion = out.motion || c.from_motion;
@@ -138,7 +144,7 @@ TaskLayer::Lifted TaskLayer::liftTemporaryConstraints(const std::string& why) {
 
 void TaskLayer::expireTemporaryConstraints() {
   for (const TaskConstraint& c : constraints_.expireTemporary())
-    emitter_->constraint(c.from_motion ? log::ConstraintKind::Motion : toLogKind(c.kind), log::ConstraintAction::Lifted,
+    emitter_->constraint(toLogKind(c.kind), log::ConstraintAction::Lifted,
                          0, "lifted after " + std::to_string(motion_failures_[banKey(c)]) + " task queries", {},
                          c.cause);
 }

@@ -5,6 +5,7 @@
 // (infeasible transitions, blocked motions) through addConstraint(), then asks for a new plan.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -28,6 +29,9 @@ struct TaskLayerParams {
   /// A hyperarc the motion layer fails on again is banned for as many task queries as it has failed
   /// (at most this many), so that alternatives get tried instead of two failing ones alternating.
   int max_ban_queries = 8;
+  /// A motion failure at a handover bans the handover class (robots, grasps), not just the hyperarc
+  /// (beyond the paper).
+  bool handover_class_bans = true;
 };
 
 enum class TaskLayerStatus { kFeasible, kInfeasible, kTimeout };
@@ -62,8 +66,14 @@ class TaskLayer {
   bool addConstraint(const TaskConstraint& c);
   /// The motion layer found no way to robot r's transition configuration q (or conflict resolution could
   /// not schedule the handover at it): task conflict detection chooses another from now on while there
-  /// is another (logged as a motion constraint); false if q was already rejected.
-  bool rejectTransition(int robot, const JointVector& q, const std::string& cause);
+  /// is another (the region of a motion constraint, which the caller logs); false if q was already
+  /// rejected.
+  bool rejectTransition(int robot, const JointVector& q);
+  /// Algorithm 1's inner loop: task conflict detection again on the same task plan, choosing transition
+  /// configurations outside the rejected ones. The new configurations when the plan stays task-level
+  /// feasible without new task constraints; nullopt otherwise (nothing is added: the caller feeds the
+  /// failure back to the task query).
+  std::optional<std::vector<TransitionConfig>> resampleTransitions(const TaskPlan& plan, const Deadline& deadline);
 
   const TaskSpace& space() const { return space_; }
   const TaskHypergraph& graph() const { return graph_; }

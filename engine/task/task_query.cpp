@@ -138,7 +138,10 @@ TaskQueryResult queryTaskPlan(const TaskHypergraph& graph, const TaskSpace& spac
   TaskQueryResult out;
   out.status = result.status;
   out.stats = result.stats;
-  if (result.found()) out.plan = removeRoundTrips(planFromHyperpath(graph, result), graph, constraints);
+  if (result.found()) {
+    out.plan = planFromHyperpath(graph, result);
+    if (params.remove_round_trips) out.plan = removeRoundTrips(out.plan, graph, constraints);
+  }
   return out;
 }
 

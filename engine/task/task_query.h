@@ -16,6 +16,7 @@ namespace dash {
 struct TaskQueryParams {
   HyperpathAlgorithm algorithm = HyperpathAlgorithm::kGreedy;
   std::size_t max_expansions = 400000;
+  bool remove_round_trips = true;  ///< removeRoundTrips on the found plan (beyond the paper)
 };
 
 struct TaskQueryResult {

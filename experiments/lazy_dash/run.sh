@@ -6,6 +6,7 @@
 # the solved runs (failed runs show their status instead).
 #
 #   experiments/lazy_dash/run.sh [--large] [--scene "FAMILY K=V ..."]... [--seeds N] [--time-limit SEC]
+#                                [--plan-args "--set NAME=VALUE --profile paper ..."]
 #
 # Default: the small cases (sorting 4x8, wall 8/2/16, shelf-wall 2/8, stocking 2/8, lab 2);
 # --large: the paper's largest instances (600 s each by default); --scene (repeatable): these scenes
@@ -18,6 +19,7 @@ ROOT="$(cd "$HERE/../.." && pwd)"
 DASHBENCH="${DASHBENCH:-$ROOT/dashbench}"
 SEEDS=1
 TIME_LIMIT=600
+PLAN_ARGS=""
 SCENES=(
   "sorting robots=4 objects=8"
   "wall robots=8 walls=2 objects=16"
@@ -40,7 +42,8 @@ while [ $# -gt 0 ]; do
     --scene) CHOSEN+=("$2"); shift 2 ;;
     --seeds) SEEDS="$2"; shift 2 ;;
     --time-limit) TIME_LIMIT="$2"; shift 2 ;;
-    -h|--help) sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --plan-args) PLAN_ARGS="$2"; shift 2 ;;
+    -h|--help) sed -n '2,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -50,7 +53,7 @@ trap 'rm -rf "$WORK"' EXIT
 
 median() { sort -g | awk '{v[NR]=$1} END{if (NR==0) print "-"; else if (NR%2) print v[(NR+1)/2]; else print (v[NR/2]+v[NR/2+1])/2}'; }
 
-echo "| scene | solved | total (s) | per seed (s) | task constr. / query / conflict det. (s) | motion constr. / query (s) | conflict res. (s) | H_T | H_TE | H_M | H_ME | makespan (s) | collision checks |"
+echo "| scene | solved | total (s) | per seed (s) | task constr. / query / conflict det. (s) | motion constr. / query (s) | conflict res. / validation (s) | H_T | H_TE | H_M | H_ME | makespan (s) | collision checks |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for spec in "${SCENES[@]}"; do
   read -r family params <<<"$spec"
@@ -62,7 +65,8 @@ for spec in "${SCENES[@]}"; do
     # shellcheck disable=SC2086
     "$DASHBENCH" scenario "$family" $params --seed "$seed" -o "$WORK/scene.json" >/dev/null 2>&1
     set +e
-    "$DASHBENCH" plan --scene "$WORK/scene.json" --seed "$seed" --time-limit "$TIME_LIMIT" \
+    # shellcheck disable=SC2086
+    "$DASHBENCH" plan --scene "$WORK/scene.json" --seed "$seed" --time-limit "$TIME_LIMIT" $PLAN_ARGS \
       --out "$WORK/plan.json" >"$WORK/out" 2>"$WORK/err"
     rc=$?
     set -e
@@ -74,15 +78,15 @@ for spec in "${SCENES[@]}"; do
       rc=1
     fi
     statuses="$statuses ${status:-crashed}"
-    [ "$rc" -eq 0 ] && per_seed="$per_seed, $(grep '^time:' "$WORK/err" | grep -o '(phases [0-9.]*' | awk '{printf "%.0f", $2}')" \
+    [ "$rc" -eq 0 ] && per_seed="$per_seed, $(grep '^time:' "$WORK/err" | grep -o ' total [0-9.]*' | awk '{printf "%.0f", $2}')" \
       || per_seed="$per_seed, ${status:-crashed}"
     phase() { grep '^time:' "$WORK/err" | grep -o "$1 [0-9.]*" | awk '{print $2}' | head -1; }
-    total=$(grep '^time:' "$WORK/err" | grep -o '(phases [0-9.]*' | awk '{print $2}' || true)
+    total=$(grep '^time:' "$WORK/err" | grep -o ' total [0-9.]*' | awk '{print $2}' || true)
     sizes=$(grep '^sizes:' "$WORK/err" | awk '{print $3, $5, $7, $9}' || true)
     checks=$(grep '^collision checks:' "$WORK/err" | awk '{print $3 + $5}' || true)
     makespan=$(grep -o 'makespan [0-9.]*' "$WORK/out" | awk '{print $2}' || true)
     echo "$rc ${total:-0} $(phase task_construction) $(phase task_query) $(phase task_conflict_detection)" \
-      "$(phase motion_construction) $(phase motion_query) $(phase conflict_resolution) $sizes ${makespan:-0} ${checks:-0}" \
+      "$(phase motion_construction) $(phase motion_query) $(phase conflict_resolution) $(phase validation) $sizes ${makespan:-0} ${checks:-0}" \
       | awk '{for (i = 1; i <= NF; ++i) if ($i == "") $i = 0; print}' >>"$WORK/rows"
   done
   col() { awk -v c="$1" '$1 == 0 {print ($c == "" ? 0 : $c)}' "$WORK/rows" | median; }
@@ -92,7 +96,7 @@ for spec in "${SCENES[@]}"; do
       "${per_seed#, }"
     continue
   fi
-  printf '| %s %s | %d/%d | %s | %s | %s / %s / %s | %s / %s | %s | %s | %s | %s | %s | %s | %s |\n' "$family" "$params" "$ok" \
-    "$SEEDS" "$(col 2)" "${per_seed#, }" "$(col 3)" "$(col 4)" "$(col 5)" "$(col 6)" "$(col 7)" "$(col 8)" "$(last 9)" "$(last 10)" \
-    "$(last 11)" "$(last 12)" "$(col 13)" "$(col 14)"
+  printf '| %s %s | %d/%d | %s | %s | %s / %s / %s | %s / %s | %s / %s | %s | %s | %s | %s | %s | %s |\n' "$family" "$params" "$ok" \
+    "$SEEDS" "$(col 2)" "${per_seed#, }" "$(col 3)" "$(col 4)" "$(col 5)" "$(col 6)" "$(col 7)" "$(col 8)" "$(col 9)" "$(last 10)" \
+    "$(last 11)" "$(last 12)" "$(last 13)" "$(col 14)" "$(col 15)"
 done

@@ -26,6 +26,18 @@
 namespace dash::batch {
 namespace {
 
+/// The run's settings as given plus "parameters": every named planner parameter's effective value
+/// (defaults included), so that the results database holds the full set each run planned with.
+std::string withEffectiveParameters(const std::string& planner, const std::string& settings_json) {
+  try {
+    const ParamValues effective = resolveParameters(planner, plannerParameterSettings(settings_json));
+    std::string out = settings_json.empty() || settings_json == "{}" ? "{" : settings_json.substr(0, settings_json.size() - 1) + ",";
+    return out + "\"parameters\":" + parametersJson(effective) + "}";
+  } catch (const std::exception&) {
+    return settings_json;  // a planner this build does not know (allow_unknown_planners)
+  }
+}
+
 using Seconds = std::chrono::duration<double>;
 using std::chrono::milliseconds;
 
@@ -518,7 +530,7 @@ struct BatchRunner::Impl {
     meta.params_json = run.paramsJson();
     meta.seed = run.seed;
     meta.planner = run.planner;
-    meta.planner_settings_json = run.settings_json;
+    meta.planner_settings_json = withEffectiveParameters(run.planner, run.settings_json);
     meta.planner_config_name = run.label;
     meta.time_limit = run.time_limit;
     if (run.memory_limit_mb > 0) meta.memory_limit = run.memory_limit_mb;

@@ -209,7 +209,23 @@ PlannerEntry parsePlanner(const Checker& check, const Json& j, const std::string
                  "set by the batch, not per planner (use the spec's 'seeds' and 'time_limit')");
     }
   }
-  check.keys(settings, swhere, {"task_only", "test_fault"}, {});
+  // Besides these two, a planner's settings are its named parameters (engine/core/planner_params.h).
+  std::vector<std::string> allowed{"task_only", "test_fault"};
+  if (std::find(names.begin(), names.end(), entry.name) != names.end())
+    for (const ParamInfo& p : plannerParameters(entry.name)) allowed.push_back(p.name);
+  check.keys(settings, swhere, allowed, {});
+  if (std::find(names.begin(), names.end(), entry.name) != names.end()) {
+    for (const auto& [key, value] : settings.items()) {
+      if (key == "task_only" || key == "test_fault") continue;
+      if (!value.is_boolean() && !value.is_number())
+        check.fail(SpecErrorKind::kBadValue, swhere + "." + key, "expected true, false or a number");
+      try {
+        resolveParameters(entry.name, {{key, value.dump()}});
+      } catch (const InputError& e) {
+        check.fail(SpecErrorKind::kBadValue, swhere + "." + key, e.what());
+      }
+    }
+  }
   if (settings.contains("task_only")) {
     if (!settings["task_only"].is_boolean())
       check.fail(SpecErrorKind::kSyntax, swhere + ".task_only", "expected true or false");
@@ -360,6 +376,15 @@ RunSpec RunSpec::fromJson(const std::string& text) {
   } catch (const nlohmann::json::exception& e) {
     throw InputError(std::string("malformed run description: ") + e.what());
   }
+}
+
+ParamValues plannerParameterSettings(const std::string& settings_json) {
+  ParamValues out;
+  const Json settings = Json::parse(settings_json.empty() ? "{}" : settings_json);
+  if (!settings.is_object()) return out;
+  for (const auto& [key, value] : settings.items())
+    if (key != "task_only" && key != "test_fault") out[key] = value.dump();
+  return out;
 }
 
 BatchSpec parseBatchSpec(const std::string& json_text, const std::string& source_name, const SpecOptions& options) {

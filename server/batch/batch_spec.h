@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "engine/core/check.h"
+#include "engine/core/planner_params.h"
 
 namespace dash::batch {
 
@@ -113,6 +114,10 @@ struct RunSpec {
   std::string toJson() const;
   static RunSpec fromJson(const std::string& text);
 };
+
+/// The named planner parameters among a run's settings (every key but task_only and test_fault), as
+/// text for resolveParameters.
+ParamValues plannerParameterSettings(const std::string& settings_json);
 
 /// Parses and validates a spec. `source_name` prefixes messages (a file name, or empty).
 BatchSpec parseBatchSpec(const std::string& json_text, const std::string& source_name = "",

@@ -127,6 +127,7 @@ int runOneChild(const RunSpec& run, int fd) {
     settings.time_limit = run.time_limit;
     settings.task_only = run.task_only;
     settings.test_fault = run.test_fault;
+    settings.params = plannerParameterSettings(run.settings_json);
     PipeSink sink(writer);
     const Flusher flusher(writer);
     writer.append([&](std::string& out) { proto::appendStarted(out, scene.name); }, true);

@@ -20,6 +20,14 @@ Args::Args(const std::vector<std::string>& words, const ArgSpec& spec) {
       if (spec.flags.count(name) != 0) {
         DASH_THROW_UNLESS(!inline_value, "option --" + name + " takes no value");
         flags_.insert(name);
+      } else if (spec.repeated.count(name) != 0) {
+        if (inline_value) {
+          repeated_[name].push_back(*inline_value);
+        } else {
+          DASH_THROW_UNLESS(i + 1 < words.size(), "option --" + name + " needs a value");
+          repeated_[name].push_back(words[++i]);
+        }
+        DASH_THROW_UNLESS(repeated_[name].size() <= 1000, "option --" + name + " given too many times");
       } else if (spec.options.count(name) != 0) {
         if (inline_value) {
           values_[name] = *inline_value;
@@ -39,7 +47,14 @@ Args::Args(const std::vector<std::string>& words, const ArgSpec& spec) {
   }
 }
 
-bool Args::has(const std::string& name) const { return flags_.count(name) != 0 || values_.count(name) != 0; }
+bool Args::has(const std::string& name) const {
+  return flags_.count(name) != 0 || values_.count(name) != 0 || repeated_.count(name) != 0;
+}
+
+std::vector<std::string> Args::all(const std::string& name) const {
+  auto it = repeated_.find(name);
+  return it == repeated_.end() ? std::vector<std::string>{} : it->second;
+}
 
 std::optional<std::string> Args::get(const std::string& name) const {
   auto it = values_.find(name);

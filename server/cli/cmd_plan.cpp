@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "engine/core/check.h"
+#include "engine/core/planner_params.h"
 #include "engine/plan/plan_json.h"
 #include "engine/planners/planner.h"
 #include "engine/planners/progress_sink.h"
@@ -24,7 +25,7 @@ void printRunSummary(const PlanStats& stats) {
     std::fprintf(stderr, "  %s %.2f s", log::toString(static_cast<log::Phase>(p)), stats.phase_seconds[p]);
     total += stats.phase_seconds[p];
   }
-  std::fprintf(stderr, "  (phases %.2f s)\n", total);
+  std::fprintf(stderr, "  total %.2f s (wall %.2f s)\n", total, stats.wall_seconds);
   const RepresentationCounts& n = stats.sizes;
   std::fprintf(stderr, "sizes: H_T %zu/%zu  H_TE %zu/%zu  H_M %zu/%zu  H_ME %zu/%zu  roadmaps %lld/%lld\n",
                n.task_vertices, n.task_hyperarcs, n.task_extended_vertices, n.task_extended_hyperarcs,
@@ -42,6 +43,7 @@ extern const char* const kPlanHelp;
 const char* const kPlanHelp =
     "usage: dashbench plan --scene FILE [--planner lazy-dash|dash] [--seed S] [--time-limit SEC]\n"
     "                      [--out PLAN.json] [--task-only] [--json] [--quiet]\n"
+    "                      [--set NAME=VALUE]... [--profile paper|default] [--params]\n"
     "Plan for a scene. Progress (phase, iteration, representation sizes, elapsed time) goes to stderr;\n"
     "Ctrl-C stops the planner cleanly.\n"
     "  --planner NAME   lazy-dash (default) or dash (the DaSH baseline: exhaustive, validated)\n"
@@ -51,6 +53,10 @@ const char* const kPlanHelp =
     "  --task-only      stop after the task layer and print the unvalidated schedule\n"
     "  --json           with --task-only: print the schedule as JSON\n"
     "  --verbose        also print every constraint and task space expansion as it is learned\n"
+    "  --set NAME=VALUE set a named planner parameter (repeatable; see --params)\n"
+    "  --profile NAME   paper: every extension beyond the published algorithm off; default: none\n"
+    "                   (--set applies after the profile)\n"
+    "  --params         list the planner parameters (both planners without --planner) and exit\n"
     "Exit codes: 0 solved, 3 not solved in time or infeasible, 2 bad input.\n";
 
 namespace {
@@ -59,8 +65,23 @@ void onPlanInterrupt(int) { g_stop.store(true); }
 }  // namespace
 
 int runPlan(const std::vector<std::string>& words) {
-  Args args(words, {.options = {"scene", "planner", "seed", "time-limit", "out", "test-fault"},
-                    .flags = {"task-only", "json", "quiet", "verbose"}});
+  Args args(words, {.options = {"scene", "planner", "seed", "time-limit", "out", "test-fault", "profile"},
+                    .flags = {"task-only", "json", "quiet", "verbose", "params"},
+                    .repeated = {"set"}});
+  if (args.has("params")) {
+    const auto planner = args.get("planner");
+    if (planner) plannerParameters(*planner);  // an unknown name is bad input
+    for (const std::string& name : plannerNames())
+      if (!planner || *planner == name) std::printf("%s\n", describeParameters(name).c_str());
+    return kExitOk;
+  }
+  const std::string planner_name = args.get("planner", "lazy-dash");
+  ParamValues params = profileOverrides(planner_name, args.get("profile", "default"));
+  for (const std::string& assignment : args.all("set")) {
+    auto [name, value] = parseAssignment(assignment);
+    params[name] = value;
+  }
+  resolveParameters(planner_name, params);  // every name and value checked before the scene is read
   const Scene scene = loadScene(args.require("scene"), RobotLibrary::loadDefault());
   PlannerSettings settings;
   settings.seed = static_cast<std::uint64_t>(args.integer("seed", 1));
@@ -68,7 +89,8 @@ int runPlan(const std::vector<std::string>& words) {
   DASH_THROW_UNLESS(settings.time_limit > 0.0, "--time-limit must be positive");
   settings.task_only = args.has("task-only");
   settings.test_fault = args.get("test-fault", "");
-  auto planner = makePlanner(args.get("planner", "lazy-dash"));
+  settings.params = params;
+  auto planner = makePlanner(planner_name);
 
   std::signal(SIGINT, onPlanInterrupt);
   std::signal(SIGTERM, onPlanInterrupt);

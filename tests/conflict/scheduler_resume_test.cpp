@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "engine/conflict/scheduler.h"
+#include "engine/conflict/step_scheduler.h"
 #include "engine/log/memory_sink.h"
 #include "engine/plan/plan_validator.h"
 #include "engine/scenarios/scenario_registry.h"
@@ -14,6 +15,7 @@ namespace dash {
 namespace {
 
 struct SortingRun {
+  explicit SortingRun(SchedulerParams params = {}) : scheduler{world, context, params} {}
   Scene scene = generateScenario("sorting", {{"robots", "4"}, {"objects", "8"}}, 1, RobotLibrary::loadDefault());
   CollisionWorld world{scene};
   CollisionContext context{world};
@@ -21,7 +23,7 @@ struct SortingRun {
   log::EventEmitter emitter{&sink};
   TaskLayer task{scene, world, context, emitter, 1};
   MotionLayer motion{world, context, emitter};
-  Scheduler scheduler{world, context};
+  Scheduler scheduler;
   TaskLayerResult layer = task.plan(Deadline(120));
 
   ScheduleResult schedule(const TaskPlan& plan) {
@@ -74,6 +76,37 @@ TEST(SchedulerResume, APlanThatPartsHalfWayKeepsTheFirstHalfAndStaysValid) {
     EXPECT_GT(second.step_times[k], second.step_times[k - 1]) << "step " << k;
   const ValidationReport report = validatePlan(run.scene, second.plan);
   EXPECT_TRUE(report.valid()) << report.summary();
+}
+
+// The step scheduler's switches (named planner parameters): without the memo every step is scheduled
+// again; with one arrival mode per handover (no staggering) and no idle robots sent home the plan is
+// still complete and valid (sorting 4x8 needs neither).
+TEST(SchedulerParams, ExtensionsOffStillScheduleValidly) {
+  seedOmplOnce(1);
+  SchedulerParams params;
+  params.schedule_memo = false;
+  params.staggered_arrivals = false;
+  params.idle_arms_home = false;
+  params.parking = false;
+  SortingRun run(params);
+  ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
+  const ScheduleResult first = run.schedule(run.layer.plan);
+  ASSERT_TRUE(first.ok) << first.reason;
+  const ScheduleResult again = run.schedule(run.layer.plan);
+  ASSERT_TRUE(again.ok) << again.reason;
+  EXPECT_EQ(again.stats.reused_steps, 0);
+  for (const ScheduleResult* s : {&first, &again}) {
+    const ValidationReport report = validatePlan(run.scene, s->plan);
+    EXPECT_TRUE(report.valid()) << report.summary();
+    EXPECT_EQ(s->step_times.size(), run.layer.plan.steps.size());
+  }
+}
+
+TEST(SchedulerParams, ArrivalModesHaveNames) {
+  EXPECT_STREQ(toString(ArrivalMode::kTogether), "together");
+  EXPECT_STREQ(toString(ArrivalMode::kGiverFirst), "giver first");
+  EXPECT_STREQ(toString(ArrivalMode::kReceiverFirst), "receiver first");
+  EXPECT_STREQ(toString(ArrivalMode::kComposite), "composite");
 }
 
 }  // namespace

@@ -78,9 +78,11 @@ TEST(LazyDashEndToEnd, TaskOnlyGivesATaskLevelFeasibleSchedule) {
   EXPECT_NE(result.task_plan_json.find("\"handover\""), std::string::npos);
 }
 
-// A motion query that runs out of budget (roadmap and global sampling) first gets other transition
-// configurations (motion constraints that are never lifted), then bans its hyperarc for as many task
-// queries as it has failed (TaskLayerParams::max_ban_queries at most). When no schedule avoids the
+// A motion query that runs out of budget (roadmap and global sampling) first stays in the motion loop:
+// motion constraints (logged as kind motion) make task conflict detection choose other transition
+// configurations for the same task plan. Only when that plan's motion budget is spent does the failure
+// become a task constraint (a ban on its hyperarc, logged as kind interaction) for as many task queries
+// as it has failed (TaskLayerParams::max_ban_queries at most). When no schedule avoids the
 // banned hyperarcs, the bans are lifted and the same hyperarcs go back to the motion layer with a larger
 // budget: starved roadmaps end solved, not infeasible. (Wall: the way round a wall needs the roadmap; the
 // straight segment never gets there.) Without resampling, the same run needs more bans and lifts.
@@ -90,7 +92,7 @@ TEST(LazyDashEndToEnd, StarvedRoadmapsGetOtherConfigurationsAndMoreBudgetInstead
   params.motion.roadmap.query_samples = 3;
   params.motion.roadmap.tree_iterations = 3;  // global sampling starved too
   auto lifted = [](const log::MemorySink& sink) {
-    return sink.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Lifted);
+    return sink.countConstraints(log::ConstraintKind::Interaction, log::ConstraintAction::Lifted);
   };
 
   params.max_transition_resamples = 0;
@@ -98,8 +100,10 @@ TEST(LazyDashEndToEnd, StarvedRoadmapsGetOtherConfigurationsAndMoreBudgetInstead
   const PlanResult banned = LazyDash(params).solve(scene, {}, Deadline(240), &banning);
   ASSERT_EQ(banned.outcome, PlanOutcome::kSolved) << banned.message;
   EXPECT_TRUE(validatePlan(scene, *banned.plan).valid());
-  EXPECT_GT(banning.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created), 0);
+  EXPECT_EQ(banning.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created), 0);
+  EXPECT_GT(banning.countConstraints(log::ConstraintKind::Interaction, log::ConstraintAction::Created), 0);
   EXPECT_GT(lifted(banning), 0);
+  EXPECT_EQ(banned.stats.motion_constraints, 0);
 
   params.max_transition_resamples = 2;  // the default
   log::MemorySink resampling;
@@ -107,7 +111,24 @@ TEST(LazyDashEndToEnd, StarvedRoadmapsGetOtherConfigurationsAndMoreBudgetInstead
   ASSERT_EQ(resampled.outcome, PlanOutcome::kSolved) << resampled.message;
   EXPECT_TRUE(validatePlan(scene, *resampled.plan).valid());
   EXPECT_GT(resampling.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created), 0);
+  EXPECT_EQ(resampled.stats.motion_constraints,
+            resampling.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created));
   EXPECT_LT(lifted(resampling), lifted(banning));
+  // Algorithm 1's loop shape: a motion query failure is a motion constraint first; a ban that follows
+  // from one comes after it.
+  int first_motion = -1, first_ban = -1;
+  const std::vector<log::Event> events = resampling.events();
+  for (int i = 0; i < static_cast<int>(events.size()); ++i) {
+    const auto* c = std::get_if<log::ConstraintEvent>(&events[i].payload);
+    if (c == nullptr || c->action != log::ConstraintAction::Created) continue;
+    if (c->kind == log::ConstraintKind::Motion && first_motion < 0) first_motion = i;
+    if (c->kind == log::ConstraintKind::Interaction && c->conflict.rfind("motion query", 0) == 0 && first_ban < 0)
+      first_ban = i;
+  }
+  ASSERT_GE(first_motion, 0);
+  if (first_ban >= 0) {
+    EXPECT_LT(first_motion, first_ban);
+  }
 }
 
 TEST(LazyDashEndToEnd, StopFlagEndsTheRunPromptly) {

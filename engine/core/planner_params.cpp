@@ -1,0 +1,178 @@
+#include "engine/core/planner_params.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "engine/core/check.h"
+
+namespace dash {
+
+namespace {
+
+ParamInfo flag(std::string name, bool value, std::string description) {
+  return {std::move(name), ParamType::kBool, value ? "true" : "false", value ? "false" : "true", 0, 0,
+          std::move(description)};
+}
+ParamInfo count(std::string name, int value, int paper, int max, std::string description) {
+  return {std::move(name), ParamType::kInt, std::to_string(value), std::to_string(paper), 0, static_cast<double>(max),
+          std::move(description)};
+}
+
+// The conflict resolution extensions both planners share (engine/conflict/scheduler.h).
+std::vector<ParamInfo> schedulerParameters() {
+  return {
+      flag("staggered_arrivals", true,
+           "a handover whose two robots collide on the way also tries one robot in place first, then the other"),
+      flag("idle_arms_home", true, "a robot standing idle in the way is sent home before a step is given up"),
+      flag("parking", true, "robots that step aside in a composite replan go to a parking configuration when home is in the way"),
+      flag("schedule_memo", true, "a task plan that starts like the last one keeps those steps as they were scheduled"),
+  };
+}
+
+std::vector<ParamInfo> lazyDashParameters() {
+  std::vector<ParamInfo> p = {
+      // Motion layer.
+      flag("straight_first", true, "try the straight joint-space segment before a roadmap query"),
+      flag("deep_backoffs", true, "back off 0.15-0.35 m along the approach axis when a transit fails (shelf cubbies)"),
+      flag("global_sampling", true,
+           "RRT-Connect from both ends when the roadmap finds no way between valid ends (the paper's global "
+           "sampling in tree form; off: none)"),
+      flag("path_simplification", true, "shortcut roadmap paths (OMPL PathSimplifier)"),
+      flag("budget_growth", true, "raise the roadmap budgets 4x (at most 3 times) when a failure has no alternative"),
+      // Task layer.
+      flag("round_trip_removal", true, "drop task plan round trips (an object taken out and put back for nothing)"),
+      flag("approach_line_preference", true, "side grasps prefer the IK branch whose approach line is free"),
+      flag("handover_class_bans", true,
+           "a motion failure at a handover bans its class (robots, grasps) instead of the one hyperarc"),
+      // The loop.
+      count("transition_resamples", 2, 0, 100,
+            "transition configurations of one task hyperarc turned down before the hyperarc is banned"),
+      count("validator_rechecks", 3, 0, 100,
+            "schedule again, checking the instant the validator found a contact at (per round)"),
+      count("validation_feedbacks", 5, 0, 100,
+            "contacts the validator finds after the rechecks fed back as task constraints (per run)"),
+      // Paper parameters (budgets): --profile paper leaves them alone.
+      {"motion_budget", ParamType::kInt, "3", "", 1, 1000,
+       "motion rounds on one task plan (motion constraints, resampling) before its failure becomes a task constraint"},
+      {"roadmap_query_samples", ParamType::kInt, "5000", "", 10, 10000000,
+       "Lazy-PRM samples one roadmap query may add"},
+  };
+  for (ParamInfo& s : schedulerParameters()) p.push_back(std::move(s));
+  return p;
+}
+
+const ParamInfo& findParam(const std::vector<ParamInfo>& params, const std::string& planner, const std::string& name) {
+  for (const ParamInfo& p : params)
+    if (p.name == name) return p;
+  std::string known;
+  for (const ParamInfo& p : params) known += (known.empty() ? "" : ", ") + p.name;
+  throw InputError("unknown parameter '" + name + "' for planner " + planner + " (it has: " + known + ")");
+}
+
+/// The canonical text of `value` for `p`, or InputError naming the parameter.
+std::string checked(const ParamInfo& p, const std::string& value) {
+  auto bad = [&](const std::string& why) {
+    return InputError("parameter " + p.name + ": '" + value + "' " + why);
+  };
+  if (p.type == ParamType::kBool) {
+    if (value == "true" || value == "1" || value == "on") return "true";
+    if (value == "false" || value == "0" || value == "off") return "false";
+    throw bad("is not true or false");
+  }
+  if (value.size() > 32) throw bad("is too long");
+  double x = 0.0;
+  if (p.type == ParamType::kInt) {
+    long long n = 0;
+    const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), n);
+    if (ec != std::errc() || end != value.data() + value.size()) throw bad("is not an integer");
+    x = static_cast<double>(n);
+  } else {
+    const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), x);
+    if (ec != std::errc() || end != value.data() + value.size() || !std::isfinite(x)) throw bad("is not a number");
+  }
+  if (x < p.min || x > p.max) {
+    std::ostringstream range;
+    range << "is out of range [" << p.min << ", " << p.max << "]";
+    throw bad(range.str());
+  }
+  if (p.type == ParamType::kInt) return std::to_string(static_cast<long long>(x));
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.17g", x);
+  return buffer;
+}
+
+}  // namespace
+
+const std::vector<ParamInfo>& plannerParameters(const std::string& planner) {
+  static const std::vector<ParamInfo> kLazyDash = lazyDashParameters();
+  static const std::vector<ParamInfo> kDash = schedulerParameters();
+  if (planner == "lazy-dash") return kLazyDash;
+  if (planner == "dash") return kDash;
+  throw InputError("unknown planner '" + planner + "'");
+}
+
+ParamValues resolveParameters(const std::string& planner, const ParamValues& overrides) {
+  const std::vector<ParamInfo>& params = plannerParameters(planner);
+  ParamValues out;
+  for (const ParamInfo& p : params) out[p.name] = p.default_value;
+  for (const auto& [name, value] : overrides) out[name] = checked(findParam(params, planner, name), value);
+  return out;
+}
+
+ParamValues profileOverrides(const std::string& planner, const std::string& profile) {
+  if (profile == "default") return {};
+  DASH_THROW_UNLESS(profile == "paper", "unknown profile '" + profile + "' (expected paper or default)");
+  ParamValues out;
+  for (const ParamInfo& p : plannerParameters(planner))
+    if (p.extension()) out[p.name] = p.paper_value;
+  return out;
+}
+
+std::pair<std::string, std::string> parseAssignment(const std::string& text) {
+  const auto eq = text.find('=');
+  DASH_THROW_UNLESS(eq != std::string::npos && eq > 0, "--set expects NAME=VALUE, got '" + text + "'");
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+std::string describeParameters(const std::string& planner) {
+  std::string out = planner + " parameters (default; the paper's value for extensions):\n";
+  for (const ParamInfo& p : plannerParameters(planner)) {
+    char line[512];
+    std::snprintf(line, sizeof line, "  %-26s %-6s paper %-6s %s\n", p.name.c_str(), p.default_value.c_str(),
+                  p.extension() ? p.paper_value.c_str() : "same", p.description.c_str());
+    out += line;
+  }
+  return out;
+}
+
+std::string parametersJson(const ParamValues& values) {
+  std::string out = "{";
+  for (const auto& [name, value] : values) {
+    if (out.size() > 1) out += ",";
+    // Names are ours (letters and underscores); values are canonical booleans or numbers.
+    out += "\"" + name + "\":" + value;
+  }
+  return out + "}";
+}
+
+bool paramBool(const ParamValues& values, const std::string& name) {
+  const auto it = values.find(name);
+  DASH_DEMAND_MSG(it != values.end(), name);
+  return it->second == "true";
+}
+
+int paramInt(const ParamValues& values, const std::string& name) {
+  const auto it = values.find(name);
+  DASH_DEMAND_MSG(it != values.end(), name);
+  return std::stoi(it->second);
+}
+
+double paramReal(const ParamValues& values, const std::string& name) {
+  const auto it = values.find(name);
+  DASH_DEMAND_MSG(it != values.end(), name);
+  return std::stod(it->second);
+}
+
+}  // namespace dash

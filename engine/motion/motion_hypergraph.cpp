@@ -1,0 +1,154 @@
+#include "engine/motion/motion_hypergraph.h"
+
+#include <bit>
+#include <utility>
+
+#include "engine/core/check.h"
+
+std::size_t std::hash<dash::lazy::MotionVertex>::operator()(const dash::lazy::MotionVertex& v) const noexcept {
+  std::size_t h = std::hash<dash::TaskElement>{}(v.element) * 131 + static_cast<std::uint16_t>(v.robot);
+  for (double x : v.values) {
+    // + 0.0 makes -0.0 hash as 0.0 (they compare equal).
+    h ^= std::bit_cast<std::uint64_t>(x + 0.0) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+  }
+  return h;
+}
+
+namespace dash::lazy {
+
+namespace {
+
+const char* arcTypeName(const MotionArc& a) {
+  switch (a.type) {
+    case MotionArcType::kSource:
+      return "source";
+    case MotionArcType::kSink:
+      return "sink";
+    case MotionArcType::kMove:
+      return "move";
+    case MotionArcType::kTransition:
+      return taskArcTypeName(a.action.type);
+  }
+  return "?";
+}
+
+std::vector<std::uint32_t> ids(std::span<const VertexId> vs) {
+  std::vector<std::uint32_t> out;
+  for (VertexId v : vs) out.push_back(v.value());
+  return out;
+}
+
+}  // namespace
+
+MotionHypergraph::MotionHypergraph(log::EventEmitter& emitter, std::function<std::string(const MotionVertex&)> labels)
+    : emitter_(&emitter), labels_(std::move(labels)) {}
+
+VertexId MotionHypergraph::addVertex(MotionVertex v) {
+  const AddResult<VertexId> added = graph_.addVertex(std::move(v));
+  if (added.inserted && emitter_->enabled())
+    emitter_->vertex(log::Layer::Motion, added.id.value(), labels_ ? labels_(graph_.property(added.id)) : std::string());
+  return added.id;
+}
+
+HyperarcId MotionHypergraph::addArc(std::vector<VertexId> tail, std::vector<VertexId> head, MotionArc property,
+                                    const char* type) {
+  const AddResult<HyperarcId> added = graph_.addHyperarc(std::move(tail), std::move(head), std::move(property));
+  if (added.inserted) {
+    paths_.emplace_back();
+    emitter_->hyperarc(log::Layer::Motion, type, added.id.value(), ids(graph_.head(added.id)), ids(graph_.tail(added.id)));
+  }
+  return added.id;
+}
+
+VertexId MotionHypergraph::robotVertex(int robot, const TaskElement& element, const JointVector& q) {
+  return addVertex({static_cast<std::int16_t>(robot), element, std::vector<double>(q.data(), q.data() + q.size())});
+}
+
+VertexId MotionHypergraph::objectVertex(int object, int location, const Pose& X_WO) {
+  MotionVertex v{-1, TaskElement::objectAt(object, location), {}};
+  for (int i = 0; i < 3; ++i) v.values.push_back(X_WO.translation()[i]);
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) v.values.push_back(X_WO.linear()(r, c));
+  return addVertex(std::move(v));
+}
+
+std::optional<HyperarcId> MotionHypergraph::move(VertexId from, VertexId to, const std::vector<JointVector>& path) {
+  if (from == to) return std::nullopt;
+  const HyperarcId id = addArc({from}, {to}, MotionArc{MotionArcType::kMove, {}}, "move");
+  paths_[id.value()] = path;
+  return id;
+}
+
+HyperarcId MotionHypergraph::transition(const TaskArc& action, std::vector<VertexId> tail, std::vector<VertexId> head) {
+  MotionArc a{MotionArcType::kTransition, action};
+  a.action.cost = 0.0;  // not part of equality; keep the stored property canonical
+  const char* type = arcTypeName(a);
+  return addArc(std::move(tail), std::move(head), std::move(a), type);
+}
+
+HyperarcId MotionHypergraph::source(std::vector<VertexId> head) {
+  return addArc({}, std::move(head), MotionArc{MotionArcType::kSource, {}}, "source");
+}
+
+HyperarcId MotionHypergraph::sink(std::vector<VertexId> tail) {
+  return addArc(std::move(tail), {}, MotionArc{MotionArcType::kSink, {}}, "sink");
+}
+
+std::size_t MotionHypergraph::coupledHyperarcCount() const {
+  std::size_t n = 0;
+  for (HyperarcId a : graph_.hyperarcs()) {
+    if (graph_.property(a).type != MotionArcType::kTransition) continue;
+    int first = -2;
+    bool coupled = false;
+    for (VertexId v : graph_.tail(a)) {
+      const int r = graph_.property(v).robot;
+      if (r < 0) continue;
+      if (first >= 0 && r != first) coupled = true;
+      if (first < 0) first = r;
+    }
+    n += coupled ? 1 : 0;
+  }
+  return n;
+}
+
+MotionQueryCounts MotionHypergraph::query(HyperarcId source, const std::vector<HyperarcId>& sequence,
+                                          std::optional<HyperarcId> sink, const Deadline& deadline) {
+  MotionQueryCounts counts;
+  HyperpathSearchParams params;
+  params.algorithm = HyperpathAlgorithm::kGreedy;
+  params.deadline = deadline;
+  params.maxDepth = sequence.size() + 1;
+  // Only the schedule's next hyperarc may be expanded; the sink once the schedule is done. A trace
+  // that stopped early has no sink: the source stands in for it and is never allowed.
+  const HyperarcId goal = sink.value_or(source);
+  params.allowed = [&](const HyperpathState& state, HyperarcId arc) {
+    const std::size_t depth = state.depth();
+    if (arc == goal) return sink.has_value() && depth == sequence.size();
+    return depth < sequence.size() && sequence[depth] == arc;
+  };
+  // A robot may come back to a vertex it left (the same handover configuration for two objects): the
+  // vertices seen so far are part of the state, so that such a state is not taken for a visited one.
+  params.historyRelevant = [](VertexId) { return true; };
+  const std::size_t vertex_base = extended_vertices_, arc_base = extended_hyperarcs_;
+  params.onExtendedVertex = [&](const ExtendedVertex& v) {
+    ++counts.extended_vertices;
+    emitter_->vertex(log::Layer::MotionExtended, static_cast<std::uint32_t>(vertex_base + v.id.value()),
+                     std::to_string(v.vertex.value()));
+  };
+  params.onExtendedHyperarc = [&](const ExtendedHyperarc& a) {
+    ++counts.extended_hyperarcs;
+    if (!emitter_->enabled()) return;
+    std::vector<std::uint32_t> head, tail;
+    for (ExtendedVertexId v : a.produced) head.push_back(static_cast<std::uint32_t>(vertex_base + v.value()));
+    for (ExtendedVertexId v : a.consumed) tail.push_back(static_cast<std::uint32_t>(vertex_base + v.value()));
+    emitter_->hyperarc(log::Layer::MotionExtended, arcTypeName(graph_.property(a.hyperarc)),
+                       static_cast<std::uint32_t>(arc_base + a.id.value()), std::move(head), std::move(tail));
+  };
+  const HyperpathResult found = findHyperpath(graph_, HyperpathQuery{source, goal}, params);
+  counts.reached_sink = found.found() && sink.has_value();
+  extended_vertices_ += counts.extended_vertices;
+  extended_hyperarcs_ += counts.extended_hyperarcs;
+  return counts;
+}
+
+}  // namespace dash::lazy

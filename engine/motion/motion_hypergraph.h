@@ -1,0 +1,123 @@
+#pragma once
+// The motion hypergraph H_M of Lazy-DaSH (paper, "Motion Planning Layer: Representation Construction"),
+// kept for the whole run. A motion vertex is <v_T, q>: a task space element (robot alone, robot holding
+// an object with a grasp class, object at a location) with an explicit configuration (joint values, or
+// the object's pose). A motion hyperarc is <Tail, Head, E_T, pi>:
+//   move        one robot in one composition space, tail {robot@q_a} head {robot@q_b}, path pi
+//   pick/place  tail {robot@q, object@pose} -> head {robot+object@q} (and back for a place)
+//   handover    ONE hyperarc coupling both robots: tail {giver+object@q, receiver@q2},
+//               head {giver@q, receiver+object@q2}
+//   inspect     tail = head = {robot@q}
+//   source/sink the start frontier (every robot home, every object at its start) and the end frontier.
+// Elements are deduplicated across rounds (Hypergraph looks them up by property, tail and head): a
+// transition configuration that a later task plan reuses is the same vertex, a move between the same
+// two vertices the same hyperarc, so H_M grows only when a task plan needs an element it lacks. Sizes
+// are the live structure's. The path of a move is the last one validated for it.
+//
+// The motion query (paper, "Query (Motion-extended Hypergraph)") is a hyperpath search over H_M from
+// the source, expanding only the motion hyperarcs of the current unvalidated schedule in its order;
+// H_ME is counted from that search's own workspace (extended vertices and hyperarcs), as H_TE is.
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/geometry/pose.h"
+#include "engine/hypergraph/hypergraph.h"
+#include "engine/hypergraph/hyperpath_search.h"
+#include "engine/log/event_emitter.h"
+#include "engine/robots/joint_vector.h"
+#include "engine/task/task_arc.h"
+#include "engine/task/task_element.h"
+
+// In namespace dash::lazy: DaSH has a motion hypergraph of its own (engine/dash/motion_hypergraph.h).
+namespace dash::lazy {
+
+/// <v_T, q>: robot >= 0 for a robot's configuration (values = joints), -1 for an object's pose
+/// (values = translation, then the rotation matrix column by column).
+struct MotionVertex {
+  std::int16_t robot = -1;
+  TaskElement element;
+  std::vector<double> values;
+
+  bool operator==(const MotionVertex&) const = default;
+};
+
+enum class MotionArcType : std::int8_t { kSource, kSink, kMove, kTransition };
+
+/// The property of a motion hyperarc: its kind and, for transitions, the task action E_T.
+struct MotionArc {
+  MotionArcType type = MotionArcType::kMove;
+  TaskArc action;  ///< transitions only (default otherwise)
+
+  bool operator==(const MotionArc& o) const { return type == o.type && action == o.action; }
+};
+
+}  // namespace dash::lazy
+
+template <>
+struct std::hash<dash::lazy::MotionVertex> {
+  std::size_t operator()(const dash::lazy::MotionVertex& v) const noexcept;
+};
+template <>
+struct std::hash<dash::lazy::MotionArc> {
+  std::size_t operator()(const dash::lazy::MotionArc& a) const noexcept {
+    return std::hash<dash::TaskArc>{}(a.action) * 31 + static_cast<std::size_t>(a.type);
+  }
+};
+
+namespace dash::lazy {
+
+/// What one motion query over H_M built (its extended hypergraph) and whether it reached the sink.
+struct MotionQueryCounts {
+  std::size_t extended_vertices = 0;
+  std::size_t extended_hyperarcs = 0;
+  bool reached_sink = false;
+};
+
+class MotionHypergraph {
+ public:
+  using Graph = Hypergraph<MotionVertex, MotionArc>;
+
+  /// `emitter` receives an H_M event for each element actually added, and the H_ME events of each
+  /// query; `labels` names robots and objects in those events (may be empty).
+  explicit MotionHypergraph(log::EventEmitter& emitter, std::function<std::string(const MotionVertex&)> labels = {});
+
+  VertexId robotVertex(int robot, const TaskElement& element, const JointVector& q);
+  VertexId objectVertex(int object, int location, const Pose& X_WO);
+  /// A move of one robot; `path` (from -> to) is stored as the arc's pi. Empty when from == to (no arc).
+  std::optional<HyperarcId> move(VertexId from, VertexId to, const std::vector<JointVector>& path);
+  HyperarcId transition(const TaskArc& action, std::vector<VertexId> tail, std::vector<VertexId> head);
+  HyperarcId source(std::vector<VertexId> head);
+  HyperarcId sink(std::vector<VertexId> tail);
+
+  /// The motion query along a schedule: a hyperpath search from `source` that may expand only
+  /// sequence[depth] at each depth, and the sink once the sequence is done. Without a sink (a trace
+  /// that stopped at a motion failure) the search walks what was traced and ends there.
+  MotionQueryCounts query(HyperarcId source, const std::vector<HyperarcId>& sequence,
+                          std::optional<HyperarcId> sink, const Deadline& deadline);
+
+  const Graph& graph() const { return graph_; }
+  std::size_t vertexCount() const { return graph_.vertexCount(); }
+  std::size_t hyperarcCount() const { return graph_.hyperarcCount(); }
+  /// Over every query of the run.
+  std::size_t extendedVertexCount() const { return extended_vertices_; }
+  std::size_t extendedHyperarcCount() const { return extended_hyperarcs_; }
+  const std::vector<JointVector>& path(HyperarcId move) const { return paths_[move.value()]; }
+  /// Transition hyperarcs whose tail holds vertices of two different robots (handovers).
+  std::size_t coupledHyperarcCount() const;
+
+ private:
+  VertexId addVertex(MotionVertex v);
+  HyperarcId addArc(std::vector<VertexId> tail, std::vector<VertexId> head, MotionArc property, const char* type);
+
+  log::EventEmitter* emitter_;
+  std::function<std::string(const MotionVertex&)> labels_;
+  Graph graph_;
+  std::vector<std::vector<JointVector>> paths_;  ///< per hyperarc (moves only)
+  std::size_t extended_vertices_ = 0;
+  std::size_t extended_hyperarcs_ = 0;
+};
+
+}  // namespace dash::lazy

@@ -1,0 +1,153 @@
+// The motion hypergraph H_M: deduplicated across rounds, a handover as one hyperarc coupling both
+// robots, H_ME counted from the motion query's own search; and a motion constraint's region respected
+// by the next motion query on the same task plan.
+#include <gtest/gtest.h>
+
+#include "engine/log/memory_sink.h"
+#include "engine/motion/motion_hypergraph.h"
+#include "engine/motion/motion_layer.h"
+#include "engine/scenarios/scenario_registry.h"
+#include "engine/task/task_layer.h"
+
+namespace dash {
+namespace {
+
+using lazy::MotionHypergraph;
+using lazy::MotionQueryCounts;
+
+JointVector joints(double a) {
+  JointVector q(6);
+  q << a, 0, 0, 0, 0, 0;
+  return q;
+}
+
+TEST(MotionHypergraph, AnElementAddedAgainIsTheSameElement) {
+  log::EventEmitter emitter(nullptr);
+  MotionHypergraph g(emitter);
+  const VertexId a = g.robotVertex(0, TaskElement::robotAlone(0), joints(0.1));
+  const VertexId b = g.robotVertex(0, TaskElement::robotAlone(0), joints(0.2));
+  EXPECT_EQ(g.robotVertex(0, TaskElement::robotAlone(0), joints(0.1)), a);
+  EXPECT_NE(g.robotVertex(1, TaskElement::robotAlone(1), joints(0.1)), a);  // another robot
+  EXPECT_NE(g.robotVertex(0, TaskElement::holding(0, 0, GraspClass::kTop), joints(0.1)), a);  // another v_T
+  const auto m = g.move(a, b, {joints(0.1), joints(0.2)});
+  ASSERT_TRUE(m.has_value());
+  EXPECT_EQ(g.move(a, b, {joints(0.1), joints(0.15), joints(0.2)}), m);
+  EXPECT_EQ(g.path(*m).size(), 3u);  // the last validated path
+  EXPECT_FALSE(g.move(a, a, {}).has_value());
+  EXPECT_EQ(g.vertexCount(), 4u);
+  EXPECT_EQ(g.hyperarcCount(), 1u);
+}
+
+TEST(MotionHypergraph, AHandoverIsOneHyperarcCouplingBothRobotsAndTheQueryWalksTheSchedule) {
+  log::EventEmitter emitter(nullptr);
+  MotionHypergraph g(emitter);
+  TaskArc handover;
+  handover.type = TaskArcType::kHandover;
+  handover.robot = 0;
+  handover.robot2 = 1;
+  handover.object = 0;
+  const VertexId home0 = g.robotVertex(0, TaskElement::robotAlone(0), joints(0));
+  const VertexId home1 = g.robotVertex(1, TaskElement::robotAlone(1), joints(0));
+  const VertexId obj = g.objectVertex(0, 0, Pose::Identity());
+  const VertexId pick_at = g.robotVertex(0, TaskElement::robotAlone(0), joints(0.5));
+  const VertexId held = g.robotVertex(0, TaskElement::holding(0, 0, GraspClass::kTop), joints(0.5));
+  const VertexId give = g.robotVertex(0, TaskElement::holding(0, 0, GraspClass::kTop), joints(0.9));
+  const VertexId given = g.robotVertex(0, TaskElement::robotAlone(0), joints(0.9));
+  const VertexId take = g.robotVertex(1, TaskElement::robotAlone(1), joints(0.7));
+  const VertexId taken = g.robotVertex(1, TaskElement::holding(1, 0, GraspClass::kTop), joints(0.7));
+  const HyperarcId source = g.source({home0, home1, obj});
+  TaskArc pick;
+  pick.robot = 0;
+  pick.object = 0;
+  std::vector<HyperarcId> seq{*g.move(home0, pick_at, {}), g.transition(pick, {pick_at, obj}, {held}),
+                              *g.move(held, give, {}), *g.move(home1, take, {}),
+                              g.transition(handover, {give, take}, {given, taken}),
+                              // back home and out again to the same place: a vertex revisited
+                              *g.move(given, home0, {}), *g.move(home0, pick_at, {})};
+  const HyperarcId h = seq[4];
+  EXPECT_EQ(g.graph().tail(h).size(), 2u);
+  EXPECT_EQ(g.graph().head(h).size(), 2u);
+  EXPECT_EQ(g.coupledHyperarcCount(), 1u);
+  const HyperarcId sink = g.sink({pick_at, taken});
+  const MotionQueryCounts counts = g.query(source, seq, sink, Deadline(10));
+  EXPECT_TRUE(counts.reached_sink);
+  // Root (3 start instances) + one extended hyperarc per step + the sink.
+  EXPECT_EQ(counts.extended_hyperarcs, seq.size() + 2);
+  EXPECT_EQ(counts.extended_vertices, 3u + 1 + 1 + 1 + 1 + 2 + 1 + 1);
+  // A second query over the same H_M adds to H_ME only.
+  const std::size_t vertices = g.vertexCount(), arcs = g.hyperarcCount();
+  EXPECT_TRUE(g.query(source, seq, sink, Deadline(10)).reached_sink);
+  EXPECT_EQ(g.vertexCount(), vertices);
+  EXPECT_EQ(g.hyperarcCount(), arcs);
+  EXPECT_EQ(g.extendedHyperarcCount(), 2 * (seq.size() + 2));
+  // A schedule out of order is not a hyperpath: the query does not reach the sink.
+  std::vector<HyperarcId> wrong = seq;
+  std::swap(wrong[0], wrong[1]);
+  EXPECT_FALSE(g.query(source, wrong, sink, Deadline(10)).reached_sink);
+}
+
+struct SortingRun {
+  Scene scene = generateScenario("sorting", {{"robots", "4"}, {"objects", "8"}}, 1, RobotLibrary::loadDefault());
+  CollisionWorld world{scene};
+  CollisionContext context{world};
+  log::MemorySink sink;
+  log::EventEmitter emitter{&sink};
+  TaskLayer task{scene, world, context, emitter, 1};
+  MotionLayer motion{world, context, emitter};
+  TaskLayerResult layer = task.plan(Deadline(120));
+};
+
+TEST(MotionLayer, RoundsOnTheSamePlanReuseHMAndCoupleEveryHandover) {
+  seedOmplOnce(1);
+  SortingRun run;
+  ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
+  int handovers = 0;
+  for (const TaskStep& s : run.layer.plan.steps) handovers += s.action.type == TaskArcType::kHandover ? 1 : 0;
+  ASSERT_GT(handovers, 0) << "sorting 4/8 hands objects over";
+  const MotionLayerResult first = run.motion.plan(run.layer.plan, run.layer.transitions, run.task.space(), Deadline(120));
+  ASSERT_EQ(first.status, MotionStatus::kOk) << first.reason;
+  const std::size_t vertices = run.motion.motionVertices(), arcs = run.motion.motionHyperarcs();
+  const std::size_t extended = run.motion.extendedHyperarcs();
+  EXPECT_EQ(run.motion.hypergraph().coupledHyperarcCount(), static_cast<std::size_t>(handovers));
+  EXPECT_NE(extended, arcs);
+  EXPECT_EQ(run.sink.counter("motion_query_incomplete", 0), 0);
+  const MotionLayerResult again = run.motion.plan(run.layer.plan, run.layer.transitions, run.task.space(), Deadline(120));
+  ASSERT_EQ(again.status, MotionStatus::kOk) << again.reason;
+  // The same transition configurations: the same vertices. Moves may take other paths (the roadmap
+  // grew) but join the same vertices: the same hyperarcs.
+  EXPECT_EQ(run.motion.motionVertices(), vertices);
+  EXPECT_EQ(run.motion.motionHyperarcs(), arcs);
+  EXPECT_EQ(run.motion.extendedHyperarcs(), 2 * extended);
+  // The event stream holds exactly the live structure (what the results database records).
+  EXPECT_EQ(run.sink.count(log::Layer::Motion, log::ElementKind::Vertex), static_cast<std::int64_t>(vertices));
+  EXPECT_EQ(run.sink.count(log::Layer::Motion, log::ElementKind::Hyperarc), static_cast<std::int64_t>(arcs));
+  EXPECT_EQ(run.sink.countHyperarcs(log::Layer::Motion, "handover"), handovers);
+}
+
+TEST(MotionLayer, AMotionConstraintsRegionIsAvoidedByTheNextQueryOnTheSamePlan) {
+  seedOmplOnce(1);
+  SortingRun run;
+  ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
+  // The region of a motion constraint: the first handover's two configurations.
+  int k = 0;
+  while (k < static_cast<int>(run.layer.plan.steps.size()) &&
+         run.layer.plan.steps[k].action.type != TaskArcType::kHandover)
+    ++k;
+  ASSERT_LT(k, static_cast<int>(run.layer.plan.steps.size()));
+  const TaskArc& a = run.layer.plan.steps[k].action;
+  const TransitionConfig before = run.layer.transitions[k];
+  ASSERT_TRUE(run.task.rejectTransition(a.robot, before.q));
+  ASSERT_TRUE(run.task.rejectTransition(a.robot2, before.q2));
+  EXPECT_FALSE(run.task.rejectTransition(a.robot, before.q));  // already known
+  const auto after = run.task.resampleTransitions(run.layer.plan, Deadline(120));
+  ASSERT_TRUE(after.has_value());
+  ASSERT_EQ(after->size(), run.layer.transitions.size());
+  const TransitionConfig& now = (*after)[k];
+  EXPECT_GT((now.q - before.q).cwiseAbs().maxCoeff() + (now.q2 - before.q2).cwiseAbs().maxCoeff(), 1e-6);
+  // The motion query on the same plan with the new configurations.
+  const MotionLayerResult motions = run.motion.plan(run.layer.plan, *after, run.task.space(), Deadline(120));
+  EXPECT_EQ(motions.status, MotionStatus::kOk) << motions.reason;
+}
+
+}  // namespace
+}  // namespace dash
