@@ -14,6 +14,7 @@
 #include "engine/collision/segment_queries.h"
 #include "engine/core/check.h"
 #include "engine/motion/ompl_validity.h"
+#include "engine/motion/seeded_ompl.h"
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
@@ -105,6 +106,7 @@ std::optional<CompositePath> planComposite(const CollisionWorld& world, Collisio
     }
   }
   space->setBounds(bounds);
+  seedStateSamplers(*space);
   auto si = std::make_shared<ob::SpaceInformation>(space);
   installValidity(
       si, [&checker](const ob::State* s) { return checker.stateValid(s); },
@@ -120,7 +122,7 @@ std::optional<CompositePath> planComposite(const CollisionWorld& world, Collisio
 
   auto pdef = std::make_shared<ob::ProblemDefinition>(si);
   pdef->setStartAndGoalStates(start, goal);
-  auto planner = std::make_shared<og::RRTConnect>(si);
+  auto planner = std::make_shared<SeededRRTConnect>(si);
   planner->setRange(params.range);
   planner->setProblemDefinition(pdef);
   planner->setup();
@@ -134,7 +136,7 @@ std::optional<CompositePath> planComposite(const CollisionWorld& world, Collisio
   if (planner->solve(ptc) != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
   auto path = std::static_pointer_cast<og::PathGeometric>(pdef->getSolutionPath());
   if (params.simplify) {
-    og::PathSimplifier simplifier(si);
+    SeededPathSimplifier simplifier(si);
     simplifier.reduceVertices(*path);
     simplifier.shortcutPath(*path);
   }

@@ -15,27 +15,13 @@
 #include "engine/dash/plan_extraction.h"
 #include "engine/dash/resting_conflicts.h"
 #include "engine/motion/lazy_roadmap.h"
+#include "engine/motion/seeded_ompl.h"
 #include "engine/plan/plan_validator.h"
 #include "engine/task/geometric_reachability.h"
 
 namespace dash {
 
 namespace {
-
-void applyTestFault(const PlannerSettings& settings) {
-  if (settings.test_fault == "abort") std::abort();
-  if (settings.test_fault == "ignore-deadline") {
-    volatile std::uint64_t spin = 0;
-    for (;;) spin = spin + 1;  // never returns: the batch runner must kill it from outside
-  }
-}
-
-double pathLength(const Plan& plan) {
-  double total = 0.0;
-  for (const RobotTrajectory& r : plan.robots)
-    for (std::size_t i = 1; i < r.points.size(); ++i) total += (r.points[i].q - r.points[i - 1].q).norm();
-  return total;
-}
 
 /// The robot's own vertex in the tail of hyperarc a, and the first tail vertex that is not its own
 /// (the object or handover partner the transition waits for: the interval of a schedule constraint).
@@ -124,7 +110,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
     for (const auto& entry : settings.params) overrides[entry.first] = effective.at(entry.first);
     applySchedulerParameters(scheduler_params, overrides);
   }
-  seedOmplOnce(settings.seed);
+  const OmplSeedScope ompl_seeds(settings.seed);
   log::EventEmitter emitter(sink);
   const CollisionWorld world(scene, {.clearance = params_.clearance});
   CollisionContext context(world);
@@ -195,10 +181,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
       };
       observer.onHyperarc = [&](HyperarcId a, const TaskArc& arc, std::span<const VertexId> tail,
                                 std::span<const VertexId> head) {
-        std::vector<std::uint32_t> h, t;
-        for (VertexId v : head) h.push_back(v.value());
-        for (VertexId v : tail) t.push_back(v.value());
-        emitter.hyperarc(log::Layer::Task, taskArcTypeName(arc.type), a.value(), std::move(h), std::move(t));
+        emitter.hyperarcOf(log::Layer::Task, taskArcTypeName(arc.type), a.value(), head, tail);
       };
     }
     task_graph = buildDashTaskGraph(space, reach.oracle(), observer);
@@ -212,10 +195,11 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
     const std::int64_t before = checks();
     catalog = sampleTransitions(sampler, space, task_graph, params_.transitions, deadline);
     motion = std::make_unique<MotionHypergraph>(space, catalog, emitter);
+    roadmaps = RoadmapSet(world.robotCount());
     for (int r = 0; r < world.robotCount(); ++r) {
-      for (int holding = 0; holding < 2; ++holding) {
-        roadmaps.push_back(std::make_unique<ValidatedRoadmap>(world, context, r, params_.roadmap));
-        roadmaps.back()->growTo(holding ? params_.holding_roadmap_samples : params_.empty_roadmap_samples, deadline);
+      for (const bool holding : {false, true}) {
+        roadmaps.slot(r, holding) = std::make_unique<ValidatedRoadmap>(world, context, r, params_.roadmap);
+        roadmaps.at(r, holding).growTo(holding ? params_.holding_roadmap_samples : params_.empty_roadmap_samples, deadline);
       }
     }
     motion->connectMoves(roadmaps, {}, deadline);
@@ -243,19 +227,16 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   std::function<void(const ExtendedHyperarc&)> on_hyperarc = [&](const ExtendedHyperarc& a) {
     const auto id = static_cast<std::uint32_t>(extended_hyperarcs++);
     if (!emitter.enabled()) return;
-    std::vector<std::uint32_t> head, tail;
-    for (ExtendedVertexId v : a.produced) head.push_back(v.value());
-    for (ExtendedVertexId v : a.consumed) tail.push_back(v.value());
-    emitter.hyperarc(log::Layer::MotionExtended, motionArcTypeName(motion->graph().property(a.hyperarc).type), id,
-                     std::move(head), std::move(tail));
+    emitter.hyperarcOf(log::Layer::MotionExtended, motionArcTypeName(motion->graph().property(a.hyperarc).type), id,
+                       a.produced, a.consumed);
   };
   // A roadmap growth: more milestones in both hand states of each robot, then their moves again.
   auto growRoadmaps = [&](const std::vector<int>& robots) {
     log::PhaseTimer timer(emitter, log::Phase::MotionConstruction);
     const std::int64_t before = checks();
     for (int r : robots) {
-      for (int holding = 0; holding < 2; ++holding) {
-        ValidatedRoadmap& rm = *roadmaps[static_cast<std::size_t>(r) * 2 + holding];
+      for (const bool holding : {false, true}) {
+        ValidatedRoadmap& rm = roadmaps.at(r, holding);
         rm.growTo(rm.milestoneCount() + params_.growth_samples, deadline);
       }
     }
@@ -319,7 +300,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
       shortcutPaths(extracted, world, context);
       conflict = resolveRestingConflicts(extracted, *motion, world, context, roadmaps, deadline, resting);
       const MoveReplanner replan = [&](int r, const JointVector& from, const JointVector& to, const MotionContext& ctx) {
-        return roadmaps[static_cast<std::size_t>(r) * 2 + (ctx.held.holding() ? 1 : 0)]->plan(from, to, ctx, deadline);
+        return roadmaps.at(r, ctx.held.holding()).plan(from, to, ctx, deadline);
       };
       // A contact the validator finds between the scheduler's check instants: that instant is checked
       // from then on and the same hyperpath scheduled again (as Lazy-DaSH does); a contact that stays
@@ -357,7 +338,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
     }
     if (!conflict) {
       result.stats.makespan = plan.makespan;
-      result.stats.path_length = pathLength(plan);
+      result.stats.path_length = plan.jointPathLength();
       result.plan = std::move(plan);
       return finish(PlanOutcome::kSolved, "solved");
     }

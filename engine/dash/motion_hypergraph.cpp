@@ -41,12 +41,7 @@ HyperarcId MotionHypergraph::arc(std::vector<VertexId> tail, std::vector<VertexI
   const auto [id, inserted] = graph_.addHyperarc(std::move(tail), std::move(head), a);
   if (inserted) {
     cost_.push_back(cost);
-    if (emitter_->enabled()) {
-      std::vector<std::uint32_t> h, t;
-      for (VertexId v : graph_.head(id)) h.push_back(v.value());
-      for (VertexId v : graph_.tail(id)) t.push_back(v.value());
-      emitter_->hyperarc(log::Layer::Motion, motionArcTypeName(a.type), id.value(), std::move(h), std::move(t));
-    }
+    emitter_->hyperarcOf(log::Layer::Motion, motionArcTypeName(a.type), id.value(), graph_.head(id), graph_.tail(id));
   }
   return id;
 }
@@ -205,7 +200,7 @@ void MotionHypergraph::connectMoves(RoadmapSet& roadmaps, const std::vector<int>
   for (Space& sp : spaces_) {
     if (!robots.empty() && std::find(robots.begin(), robots.end(), sp.robot) == robots.end()) continue;
     if (deadline.expired()) return;
-    ValidatedRoadmap& roadmap = *roadmaps[static_cast<std::size_t>(sp.robot) * 2 + (sp.held.holding() ? 1 : 0)];
+    ValidatedRoadmap& roadmap = roadmaps.at(sp.robot, sp.held.holding());
     const int s = roadmap.space(sp.held);
     for (auto* list : {&sp.entries, &sp.exits}) {
       std::sort(list->begin(), list->end());

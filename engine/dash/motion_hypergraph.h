@@ -23,7 +23,8 @@
 #include "engine/dash/transition_catalog.h"
 #include "engine/dash/validated_roadmap.h"
 #include "engine/hypergraph/hypergraph.h"
-#include "engine/log/event_emitter.h"
+#include "engine/events/event_emitter.h"
+#include "engine/motion/planning_spaces.h"
 
 namespace dash {
 
@@ -84,8 +85,8 @@ struct MovePath {
   double length = 0.0;
 };
 
-/// A robot's validated roadmaps: [robot * 2 + (holding ? 1 : 0)].
-using RoadmapSet = std::vector<std::unique_ptr<ValidatedRoadmap>>;
+/// The validated roadmap of every planning space (robot, hand state).
+using RoadmapSet = PerPlanningSpace<ValidatedRoadmap>;
 
 class MotionHypergraph {
  public:

@@ -7,37 +7,6 @@ namespace dash {
 
 namespace {
 
-/// Objects resting before each step and after the last one, in the plan's order, with the location
-/// (index in the TaskSpace, -1 while held) of each.
-struct Layouts {
-  std::vector<ObjectLayout> layouts;
-  std::vector<std::vector<int>> locations;
-};
-Layouts layoutsAlong(const TaskPlan& plan, const TaskSpace& space) {
-  ObjectLayout layout = ObjectLayout::atStart(space.scene());
-  std::vector<int> at(static_cast<std::size_t>(space.objectCount()));
-  for (int o = 0; o < space.objectCount(); ++o) {
-    layout.place(o, space.location(o, space.startLocation(o)).X_WO);
-    at[o] = space.startLocation(o);
-  }
-  Layouts out;
-  for (const TaskStep& step : plan.steps) {
-    out.layouts.push_back(layout);
-    out.locations.push_back(at);
-    if (step.action.type == TaskArcType::kPick) {
-      layout.remove(step.action.object);
-      at[step.action.object] = -1;
-    }
-    if (step.action.type == TaskArcType::kPlace) {
-      layout.place(step.action.object, space.location(step.action.object, step.action.location).X_WO);
-      at[step.action.object] = step.action.location;
-    }
-  }
-  out.layouts.push_back(layout);
-  out.locations.push_back(at);
-  return out;
-}
-
 /// The robot's own vertex in the tail of hyperarc a (where it must be to start it).
 VertexId robotTailVertex(const MotionGraph& g, HyperarcId a, int robot) {
   for (VertexId v : g.tail(a)) {
@@ -109,7 +78,7 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
                                                       RestingConflictStats& stats) {
   const TaskSpace& space = graph.space();
   const Scene& scene = space.scene();
-  const Layouts along = layoutsAlong(plan.plan, space);
+  const RestingAlongPlan along = restingAlong(plan.plan, space);
   const std::vector<ObjectLayout>& layouts = along.layouts;
   Checker check(world, context);
   // The H_M vertex of the first object resting at step `at` for which `hits` holds alone (invalid if
@@ -155,7 +124,7 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
       }
       if (!check.pathHits(r, v.transit, v.held_before, layouts[k])) continue;
       const MotionContext ctx{v.held_before, layouts[k], {}};
-      auto& roadmap = *roadmaps[static_cast<std::size_t>(r) * 2 + (v.held_before.holding() ? 1 : 0)];
+      auto& roadmap = roadmaps.at(r, v.held_before.holding());
       if (auto path = roadmap.plan(v.transit.front(), v.transit.back(), ctx, deadline)) {
         v.transit = std::move(*path);
         ++stats.replans;
@@ -182,7 +151,7 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
     }
     if (robot.home_path.size() < 2 || !check.pathHits(r, robot.home_path, HeldObject{}, layouts.back())) continue;
     const MotionContext ctx{{}, layouts.back(), {}};
-    if (auto path = roadmaps[static_cast<std::size_t>(r) * 2]->plan(robot.home_path.front(), robot.home_path.back(),
+    if (auto path = roadmaps.at(r, false).plan(robot.home_path.front(), robot.home_path.back(),
                                                                      ctx, deadline)) {
       robot.home_path = std::move(*path);
       ++stats.replans;

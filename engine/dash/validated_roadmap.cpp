@@ -15,6 +15,7 @@
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/segment_queries.h"
 #include "engine/motion/ompl_validity.h"
+#include "engine/motion/seeded_ompl.h"
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
@@ -91,13 +92,14 @@ ValidatedRoadmap::ValidatedRoadmap(const CollisionWorld& world, CollisionContext
     bounds.setHigh(i, revolute ? std::min(model.limits.position_max[i], kPi) : model.limits.position_max[i]);
   }
   state_space->setBounds(bounds);
+  seedStateSamplers(*state_space);
   si_ = std::make_shared<ob::SpaceInformation>(state_space);
   const Checker* c = checker_.get();
   installValidity(
       si_, [c](const ob::State* s) { return c->stateValid(jointsOf(s, c->dof)); },
       [c](const ob::State* a, const ob::State* b) { return c->motionValid(jointsOf(a, c->dof), jointsOf(b, c->dof)); });
   si_->setup();
-  prm_ = std::make_shared<og::PRM>(si_, false);
+  prm_ = std::make_shared<SeededPRM>(si_, false);
   prm_->setMaxNearestNeighbors(params_.neighbours);
   // og::PRM takes its edge-cost objective from the problem definition in setup(): give it an empty one.
   prm_->setProblemDefinition(std::make_shared<ob::ProblemDefinition>(si_));

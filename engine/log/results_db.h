@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "engine/core/check.h"
-#include "engine/log/event_emitter.h"
-#include "engine/log/events.h"
+#include "engine/events/event_emitter.h"
+#include "engine/events/events.h"
 #include "engine/log/sqlite_util.h"
 
 namespace dash::log {

@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "engine/core/stopwatch.h"
-#include "engine/log/event_batch.h"
-#include "engine/log/event_emitter.h"
+#include "engine/events/event_batch.h"
+#include "engine/events/event_emitter.h"
 #include "engine/log/results_db.h"
 #include "engine/log/sqlite_util.h"
 

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/log/event_batch.h"
-#include "engine/log/events.h"
+#include "engine/events/event_batch.h"
+#include "engine/events/events.h"
 #include "engine/log/results_db.h"
 
 namespace dash::log {

@@ -7,17 +7,15 @@
 #include <ompl/geometric/PathSimplifier.h>
 #include <ompl/geometric/planners/prm/LazyPRM.h>
 #include <ompl/geometric/planners/rrt/RRTConnect.h>
-#include <ompl/util/Console.h>
-#include <ompl/util/RandomNumbers.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/segment_queries.h"
 #include "engine/core/stopwatch.h"
 #include "engine/motion/ompl_validity.h"
+#include "engine/motion/seeded_ompl.h"
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
@@ -54,14 +52,6 @@ struct LazyRoadmap::Checker {
   }
 };
 
-void seedOmplOnce(std::uint64_t seed) {
-  static std::atomic<bool> seeded{false};  // OMPL's generator is process-global; so is this guard
-  if (!seeded.exchange(true)) {
-    ompl::msg::setLogLevel(ompl::msg::LOG_NONE);  // outcomes are reported through our own events
-    ompl::RNG::setSeed(static_cast<std::uint_fast32_t>(seed & 0x7fffffff) + 1);
-  }
-}
-
 LazyRoadmap::LazyRoadmap(const CollisionWorld& world, CollisionContext& context, int robot, RoadmapParams params)
     : world_(&world), context_(&context), robot_(robot), params_(params) {
   const RobotModel& model = *world.scene().robots[robot].model;
@@ -75,6 +65,7 @@ LazyRoadmap::LazyRoadmap(const CollisionWorld& world, CollisionContext& context,
     bounds.setHigh(i, revolute ? std::min(model.limits.position_max[i], kPi) : model.limits.position_max[i]);
   }
   space->setBounds(bounds);
+  seedStateSamplers(*space);
   si_ = std::make_shared<ob::SpaceInformation>(space);
   const Checker* c = checker_.get();
   installValidity(
@@ -139,7 +130,7 @@ std::optional<std::vector<JointVector>> LazyRoadmap::solve(ob::Planner& planner,
   if (status != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
   auto path = std::static_pointer_cast<og::PathGeometric>(pdef->getSolutionPath());
   if (params_.simplify) {
-    og::PathSimplifier simplifier(si_);
+    SeededPathSimplifier simplifier(si_);
     simplifier.reduceVertices(*path);
     simplifier.shortcutPath(*path);
   }
@@ -169,7 +160,7 @@ std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_
 std::optional<std::vector<JointVector>> LazyRoadmap::queryTrees(const JointVector& q_start, const JointVector& q_goal,
                                                                 const MotionContext& motion, const Deadline& deadline) {
   if (!prepare(q_start, q_goal, motion)) return std::nullopt;
-  og::RRTConnect trees(si_);
+  SeededRRTConnect trees(si_);
   trees.setRange(planner_->getRange());
   trees.setup();
   return solve(trees, q_start, q_goal, params_.tree_iterations, deadline);

@@ -11,7 +11,7 @@
 
 #include "engine/collision/collision_context.h"
 #include "engine/core/deadline.h"
-#include "engine/log/event_emitter.h"
+#include "engine/events/event_emitter.h"
 #include "engine/motion/motion_context.h"
 
 namespace ompl::geometric {
@@ -91,8 +91,5 @@ class LazyRoadmap {
   log::EventEmitter* emitter_ = nullptr;
 };
 
-/// OMPL's random generator is process-global: seed it once per process, before any planner exists
-/// (later calls are ignored), and silence OMPL's console output.
-void seedOmplOnce(std::uint64_t seed);
 
 }  // namespace dash

@@ -32,12 +32,6 @@ const char* arcTypeName(const MotionArc& a) {
   return "?";
 }
 
-std::vector<std::uint32_t> ids(std::span<const VertexId> vs) {
-  std::vector<std::uint32_t> out;
-  for (VertexId v : vs) out.push_back(v.value());
-  return out;
-}
-
 }  // namespace
 
 MotionHypergraph::MotionHypergraph(log::EventEmitter& emitter, std::function<std::string(const MotionVertex&)> labels)
@@ -55,7 +49,7 @@ HyperarcId MotionHypergraph::addArc(std::vector<VertexId> tail, std::vector<Vert
   const AddResult<HyperarcId> added = graph_.addHyperarc(std::move(tail), std::move(head), std::move(property));
   if (added.inserted) {
     paths_.emplace_back();
-    emitter_->hyperarc(log::Layer::Motion, type, added.id.value(), ids(graph_.head(added.id)), ids(graph_.tail(added.id)));
+    emitter_->hyperarcOf(log::Layer::Motion, type, added.id.value(), graph_.head(added.id), graph_.tail(added.id));
   }
   return added.id;
 }

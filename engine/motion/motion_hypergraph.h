@@ -26,7 +26,7 @@
 #include "engine/geometry/pose.h"
 #include "engine/hypergraph/hypergraph.h"
 #include "engine/hypergraph/hyperpath_search.h"
-#include "engine/log/event_emitter.h"
+#include "engine/events/event_emitter.h"
 #include "engine/robots/joint_vector.h"
 #include "engine/task/task_arc.h"
 #include "engine/task/task_element.h"

@@ -28,21 +28,6 @@ Roles heldAround(const TaskArc& a, const TransitionConfig& tc, bool receiver) {
   }
 }
 
-/// Objects resting before each step and after the last one, following the plan's order.
-std::vector<ObjectLayout> layoutsAlong(const TaskPlan& plan, const TaskSpace& space) {
-  ObjectLayout layout = ObjectLayout::atStart(space.scene());
-  for (int o = 0; o < space.objectCount(); ++o) layout.place(o, space.location(o, space.startLocation(o)).X_WO);
-  std::vector<ObjectLayout> out;
-  for (const TaskStep& step : plan.steps) {
-    out.push_back(layout);
-    if (step.action.type == TaskArcType::kPick) layout.remove(step.action.object);
-    if (step.action.type == TaskArcType::kPlace)
-      layout.place(step.action.object, space.location(step.action.object, step.action.location).X_WO);
-  }
-  out.push_back(layout);
-  return out;
-}
-
 double jointDistance(const JointVector& a, const JointVector& b) { return (a - b).cwiseAbs().sum(); }
 
 /// Whether the joint-space segment q -> q_pre keeps the TCP near the straight line between their TCP
@@ -92,11 +77,11 @@ MotionLayer::MotionLayer(const CollisionWorld& world, CollisionContext& context,
       emitter_(&emitter),
       params_(params),
       graph_(emitter, [scene = &world.scene()](const lazy::MotionVertex& v) { return motionVertexLabel(*scene, v); }) {
-  roadmaps_.resize(static_cast<std::size_t>(world.robotCount()) * 2);
+  roadmaps_ = PerPlanningSpace<LazyRoadmap>(world.robotCount());
 }
 
 LazyRoadmap& MotionLayer::roadmap(int robot, bool holding) {
-  auto& slot = roadmaps_[static_cast<std::size_t>(robot) * 2 + (holding ? 1 : 0)];
+  auto& slot = roadmaps_.slot(robot, holding);
   if (!slot) {
     slot = std::make_unique<LazyRoadmap>(*world_, *context_, robot, params_.roadmap);
     slot->setEmitter(emitter_);
@@ -111,12 +96,12 @@ void MotionLayer::scaleBudget(double factor) {
 }
 
 std::size_t MotionLayer::roadmapVertices(int robot, bool holding) const {
-  const auto& slot = roadmaps_[static_cast<std::size_t>(robot) * 2 + (holding ? 1 : 0)];
+  const auto& slot = roadmaps_.slot(robot, holding);
   return slot ? slot->vertexCount() : 0;
 }
 
 std::size_t MotionLayer::roadmapEdges(int robot, bool holding) const {
-  const auto& slot = roadmaps_[static_cast<std::size_t>(robot) * 2 + (holding ? 1 : 0)];
+  const auto& slot = roadmaps_.slot(robot, holding);
   return slot ? slot->edgeCount() : 0;
 }
 
@@ -198,7 +183,7 @@ MotionLayerResult MotionLayer::trace(const TaskPlan& plan, const std::vector<Tra
   const int robots = static_cast<int>(scene.robots.size());
   MotionLayerResult result;
   result.robots.resize(static_cast<std::size_t>(robots));
-  const std::vector<ObjectLayout> layouts = layoutsAlong(plan, space);
+  const std::vector<ObjectLayout> layouts = restingAlong(plan, space).layouts;
   std::vector<JointVector> at(static_cast<std::size_t>(robots));
   // Whether each robot's last retreat backed off along its own approach axis (so may back off farther).
   std::vector<bool> own_retreat(static_cast<std::size_t>(robots), false);

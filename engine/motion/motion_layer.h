@@ -11,9 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/log/event_emitter.h"
+#include "engine/events/event_emitter.h"
 #include "engine/motion/lazy_roadmap.h"
 #include "engine/motion/motion_hypergraph.h"
+#include "engine/motion/planning_spaces.h"
 #include "engine/task/task_conflict_detection.h"
 #include "engine/task/task_plan.h"
 
@@ -122,7 +123,7 @@ class MotionLayer {
   CollisionContext* context_;
   log::EventEmitter* emitter_;
   MotionLayerParams params_;
-  std::vector<std::unique_ptr<LazyRoadmap>> roadmaps_;  ///< [robot * 2 + holding]
+  PerPlanningSpace<LazyRoadmap> roadmaps_;
   lazy::MotionHypergraph graph_;
 };
 

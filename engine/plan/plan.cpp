@@ -71,4 +71,11 @@ double Plan::lastTime() const {
   return last;
 }
 
+double Plan::jointPathLength() const {
+  double total = 0.0;
+  for (const RobotTrajectory& r : robots)
+    for (std::size_t i = 1; i < r.points.size(); ++i) total += (r.points[i].q - r.points[i - 1].q).norm();
+  return total;
+}
+
 }  // namespace dash

@@ -66,6 +66,8 @@ struct Plan {
   void sortRobots(const Scene& scene);
   /// The latest point or event time (what makespan should be).
   double lastTime() const;
+  /// The joint-space length of every robot's trajectory, summed (radians and metres alike).
+  double jointPathLength() const;
 };
 
 }  // namespace dash

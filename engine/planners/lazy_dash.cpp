@@ -13,21 +13,13 @@
 #include "engine/conflict/scheduler.h"
 #include "engine/motion/motion_constraints.h"
 #include "engine/motion/motion_layer.h"
+#include "engine/motion/seeded_ompl.h"
 #include "engine/plan/plan_validator.h"
 #include "engine/task/task_layer.h"
 
 namespace dash {
 
 namespace {
-
-void applyTestFault(const PlannerSettings& settings, const Deadline& deadline) {
-  if (settings.test_fault == "abort") std::abort();
-  if (settings.test_fault == "ignore-deadline") {
-    volatile std::uint64_t spin = 0;
-    for (;;) spin = spin + 1;  // never returns: the batch runner must kill it from outside
-  }
-  (void)deadline;
-}
 
 PlanOutcome outcomeOf(TaskLayerStatus status, const Deadline& deadline) {
   if (status == TaskLayerStatus::kFeasible) return PlanOutcome::kSolved;
@@ -84,13 +76,6 @@ int missedConflictStep(const Scene& scene, const TaskPlan& plan, const std::vect
     if (step_times[k] < problem.t && (before < 0 || step_times[k] > step_times[before])) before = k;
   }
   return after >= 0 ? after : before;
-}
-
-double pathLength(const Plan& plan) {
-  double total = 0.0;
-  for (const RobotTrajectory& r : plan.robots)
-    for (std::size_t i = 1; i < r.points.size(); ++i) total += (r.points[i].q - r.points[i - 1].q).norm();
-  return total;
 }
 
 /// A motion failure at `step` goes back to the task query as a one-query ban on that hyperarc.
@@ -172,14 +157,14 @@ MotionRound failed(MotionFailure failure) {
 
 PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, const Deadline& deadline,
                            log::EventSink* sink) {
-  applyTestFault(settings, deadline);
+  applyTestFault(settings);
   // Named parameters: checked (InputError naming a bad one), then applied over the constructor's.
   const ParamValues effective = resolveParameters(name(), settings.params);
   LazyDashParams params = params_;
   ParamValues overrides;
   for (const auto& [key, value] : settings.params) overrides[key] = effective.at(key);
   applyParameters(params, overrides);
-  seedOmplOnce(settings.seed);
+  const OmplSeedScope ompl_seeds(settings.seed);
   log::EventEmitter emitter(sink);
   log::PhaseTimer setup(emitter, log::Phase::Other);
   const CollisionWorld world(scene, {.clearance = params.clearance});
@@ -372,7 +357,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
       MotionRound round = motionRound(layer, motions);
       if (round.kind == MotionRound::Kind::kSolved) {
         result.stats.makespan = round.plan.makespan;
-        result.stats.path_length = pathLength(round.plan);
+        result.stats.path_length = round.plan.jointPathLength();
         result.plan = std::move(round.plan);
         return finish(PlanOutcome::kSolved, "solved");
       }

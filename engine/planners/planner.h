@@ -3,6 +3,7 @@
 // plan format, validator and event stream out. Planning outcomes are a status value, never an
 // exception; bad input throws InputError.
 #include <cstdint>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <string>
@@ -10,8 +11,8 @@
 
 #include "engine/core/deadline.h"
 #include "engine/core/planner_params.h"
-#include "engine/log/event_emitter.h"
-#include "engine/log/events.h"
+#include "engine/events/event_emitter.h"
+#include "engine/events/events.h"
 #include "engine/plan/plan.h"
 #include "engine/scene/scene.h"
 
@@ -31,6 +32,15 @@ struct PlannerSettings {
   /// defaults. The planner checks them (InputError naming a bad one).
   ParamValues params;
 };
+
+/// The batch runner's test faults (PlannerSettings::test_fault), at the start of a planner's solve().
+inline void applyTestFault(const PlannerSettings& settings) {
+  if (settings.test_fault == "abort") std::abort();
+  if (settings.test_fault == "ignore-deadline") {
+    volatile std::uint64_t spin = 0;
+    for (;;) spin = spin + 1;  // never returns: the batch runner must kill it from outside
+  }
+}
 
 /// Sizes of the four representations of the paper, at the end of the run. Extended hypergraphs are
 /// counted over every query of the run (what was built), as the event stream records them.

@@ -5,7 +5,7 @@
 #include <mutex>
 
 #include "engine/core/stopwatch.h"
-#include "engine/log/events.h"
+#include "engine/events/events.h"
 
 namespace dash {
 

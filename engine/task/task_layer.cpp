@@ -60,10 +60,7 @@ void TaskLayer::rebuild() {
       emitter_->vertex(log::Layer::Task, v.value(), elementLabel(e, space_));
     };
     observer.onHyperarc = [&](HyperarcId a, const TaskArc& arc) {
-      std::vector<std::uint32_t> head, tail;
-      for (VertexId v : g.head(a)) head.push_back(v.value());
-      for (VertexId v : g.tail(a)) tail.push_back(v.value());
-      emitter_->hyperarc(log::Layer::Task, taskArcTypeName(arc.type), a.value(), std::move(head), std::move(tail));
+      emitter_->hyperarcOf(log::Layer::Task, taskArcTypeName(arc.type), a.value(), g.head(a), g.tail(a));
     };
   }
   graph_.build(space_, reachability_.oracle(), observer);
@@ -255,11 +252,8 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
     };
     observer.onHyperarc = [&](const ExtendedHyperarc& a) {
       ++extended_hyperarcs_;
-      std::vector<std::uint32_t> head, tail;
-      for (ExtendedVertexId v : a.produced) head.push_back(v.value());
-      for (ExtendedVertexId v : a.consumed) tail.push_back(v.value());
-      emitter_->hyperarc(log::Layer::TaskExtended, taskArcTypeName(graph_.graph().property(a.hyperarc).type),
-                         static_cast<std::uint32_t>(extended_hyperarcs_ - 1), std::move(head), std::move(tail));
+      emitter_->hyperarcOf(log::Layer::TaskExtended, taskArcTypeName(graph_.graph().property(a.hyperarc).type),
+                           static_cast<std::uint32_t>(extended_hyperarcs_ - 1), a.produced, a.consumed);
     };
   } else {
     observer.onVertex = [&](const ExtendedVertex&) { ++extended_vertices_; };

@@ -11,7 +11,7 @@
 
 #include "engine/core/deadline.h"
 #include "engine/core/rng.h"
-#include "engine/log/event_emitter.h"
+#include "engine/events/event_emitter.h"
 #include "engine/task/geometric_reachability.h"
 #include "engine/task/task_conflict_detection.h"
 #include "engine/task/task_query.h"

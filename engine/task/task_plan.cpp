@@ -56,4 +56,29 @@ std::string TaskPlan::toJson(const TaskSpace& space) const {
   return j.dump(1);
 }
 
+RestingAlongPlan restingAlong(const TaskPlan& plan, const TaskSpace& space) {
+  ObjectLayout layout = ObjectLayout::atStart(space.scene());
+  std::vector<int> at(static_cast<std::size_t>(space.objectCount()));
+  for (int o = 0; o < space.objectCount(); ++o) {
+    layout.place(o, space.location(o, space.startLocation(o)).X_WO);
+    at[o] = space.startLocation(o);
+  }
+  RestingAlongPlan out;
+  for (const TaskStep& step : plan.steps) {
+    out.layouts.push_back(layout);
+    out.locations.push_back(at);
+    if (step.action.type == TaskArcType::kPick) {
+      layout.remove(step.action.object);
+      at[step.action.object] = -1;
+    }
+    if (step.action.type == TaskArcType::kPlace) {
+      layout.place(step.action.object, space.location(step.action.object, step.action.location).X_WO);
+      at[step.action.object] = step.action.location;
+    }
+  }
+  out.layouts.push_back(layout);
+  out.locations.push_back(at);
+  return out;
+}
+
 }  // namespace dash

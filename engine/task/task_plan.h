@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "engine/hypergraph/hypergraph_topology.h"
+#include "engine/scene/object_layout.h"
 #include "engine/task/task_arc.h"
 #include "engine/task/task_space.h"
 
@@ -30,5 +31,12 @@ struct TaskPlan {
 };
 
 std::string describeStep(const TaskStep& step, const TaskSpace& space);
+
+/// What rests where before each step of a plan and after its last one (steps + 1 entries).
+struct RestingAlongPlan {
+  std::vector<ObjectLayout> layouts;          ///< the resting objects' poses
+  std::vector<std::vector<int>> locations;    ///< per object: its location in the TaskSpace, -1 while held
+};
+RestingAlongPlan restingAlong(const TaskPlan& plan, const TaskSpace& space);
 
 }  // namespace dash

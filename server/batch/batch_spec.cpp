@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "engine/core/json_reader.h"
 #include "engine/planners/planner.h"
 #include "engine/robots/robot_model.h"
 #include "engine/scenarios/scenario_registry.h"
@@ -60,11 +61,28 @@ std::string joinNames(const std::vector<std::string>& names) {
   return out;
 }
 
-/// Validation context: the source name for messages.
-class Checker {
- public:
-  explicit Checker(std::string source) : prefix_(source.empty() ? "" : source + ": ") {}
+SpecErrorKind specErrorKind(JsonErrorKind kind) {
+  switch (kind) {
+    case JsonErrorKind::kType: return SpecErrorKind::kSyntax;
+    case JsonErrorKind::kMissing: return SpecErrorKind::kMissingKey;
+    case JsonErrorKind::kRange: return SpecErrorKind::kOutOfRange;
+    case JsonErrorKind::kValue: return SpecErrorKind::kBadValue;
+  }
+  return SpecErrorKind::kBadValue;
+}
 
+/// The shared field reader (engine/core/json_reader.h) with the spec's error kinds and its checks of
+/// keys and grids. Messages: "SOURCE: PATH: WHAT".
+class Checker : public JsonReader<Json> {
+ public:
+  explicit Checker(std::string source)
+      : JsonReader<Json>([prefix = source.empty() ? std::string() : source + ": "](
+                             JsonErrorKind kind, const std::string& where, const std::string& what) {
+          throw SpecError(specErrorKind(kind), prefix + (where.empty() ? "" : where + ": ") + what);
+        }),
+        prefix_(source.empty() ? "" : source + ": ") {}
+
+  using JsonReader<Json>::fail;
   [[noreturn]] void fail(SpecErrorKind kind, const std::string& where, const std::string& what) const {
     throw SpecError(kind, prefix_ + (where.empty() ? "" : where + ": ") + what);
   }
@@ -85,27 +103,8 @@ class Checker {
     }
   }
 
-  std::string string(const Json& v, const std::string& where) const {
-    if (!v.is_string()) fail(SpecErrorKind::kSyntax, where, "expected a string, got " + v.dump());
-    return v.get<std::string>();
-  }
-
-  double number(const Json& v, const std::string& where) const {
-    if (!v.is_number()) fail(SpecErrorKind::kSyntax, where, "expected a number, got " + v.dump());
-    return v.get<double>();
-  }
-
-  std::int64_t integer(const Json& v, const std::string& where) const {
-    if (!v.is_number_integer()) fail(SpecErrorKind::kSyntax, where, "expected an integer, got " + v.dump());
-    if (v.is_number_unsigned() &&
-        v.get<std::uint64_t>() > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
-      fail(SpecErrorKind::kOutOfRange, where, "integer too large");
-    }
-    return v.get<std::int64_t>();
-  }
-
   const Json& nonEmptyArray(const Json& v, const std::string& where) const {
-    if (!v.is_array()) fail(SpecErrorKind::kSyntax, where, "expected a list, got " + v.dump());
+    if (!v.is_array()) fail(SpecErrorKind::kSyntax, where, std::string("expected a list, got ") + v.type_name());
     if (v.empty()) fail(SpecErrorKind::kEmptyGrid, where, "the list is empty: the grid has no runs");
     return v;
   }

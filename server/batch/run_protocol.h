@@ -18,7 +18,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "engine/log/events.h"
+#include "engine/events/events.h"
 #include "engine/planners/planner.h"
 
 namespace dash::batch::proto {

@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "engine/core/stopwatch.h"
-#include "engine/log/memory_sink.h"
+#include "engine/events/memory_sink.h"
 #include "engine/log/sqlite_recorder.h"
 #include "engine/planners/planner.h"
 #include "engine/robots/robot_model.h"

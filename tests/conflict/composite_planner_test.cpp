@@ -8,6 +8,7 @@
 #include "engine/collision/segment_queries.h"
 #include "engine/conflict/composite_planner.h"
 #include "engine/motion/lazy_roadmap.h"
+#include "engine/motion/seeded_ompl.h"
 #include "engine/scenarios/scenario_registry.h"
 
 namespace dash {
@@ -64,7 +65,7 @@ struct TwoArms {
 };
 
 TEST(CompositePlanner, ArmsThatCrossAreReplannedTogether) {
-  seedOmplOnce(7);
+  const OmplSeedScope ompl_seeds(7);
   TwoArms arms;
   int solved = 0;
   for (std::uint32_t seed = 1; seed <= 3; ++seed) {
@@ -87,7 +88,7 @@ TEST(CompositePlanner, ArmsThatCrossAreReplannedTogether) {
 }
 
 TEST(CompositePlanner, ARobotStandingInTheWayIsRespected) {
-  seedOmplOnce(7);
+  const OmplSeedScope ompl_seeds(7);
   TwoArms arms;
   CompositeProblem problem = arms.crossingProblem(1);
   ASSERT_EQ(problem.robots.size(), 2u);

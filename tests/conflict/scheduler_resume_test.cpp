@@ -6,7 +6,8 @@
 
 #include "engine/conflict/scheduler.h"
 #include "engine/conflict/step_scheduler.h"
-#include "engine/log/memory_sink.h"
+#include "engine/events/memory_sink.h"
+#include "engine/motion/seeded_ompl.h"
 #include "engine/plan/plan_validator.h"
 #include "engine/scenarios/scenario_registry.h"
 #include "engine/task/task_layer.h"
@@ -38,7 +39,7 @@ struct SortingRun {
 };
 
 TEST(SchedulerResume, TheSamePlanAgainIsTakenWholeFromTheLastSchedule) {
-  seedOmplOnce(1);
+  const OmplSeedScope ompl_seeds(1);
   SortingRun run;
   ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
   const ScheduleResult first = run.schedule(run.layer.plan);
@@ -53,7 +54,7 @@ TEST(SchedulerResume, TheSamePlanAgainIsTakenWholeFromTheLastSchedule) {
 }
 
 TEST(SchedulerResume, APlanThatPartsHalfWayKeepsTheFirstHalfAndStaysValid) {
-  seedOmplOnce(1);
+  const OmplSeedScope ompl_seeds(1);
   SortingRun run;
   ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
   const ScheduleResult first = run.schedule(run.layer.plan);
@@ -82,7 +83,7 @@ TEST(SchedulerResume, APlanThatPartsHalfWayKeepsTheFirstHalfAndStaysValid) {
 // again; with one arrival mode per handover (no staggering) and no idle robots sent home the plan is
 // still complete and valid (sorting 4x8 needs neither).
 TEST(SchedulerParams, ExtensionsOffStillScheduleValidly) {
-  seedOmplOnce(1);
+  const OmplSeedScope ompl_seeds(1);
   SchedulerParams params;
   params.schedule_memo = false;
   params.staggered_arrivals = false;

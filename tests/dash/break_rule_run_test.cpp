@@ -8,15 +8,15 @@
 // sorting with 3 robots, 4 objects and seed 5 needs 5 constraint tree nodes: 3 tree branchings and 1
 // roadmap growth, and is solved.
 //
-// An executable of its own: OMPL's generator is process-global and seeded by the first run of a
-// process (seedOmplOnce), so this run's roadmaps are the same only as a process's first run.
+// OMPL's samplers are seeded from the run's seed (engine/motion/seeded_ompl.h), so the run is the same
+// in any process.
 // Budgets are work (milestones), not time: the run is the same on a loaded machine.
 #include <gtest/gtest.h>
 
 #include <variant>
 
 #include "engine/dash/dash_planner.h"
-#include "engine/log/memory_sink.h"
+#include "engine/events/memory_sink.h"
 #include "engine/plan/plan_validator.h"
 #include "tests/dash/dash_test_util.h"
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/log/memory_sink.h"
+#include "engine/events/memory_sink.h"
 #include "engine/plan/plan_validator.h"
 #include "engine/planners/planner.h"
 #include "tests/dash/dash_test_util.h"

@@ -9,8 +9,9 @@
 #include "engine/dash/dash_task_graph.h"
 #include "engine/dash/motion_hypergraph.h"
 #include "engine/dash/plan_extraction.h"
-#include "engine/log/memory_sink.h"
+#include "engine/events/memory_sink.h"
 #include "engine/motion/lazy_roadmap.h"
+#include "engine/motion/seeded_ompl.h"
 #include "engine/robots/kinematics.h"
 #include "engine/task/geometric_reachability.h"
 #include "engine/task/task_hypergraph.h"
@@ -24,7 +25,7 @@ namespace {
 struct Built {
   explicit Built(Scene s) : scene(std::move(s)), world(scene), context(world), space(scene), sampler(world, context),
                             reach(sampler) {
-    seedOmplOnce(1);
+    const OmplSeedScope ompl_seeds(1);
     task_graph = buildDashTaskGraph(space, reach.oracle());
     catalog = sampleTransitions(sampler, space, task_graph, {}, Deadline());
   }

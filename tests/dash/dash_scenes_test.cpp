@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/dash/dash_planner.h"
-#include "engine/log/memory_sink.h"
+#include "engine/events/memory_sink.h"
 #include "engine/plan/plan_validator.h"
 #include "engine/planners/planner.h"
 #include "tests/dash/dash_test_util.h"

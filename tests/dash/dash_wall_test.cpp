@@ -2,7 +2,7 @@
 // its own: the exhaustive motion hypergraph of five robots takes ~20 s to build on an idle machine.
 #include <gtest/gtest.h>
 
-#include "engine/log/memory_sink.h"
+#include "engine/events/memory_sink.h"
 #include "engine/plan/plan_validator.h"
 #include "engine/planners/planner.h"
 #include "tests/dash/dash_test_util.h"

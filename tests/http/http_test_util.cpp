@@ -11,7 +11,7 @@
 #include <sstream>
 #include <thread>
 
-#include "engine/log/event_emitter.h"
+#include "engine/events/event_emitter.h"
 #include "engine/log/results_db.h"
 #include "engine/log/sqlite_recorder.h"
 

@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
-#include "engine/log/event_batch.h"
-#include "engine/log/event_emitter.h"
-#include "engine/log/memory_sink.h"
+#include "engine/events/event_batch.h"
+#include "engine/events/event_emitter.h"
+#include "engine/events/memory_sink.h"
 #include "tests/log/log_test_util.h"
 
 namespace dash::log {

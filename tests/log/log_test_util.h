@@ -3,8 +3,8 @@
 #include <filesystem>
 #include <string>
 
-#include "engine/log/event_emitter.h"
-#include "engine/log/memory_sink.h"
+#include "engine/events/event_emitter.h"
+#include "engine/events/memory_sink.h"
 #include "engine/log/results_db.h"
 #include "engine/log/sqlite_recorder.h"
 

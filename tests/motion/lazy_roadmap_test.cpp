@@ -5,13 +5,14 @@
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/segment_queries.h"
 #include "engine/motion/lazy_roadmap.h"
+#include "engine/motion/seeded_ompl.h"
 #include "tests/conflict/two_arms.h"
 
 namespace dash {
 namespace {
 
 struct OneArm : ::testing::Test, dash::testing::TwoArms {
-  OneArm() { seedOmplOnce(1); }
+  const OmplSeedScope ompl_seeds{1};
   MotionContext context_at_start() const { return {HeldObject{}, layout, {}}; }
   JointVector home() const { return scene.robots[0].home; }
   /// The home posture turned about the base: far from home in joint space, free of everything.

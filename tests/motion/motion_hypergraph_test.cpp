@@ -3,9 +3,10 @@
 // by the next motion query on the same task plan.
 #include <gtest/gtest.h>
 
-#include "engine/log/memory_sink.h"
+#include "engine/events/memory_sink.h"
 #include "engine/motion/motion_hypergraph.h"
 #include "engine/motion/motion_layer.h"
+#include "engine/motion/seeded_ompl.h"
 #include "engine/scenarios/scenario_registry.h"
 #include "engine/task/task_layer.h"
 
@@ -98,7 +99,7 @@ struct SortingRun {
 };
 
 TEST(MotionLayer, RoundsOnTheSamePlanReuseHMAndCoupleEveryHandover) {
-  seedOmplOnce(1);
+  const OmplSeedScope ompl_seeds(1);
   SortingRun run;
   ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
   int handovers = 0;
@@ -125,7 +126,7 @@ TEST(MotionLayer, RoundsOnTheSamePlanReuseHMAndCoupleEveryHandover) {
 }
 
 TEST(MotionLayer, AMotionConstraintsRegionIsAvoidedByTheNextQueryOnTheSamePlan) {
-  seedOmplOnce(1);
+  const OmplSeedScope ompl_seeds(1);
   SortingRun run;
   ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
   // The region of a motion constraint: the first handover's two configurations.

@@ -2,7 +2,7 @@
 // against the reported sizes. Small cases only (timing goals live in experiments/, not here).
 #include <gtest/gtest.h>
 
-#include "engine/log/memory_sink.h"
+#include "engine/events/memory_sink.h"
 #include "engine/plan/plan_validator.h"
 #include "engine/planners/lazy_dash.h"
 #include "engine/planners/planner.h"

@@ -2,7 +2,7 @@
 // find what the paper's Algorithm 2 finds there, and the task query must get round it.
 #include <gtest/gtest.h>
 
-#include "engine/log/memory_sink.h"
+#include "engine/events/memory_sink.h"
 #include "engine/scenarios/scenario_registry.h"
 #include "engine/task/task_layer.h"
 #include "engine/task/transition_sampler.h"

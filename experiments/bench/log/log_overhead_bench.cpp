@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <random>
 
-#include "engine/log/event_emitter.h"
-#include "engine/log/memory_sink.h"
+#include "engine/events/event_emitter.h"
+#include "engine/events/memory_sink.h"
 #include "engine/log/results_db.h"
 #include "engine/log/sqlite_recorder.h"
 

@@ -1,4 +1,4 @@
-#include "engine/log/memory_sink.h"
+#include "engine/events/memory_sink.h"
 
 namespace dash::log {
 

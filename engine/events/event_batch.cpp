@@ -1,4 +1,4 @@
-#include "engine/log/event_batch.h"
+#include "engine/events/event_batch.h"
 
 #include <cstring>
 

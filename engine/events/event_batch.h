@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/log/events.h"
+#include "engine/events/events.h"
 
 namespace dash::log {
 

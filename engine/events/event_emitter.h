@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "engine/core/stopwatch.h"
-#include "engine/log/events.h"
+#include "engine/events/events.h"
 
 namespace dash::log {
 
@@ -38,6 +38,19 @@ class EventEmitter {
   void vertex(Layer layer, std::uint32_t id, std::string label = {}) {
     if (sink_ == nullptr) return;
     emit(RepresentationEvent{.layer = layer, .kind = ElementKind::Vertex, .id = id, .label = std::move(label)});
+  }
+  /// hyperarc() with head and tail as ranges of typed ids (anything with value(): VertexId,
+  /// ExtendedVertexId), converted only when a sink listens.
+  template <class HeadIds, class TailIds>
+  void hyperarcOf(Layer layer, std::string type, std::uint32_t id, const HeadIds& head, const TailIds& tail) {
+    if (sink_ == nullptr) return;
+    hyperarc(layer, std::move(type), id, idValues(head), idValues(tail));
+  }
+  template <class Ids>
+  static std::vector<std::uint32_t> idValues(const Ids& ids) {
+    std::vector<std::uint32_t> out;
+    for (const auto& v : ids) out.push_back(static_cast<std::uint32_t>(v.value()));
+    return out;
   }
   void hyperarc(Layer layer, std::string type, std::uint32_t id, std::vector<std::uint32_t> head,
                 std::vector<std::uint32_t> tail, std::string label = {}) {

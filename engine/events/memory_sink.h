@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/log/events.h"
+#include "engine/events/events.h"
 
 namespace dash::log {
 
