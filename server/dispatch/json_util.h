@@ -16,7 +16,7 @@ inline Json parseObject(const std::string& text, const std::string& what) {
   Json j;
   try {
     j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // parse_error, and out_of_range for numbers such as 1e400
     throw InputError(what + ": not JSON (" + e.what() + ")");
   }
   DASH_THROW_UNLESS(j.is_object(), what + ": expected a JSON object");
