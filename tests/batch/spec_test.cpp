@@ -1,6 +1,7 @@
 // Batch spec parsing: the grid, its expansion and stable run keys, and one test per error kind.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <set>
 #include <string>
 
@@ -234,6 +235,38 @@ TEST(BatchSpecErrors, TooManyRuns) {
                         R"(]}}],"planners":[{"name":"lazy-dash"}],"seeds":[1,2,3]})",
                     SpecErrorKind::kTooManyRuns, SpecOptions{});
   EXPECT_NE(msg.find("10000"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace dash::batch
+
+namespace dash::batch {
+namespace {
+
+// Issue 24: numbers that overflowed the runner's and Slurm's arithmetic, and a seed list whose
+// duplicate check was quadratic.
+TEST(BatchSpecErrors, NumbersHaveUpperBounds) {
+  expectError(edit(R"("time_limit": 5)", R"("time_limit": 1e10)"), SpecErrorKind::kBadValue);
+  expectError(edit(R"("memory_limit": 1024)", R"("memory_limit": 1e30)"), SpecErrorKind::kBadValue);
+  expectError(edit(R"("seeds": {"from": 3, "count": 2})", R"("seeds": {"from": 9223372036854775000, "count": 2})"),
+              SpecErrorKind::kOutOfRange);
+  expectError(edit(R"("seeds": {"from": 3, "count": 2})", R"("seeds": [1, 9007199254740993])"),
+              SpecErrorKind::kOutOfRange);
+  std::string many = "[";
+  for (int i = 0; i < 1000001; ++i) many += std::to_string(i) + ",";
+  many.back() = ']';
+  expectError(edit(R"("seeds": {"from": 3, "count": 2})", R"("seeds": )" + many), SpecErrorKind::kTooManyRuns);
+  EXPECT_NO_THROW(parseBatchSpec(edit(R"("time_limit": 5)", R"("time_limit": 604800)"), "spec.json", kFast));
+}
+
+TEST(BatchSpec, CountRunsSaturatesInsteadOfWrapping) {
+  BatchSpec spec;
+  ScenarioEntry e{.family = "sorting"};
+  for (int p = 0; p < 5; ++p) e.params.emplace_back("p" + std::to_string(p), std::vector<int>(1 << 14, 1));
+  spec.scenarios.push_back(e);
+  spec.seeds.assign(4, 1);
+  spec.planners.resize(2);
+  EXPECT_EQ(countRuns(spec), std::numeric_limits<std::size_t>::max());
 }
 
 }  // namespace

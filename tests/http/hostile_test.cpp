@@ -237,6 +237,9 @@ TEST_F(HostileTest, InvalidUtf8AndHugeNumbersAre4xx) {
             "B");
   EXPECT_EQ(http->post("/api/query", R"({"sql": "SELECT 1", "max_rows": 1e400})", "").status, 400);
   EXPECT_EQ(http->post("/api/batches/validate", R"({"name": "x", "time_limit": -1e400})", "").status, 400);
+  if (server->dispatchMounted()) {
+    EXPECT_EQ(http->post("/api/dispatch/preflight", R"({"run": "x", "speed": 1e400})").status, 400);
+  }
   expectAlive();
 }
 
