@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/check.h"
+#include "engine/core/json_reader.h"
 #include "engine/robots/joint_vector.h"
 
 namespace dash::dispatch::json_util {
@@ -23,16 +24,16 @@ inline Json parseObject(const std::string& text, const std::string& what) {
   return j;
 }
 
-inline const Json& field(const Json& j, const char* key, const std::string& path) {
-  auto it = j.find(key);
-  DASH_THROW_UNLESS(it != j.end(), path + "." + key + ": missing");
-  return *it;
+/// The project's field reader (engine/core/json_reader.h): errors are InputError("PATH: MESSAGE").
+inline const JsonReader<Json>& reader() {
+  static const JsonReader<Json> r("", "message");
+  return r;
 }
 
+inline const Json& field(const Json& j, const char* key, const std::string& path) { return reader().field(j, path, key); }
+
 inline std::string str(const Json& j, const char* key, const std::string& path) {
-  const Json& v = field(j, key, path);
-  DASH_THROW_UNLESS(v.is_string(), path + "." + key + ": expected a string");
-  return v.get<std::string>();
+  return reader().string(field(j, key, path), jsonPathJoin(path, key));
 }
 
 inline std::string strOr(const Json& j, const char* key, const std::string& fallback, const std::string& path) {
@@ -40,9 +41,7 @@ inline std::string strOr(const Json& j, const char* key, const std::string& fall
 }
 
 inline double num(const Json& j, const char* key, const std::string& path) {
-  const Json& v = field(j, key, path);
-  DASH_THROW_UNLESS(v.is_number(), path + "." + key + ": expected a number");
-  return v.get<double>();
+  return reader().number(field(j, key, path), jsonPathJoin(path, key));
 }
 
 inline double numOr(const Json& j, const char* key, double fallback, const std::string& path) {
@@ -50,16 +49,11 @@ inline double numOr(const Json& j, const char* key, double fallback, const std::
 }
 
 inline std::int64_t int64(const Json& j, const char* key, const std::string& path) {
-  const Json& v = field(j, key, path);
-  DASH_THROW_UNLESS(v.is_number_integer(), path + "." + key + ": expected an integer");
-  return v.get<std::int64_t>();
+  return reader().integer(field(j, key, path), jsonPathJoin(path, key));
 }
 
 inline bool boolOr(const Json& j, const char* key, bool fallback, const std::string& path) {
-  if (!j.contains(key)) return fallback;
-  const Json& v = j[key];
-  DASH_THROW_UNLESS(v.is_boolean(), path + "." + key + ": expected true or false");
-  return v.get<bool>();
+  return j.contains(key) ? reader().boolean(j[key], jsonPathJoin(path, key)) : fallback;
 }
 
 inline Json vec(const JointVector& v) {
@@ -69,23 +63,13 @@ inline Json vec(const JointVector& v) {
 }
 
 inline JointVector toVec(const Json& a, const std::string& path) {
-  DASH_THROW_UNLESS(a.is_array() && a.size() <= 6, path + ": expected at most 6 numbers");
+  reader().array(a, path);
+  if (a.size() > 6) reader().fail(path, "expected at most 6 numbers, got " + std::to_string(a.size()));
   JointVector v(static_cast<Eigen::Index>(a.size()));
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    DASH_THROW_UNLESS(a[i].is_number(), path + "[" + std::to_string(i) + "]: expected a number");
-    v[static_cast<Eigen::Index>(i)] = a[i].get<double>();
-  }
+  for (std::size_t i = 0; i < a.size(); ++i) v[static_cast<Eigen::Index>(i)] = reader().number(a[i], jsonPathIndex(path, i));
   return v;
 }
 
-inline std::vector<std::string> strings(const Json& a, const std::string& path) {
-  DASH_THROW_UNLESS(a.is_array(), path + ": expected an array of strings");
-  std::vector<std::string> out;
-  for (const Json& s : a) {
-    DASH_THROW_UNLESS(s.is_string(), path + ": expected an array of strings");
-    out.push_back(s.get<std::string>());
-  }
-  return out;
-}
+inline std::vector<std::string> strings(const Json& a, const std::string& path) { return reader().strings(a, path); }
 
 }  // namespace dash::dispatch::json_util

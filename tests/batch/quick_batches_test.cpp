@@ -17,6 +17,7 @@
 #include "engine/log/results_db.h"
 #include "server/batch/batch_spec.h"
 #include "tests/batch/batch_test_util.h"
+#include "tests/common/cli_run.h"
 
 namespace dash::batch {
 namespace {
@@ -28,14 +29,8 @@ const fs::path kQuick = fs::path(DASHBENCH_SOURCE_DIR) / "experiments" / "quick"
 
 /// Runs the dashbench binary; returns (exit code, stdout and stderr).
 std::pair<int, std::string> dashbench(const std::string& args) {
-  const std::string command = binary() + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  std::size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  test::CliRun r = test::runDashbench(args);
+  return {r.exit_code, std::move(r.output)};
 }
 
 class QuickBatch : public ::testing::TestWithParam<std::string> {};

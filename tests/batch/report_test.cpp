@@ -9,6 +9,7 @@
 
 #include "server/batch/batch_report.h"
 #include "tests/batch/batch_test_util.h"
+#include "tests/common/cli_run.h"
 
 namespace dash::batch {
 namespace {
@@ -95,14 +96,8 @@ TEST(Report, MediansAcrossSeedsPerFamilyParamsAndPlanner) {
 
 /// Runs the dashbench binary; returns (exit code, stdout).
 std::pair<int, std::string> cli(const std::string& args) {
-  const std::string command = binary() + " " + args + " 2>/dev/null";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  std::size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  test::CliRun r = test::runDashbench(args, test::Stderr::kDrop);
+  return {r.exit_code, std::move(r.output)};
 }
 
 TEST(BatchCli, PlanRunStatusAndReport) {

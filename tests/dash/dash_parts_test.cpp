@@ -25,20 +25,21 @@ namespace {
 struct Built {
   explicit Built(Scene s) : scene(std::move(s)), world(scene), context(world), space(scene), sampler(world, context),
                             reach(sampler) {
-    const OmplSeedScope ompl_seeds(1);
     task_graph = buildDashTaskGraph(space, reach.oracle());
     catalog = sampleTransitions(sampler, space, task_graph, {}, Deadline());
   }
   void buildMotion(log::EventEmitter& emitter) {
     motion = std::make_unique<MotionHypergraph>(space, catalog, emitter);
+    roadmaps = RoadmapSet(world.robotCount());
     for (int r = 0; r < world.robotCount(); ++r)
-      for (int holding = 0; holding < 2; ++holding) {
-        roadmaps.push_back(std::make_unique<ValidatedRoadmap>(world, context, r));
-        roadmaps.back()->growTo(60, Deadline());
+      for (const bool holding : {false, true}) {
+        roadmaps.slot(r, holding) = std::make_unique<ValidatedRoadmap>(world, context, r);
+        roadmaps.at(r, holding).growTo(60, Deadline());
       }
     motion->connectMoves(roadmaps, {}, Deadline());
   }
 
+  const OmplSeedScope ompl_seeds{1};  // the roadmaps' samples: from seed 1, whatever ran before
   Scene scene;
   CollisionWorld world;
   CollisionContext context;

@@ -8,6 +8,7 @@
 
 #include "engine/core/planner_params.h"
 #include "engine/planners/lazy_dash.h"
+#include "tests/common/cli_run.h"
 
 namespace dash {
 namespace {
@@ -69,13 +70,9 @@ TEST(PlannerParams, ThePaperProfileTurnsEveryExtensionOff) {
 }
 
 int run(const std::string& args, std::string* out) {
-  const std::string command = std::string(DASHBENCH_BINARY) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return -1;
-  std::array<char, 4096> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr) *out += buffer.data();
-  const int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  test::CliRun r = test::runDashbench(args);
+  *out += r.output;
+  return r.exit_code;
 }
 
 TEST(PlannerParamsCli, ListsSetsAndRejects) {
