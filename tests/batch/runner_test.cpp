@@ -9,6 +9,7 @@
 #include <chrono>
 #include <map>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <thread>
 
@@ -94,7 +95,10 @@ TEST(BatchRunner, TinyBatchEndToEndWithTwoWorkers) {
     EXPECT_EQ(r.meta.family, "sorting");
     EXPECT_EQ(r.meta.planner, "lazy-dash");
     EXPECT_EQ(r.meta.planner_config_name, "lazy-task");
-    EXPECT_EQ(r.meta.planner_settings_json, R"({"task_only":true})");
+    // The spec's settings, with the run's full effective parameter set beside them.
+    const nlohmann::json settings = nlohmann::json::parse(r.meta.planner_settings_json);
+    EXPECT_EQ(settings.at("task_only"), true) << r.meta.planner_settings_json;
+    EXPECT_EQ(settings.at("parameters").at("schedule_memo"), true) << r.meta.planner_settings_json;
     EXPECT_EQ(r.meta.time_limit.value_or(0), 20.0);
     EXPECT_EQ(r.meta.memory_limit.value_or(0), 2048.0);
     EXPECT_EQ(r.meta.scene.rfind("sorting-", 0), 0u) << r.meta.scene;  // set once the child generated it
