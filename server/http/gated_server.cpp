@@ -188,6 +188,11 @@ bool GatedServer::advance(Waiting& w, bool readable, Clock::time_point now) {
     // Answered already; httplib would answer it again.
     request = withoutExpect(std::string_view(request).substr(0, head.head_bytes)) + request.substr(head.head_bytes);
   }
+  if (in_flight_.load() >= options_.workers + options_.max_queued) {
+    refuseAndClose(w.fd, 503, "the server is busy; try again in a moment");
+    return false;
+  }
+  ++in_flight_;
   const std::size_t request_bytes = request.size();
   request += rest;  // pipelined bytes: the stream keeps them for the next request
   const int fd = w.fd;
@@ -208,11 +213,26 @@ void GatedServer::serve(int fd, std::string request, std::size_t request_bytes, 
   const bool last = stopping || served + 1 >= options_.max_requests_per_connection;
   bool client_closes = false;
   const bool answered = process_request(stream, last, client_closes, nullptr);
+  --in_flight_;
   if (answered && !last && !client_closes) {
     admit(fd, stream.takeBuffered(), served + 1);
   } else {
     closeQuietly(fd);
   }
+}
+
+void GatedServer::dropOldest(std::vector<std::unique_ptr<Waiting>>& waiting) const {
+  // The connections waiting longest are the slow ones: drop them, keep room for new clients.
+  std::size_t bytes = 0;
+  for (const auto& w : waiting) bytes += w->buffer.size();
+  std::size_t drop = 0;
+  while (drop < waiting.size() &&
+         (waiting.size() - drop > options_.max_waiting || bytes > options_.max_buffered_bytes)) {
+    bytes -= waiting[drop]->buffer.size();
+    closeQuietly(waiting[drop]->fd);
+    ++drop;
+  }
+  waiting.erase(waiting.begin(), waiting.begin() + static_cast<std::ptrdiff_t>(drop));
 }
 
 void GatedServer::readerLoop() {
@@ -233,12 +253,7 @@ void GatedServer::readerLoop() {
       // A returning connection may hold a whole pipelined request already.
       if (w->buffer.empty() || advance(*w, false, now)) waiting.push_back(std::move(w));
     }
-    if (waiting.size() > options_.max_waiting) {
-      // The connections waiting longest are the slow ones: drop them, keep room for new clients.
-      const std::size_t drop = waiting.size() - options_.max_waiting;
-      for (std::size_t i = 0; i < drop; ++i) closeQuietly(waiting[i]->fd);
-      waiting.erase(waiting.begin(), waiting.begin() + static_cast<std::ptrdiff_t>(drop));
-    }
+    dropOldest(waiting);
 
     fds.assign(1, pollfd{.fd = wake_fd_, .events = POLLIN, .revents = 0});
     Clock::time_point next = now + kMaxPollWait;
@@ -271,6 +286,7 @@ void GatedServer::readerLoop() {
       still.push_back(std::move(waiting[i]));
     }
     waiting.swap(still);
+    dropOldest(waiting);
   }
   for (const auto& w : waiting) closeQuietly(w->fd);
   std::lock_guard lock(mutex_);

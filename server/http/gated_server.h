@@ -10,9 +10,12 @@
 // or one too many waits on the reader, not on a worker:
 // - a request must be complete `request_timeout` after its first byte (else 408 and close);
 // - a kept-alive connection may idle `idle_timeout` before its next request (then closed);
-// - at most `max_waiting` connections wait; beyond, the one waiting longest is dropped;
+// - at most `max_waiting` connections wait, holding at most `max_buffered_bytes` together; beyond,
+//   the ones waiting longest are dropped;
+// - at most `max_queued` whole requests wait for a worker; beyond, 503;
 // - heads beyond the limits get 431, bodies 413, chunked 411, Content-Encoding 415.
 // Workers are then busy only while a handler runs (an event stream holds one: see routes_events).
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstddef>
@@ -21,6 +24,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "server/http/request_head.h"
 
@@ -36,6 +40,8 @@ struct GateOptions {
   std::chrono::milliseconds idle_timeout{5000};      ///< a connection's wait for its next request
   std::chrono::milliseconds write_timeout{5000};     ///< a worker's wait for a client to take its answer
   std::size_t max_waiting = 512;                     ///< connections the reader holds at once
+  std::size_t max_buffered_bytes = 64 << 20;         ///< what they may have sent, together
+  std::size_t max_queued = 256;                      ///< whole requests waiting for a worker; more: 503
   std::size_t workers = 64;                          ///< requests handled at once
   std::size_t max_requests_per_connection = 1000;
 };
@@ -51,6 +57,9 @@ class GatedServer : public httplib::Server {
   /// waits for the kernel's SYN retry (1 s, then 3 s). Returns false if listen() refused.
   bool raiseListenBacklog(int backlog);
 
+  /// Requests handed to the workers and not finished (running or queued).
+  std::size_t inFlight() const { return in_flight_.load(); }
+
   /// After stop(): closes the waiting connections and waits for the workers' requests to end.
   /// Idempotent.
   void stopGate();
@@ -63,6 +72,8 @@ class GatedServer : public httplib::Server {
   void readerLoop();
   /// Reads what arrived; returns false when the connection is finished with (closed or handed on).
   bool advance(Waiting& w, bool readable, std::chrono::steady_clock::time_point now);
+  /// Closes the connections waiting longest until the waiting ones fit max_waiting and max_buffered_bytes.
+  void dropOldest(std::vector<std::unique_ptr<Waiting>>& waiting) const;
   void serve(int fd, std::string request, std::size_t request_bytes, std::size_t served);
   void wake();
 
@@ -71,6 +82,7 @@ class GatedServer : public httplib::Server {
   std::mutex mutex_;
   std::deque<std::unique_ptr<Waiting>> incoming_;
   bool stopping_ = false;
+  std::atomic<std::size_t> in_flight_{0};  ///< requests handed to the workers and not done yet
   std::unique_ptr<httplib::ThreadPool> workers_;
   std::thread reader_;
 };

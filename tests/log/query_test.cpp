@@ -114,5 +114,25 @@ TEST(QueryFormat, CsvQuotesAndJsonKeepsTypes) {
   EXPECT_THROW(parseOutputFormat("xml"), InputError);
 }
 
+// Issue 24: what one query may cost.
+TEST_F(ReadOnlyQuery, FunctionsThatEscapeTheLimitsAreRefused) {
+  expectRefused("SELECT printf('%.*c', 400000000, 'x')", QueryGuard::Function, "printf() is not allowed");
+  expectRefused("SELECT FORMAT('%d', 1)", QueryGuard::Function, "format() is not allowed");
+  expectRefused("SELECT fts3_tokenizer('simple')", QueryGuard::Function, "fts3_tokenizer() is not allowed");
+  // A view of the schema may use printf (dash_timeline does).
+  EXPECT_NO_THROW(runReadOnlyQuery(path_, "SELECT * FROM dash_timeline LIMIT 1"));
+}
+
+TEST_F(ReadOnlyQuery, CellColumnAndByteLimits) {
+  const QueryLimits limits{.max_rows = 1000, .max_cell_bytes = 1 << 20, .max_columns = 3, .max_result_bytes = 3 << 20};
+  EXPECT_THROW(runReadOnlyQuery(path_, "SELECT zeroblob(2000000)", limits), InputError);
+  EXPECT_THROW(runReadOnlyQuery(path_, "SELECT 1, 2, 3, 4", limits), InputError);
+  const SqlRows rows = runReadOnlyQuery(
+      path_, "WITH RECURSIVE c(i) AS (SELECT 1 UNION ALL SELECT i+1 FROM c LIMIT 10) SELECT hex(zeroblob(400000)) FROM c",
+      limits);
+  EXPECT_TRUE(rows.truncated);
+  EXPECT_EQ(rows.rows.size(), 4u) << "3 MB of 800 KB cells: the fourth row crosses the budget";
+}
+
 }  // namespace
 }  // namespace dash::log
