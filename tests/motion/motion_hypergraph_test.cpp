@@ -3,6 +3,9 @@
 // by the next motion query on the same task plan.
 #include <gtest/gtest.h>
 
+#include <map>
+#include <variant>
+
 #include "engine/events/memory_sink.h"
 #include "engine/motion/motion_hypergraph.h"
 #include "engine/motion/motion_layer.h"
@@ -98,6 +101,17 @@ struct SortingRun {
   TaskLayerResult layer = task.plan(Deadline(120));
 };
 
+/// Motion hyperarcs per type in the event stream, moves left out.
+std::map<std::string, std::int64_t> transitionArcCounts(const log::MemorySink& sink) {
+  std::map<std::string, std::int64_t> out;
+  for (const log::Event& e : sink.events()) {
+    const auto* r = std::get_if<log::RepresentationEvent>(&e.payload);
+    if (r == nullptr || r->layer != log::Layer::Motion || r->kind != log::ElementKind::Hyperarc) continue;
+    if (r->arc_type != "move") out[r->arc_type] += r->change == log::ElementChange::Added ? 1 : -1;
+  }
+  return out;
+}
+
 TEST(MotionLayer, RoundsOnTheSamePlanReuseHMAndCoupleEveryHandover) {
   const OmplSeedScope ompl_seeds(1);
   SortingRun run;
@@ -112,17 +126,24 @@ TEST(MotionLayer, RoundsOnTheSamePlanReuseHMAndCoupleEveryHandover) {
   EXPECT_EQ(run.motion.hypergraph().coupledHyperarcCount(), static_cast<std::size_t>(handovers));
   EXPECT_NE(extended, arcs);
   EXPECT_EQ(run.sink.counter("motion_query_incomplete", 0), 0);
+  const std::map<std::string, std::int64_t> transitions_first = transitionArcCounts(run.sink);
   const MotionLayerResult again = run.motion.plan(run.layer.plan, run.layer.transitions, run.task.space(), Deadline(120));
   ASSERT_EQ(again.status, MotionStatus::kOk) << again.reason;
-  // The same transition configurations: the same vertices. Moves may take other paths (the roadmap
-  // grew) but join the same vertices: the same hyperarcs.
-  EXPECT_EQ(run.motion.motionVertices(), vertices);
-  EXPECT_EQ(run.motion.motionHyperarcs(), arcs);
+  // The same transition configurations: the same vertices and transition hyperarcs, none twice. The
+  // roadmap grew between the rounds, so a move may now end at another back-off or pass another via
+  // configuration: only moves (and the vertices at their ends) may be added.
+  EXPECT_LE(vertices, run.motion.motionVertices());
+  EXPECT_EQ(transitionArcCounts(run.sink), transitions_first);
+  EXPECT_EQ(run.motion.hypergraph().coupledHyperarcCount(), static_cast<std::size_t>(handovers));
+  EXPECT_LE(run.motion.motionVertices() - vertices, vertices / 10) << "a second round on the same plan rebuilt H_M";
   EXPECT_EQ(run.motion.extendedHyperarcs(), 2 * extended);
   // The event stream holds exactly the live structure (what the results database records).
-  EXPECT_EQ(run.sink.count(log::Layer::Motion, log::ElementKind::Vertex), static_cast<std::int64_t>(vertices));
-  EXPECT_EQ(run.sink.count(log::Layer::Motion, log::ElementKind::Hyperarc), static_cast<std::int64_t>(arcs));
+  EXPECT_EQ(run.sink.count(log::Layer::Motion, log::ElementKind::Vertex),
+            static_cast<std::int64_t>(run.motion.motionVertices()));
+  EXPECT_EQ(run.sink.count(log::Layer::Motion, log::ElementKind::Hyperarc),
+            static_cast<std::int64_t>(run.motion.motionHyperarcs()));
   EXPECT_EQ(run.sink.countHyperarcs(log::Layer::Motion, "handover"), handovers);
+  (void)arcs;
 }
 
 TEST(MotionLayer, AMotionConstraintsRegionIsAvoidedByTheNextQueryOnTheSamePlan) {
