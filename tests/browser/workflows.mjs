@@ -274,6 +274,15 @@ async function main() {
         return out;
       }, solved.map((r) => r.uuid)); // both plans on the clock
       expect(after > before && points.some((t) => Math.abs(t - after) < 2e-3), `Shift+ArrowRight went ${before} -> ${after}, not to a plan point`);
+      const hash = await page.evaluate(() => location.hash);
+      const inUrl = Number(new URLSearchParams(hash.split('?')[1]).get('t'));
+      expect(Math.abs(inUrl - after) < 0.01, `the plan time is not in the URL: ${hash}`);
+      await page.locator('[data-testid=events-type]').selectOption('phase');
+      await page.waitForFunction(() => location.hash.includes('events=phase'));
+      await page.reload();
+      await page.waitForSelector('[data-testid=viewer-overlay][data-ready="1"]', { timeout: 60000 });
+      expect(Math.abs((await time()) - after) < 0.01, `after a reload the plan is at ${await time()}, not ${after}`);
+      expect((await page.locator('[data-testid=events-type]').inputValue()) === 'phase', 'the events filter did not survive a reload');
       await page.locator('[data-testid=tag-input]').fill('keyboard-tag');
       await page.locator('[data-testid=tag-input]').press('Enter');
       await page.waitForSelector('[data-testid=tags] .chip:has-text("keyboard-tag")');

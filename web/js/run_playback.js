@@ -15,7 +15,9 @@ function typing(target) {
 }
 
 export class PlaybackControls {
-  constructor() {
+  /// onSettle(t): the time after a scrub, a key or a pause (not every frame of playback).
+  constructor(onSettle = () => {}) {
+    this.onSettle = onSettle;
     this.viewers = [];
     this.time = 0;
     this.playing = false;
@@ -25,7 +27,10 @@ export class PlaybackControls {
     this.speed = el('select', { title: 'playback speed' }, [0.5, 1, 2, 5, 10].map((s) => el('option', { value: s, text: `${s}×`, selected: s === 2 })));
     this.label = el('span', { class: 'mono', 'data-testid': 'time-label', text: 't = 0.00 s' });
     this.element = el('div', { class: 'scrubber' }, this.play, el('label', {}, 'speed', this.speed), this.scrub, this.label);
-    this.scrub.addEventListener('input', () => this.showTime((Number(this.scrub.value) / SCRUB_STEPS) * this.duration));
+    this.scrub.addEventListener('input', () => {
+      this.showTime((Number(this.scrub.value) / SCRUB_STEPS) * this.duration);
+      this.onSettle(this.time);
+    });
     this.play.addEventListener('click', () => this.toggle());
     this.onKey = (e) => this.key(e);
     document.addEventListener('keydown', this.onKey);
@@ -36,14 +41,14 @@ export class PlaybackControls {
     return Math.max(0, ...this.viewers.map((v) => v.player.duration));
   }
 
-  /// Viewers that have a plan to play; the controls are disabled without one.
-  setViewers(viewers) {
+  /// Viewers that have a plan to play (the controls are disabled without one), shown at time t.
+  setViewers(viewers, t = 0) {
     this.viewers = viewers.filter((v) => v && v.player.plan);
     const none = this.viewers.length === 0;
     this.scrub.disabled = none;
     this.play.disabled = none;
-    this.pause();
-    this.showTime(0);
+    this.pause(false);
+    this.showTime(t);
   }
 
   /// The times at which some robot of some plan has a point (for Shift+arrow).
@@ -61,10 +66,12 @@ export class PlaybackControls {
     this.scrub.value = String(Math.round((SCRUB_STEPS * this.time) / Math.max(1e-9, d)));
   }
 
-  pause() {
+  pause(settle = true) {
+    const was = this.playing;
     this.playing = false;
     cancelAnimationFrame(this.raf);
     this.play.textContent = 'Play';
+    if (was && settle) this.onSettle(this.time);
   }
 
   toggle() {
@@ -102,11 +109,12 @@ export class PlaybackControls {
       } else {
         this.showTime(this.time + dir * KEY_STEP * this.duration);
       }
+      this.onSettle(this.time);
     }
   }
 
   dispose() {
-    this.pause();
+    this.pause(false);
     document.removeEventListener('keydown', this.onKey);
   }
 }

@@ -11,7 +11,7 @@ import { el, clear, badge, fmtNumber, fmtSeconds, paramsText, errorBox, table } 
 import { drawChart, valueAxis, axisTitle, destroyCharts, chartPanel } from '../charts.js';
 import { PHASE_COLOURS, PHASE_LABELS, LAYER_STYLES } from '../palette.js';
 import { drawSizesOverTime, drawMarks, LAYERS } from '../run_timeline.js';
-import { readList, writeState } from '../url_state.js';
+import { readList, readNumber, readString, writeState } from '../url_state.js';
 import { PlaybackControls } from '../run_playback.js';
 import { mountRunDispatch } from './run_dispatch.js';
 
@@ -46,7 +46,13 @@ export function mount(root, args, params = new URLSearchParams()) {
   let timeline = null;
   let detail = null;
   const others = new Map(); // overlaid uuid -> {progress, timeline, end}
-  const playback = new PlaybackControls();
+  // The URL keeps the overlays, the plan time and the events shown (#/run/UUID?overlay=A&t=12.5&events=constraint).
+  const view = { t: Math.max(0, readNumber(params, 't', 0)), events: readString(params, 'events', 'all'), offset: Math.max(0, Math.floor(readNumber(params, 'offset', 0))) };
+  const saveView = () => writeState({ overlay: overlays, t: view.t > 0 ? view.t.toFixed(2) : '', events: view.events, offset: view.offset }, { events: 'all', offset: 0 });
+  const playback = new PlaybackControls((t) => {
+    view.t = t;
+    saveView();
+  });
 
   const header = el('div', { class: 'panel', 'data-testid': 'run-header' });
   const phases = chartPanel({ title: 'Phase breakdown', testid: 'chart-phases', name: `run-${uuid.slice(0, 8)}-phases`, help: 'Seconds per phase in each planning iteration (stacked).' });
@@ -239,7 +245,7 @@ export function mount(root, args, params = new URLSearchParams()) {
 
   async function loadOverlays() {
     overlayStatus.textContent = '';
-    writeState({ overlay: overlays });
+    saveView();
     const failed = [];
     await Promise.all(
       overlays.map(async (u) => {
@@ -257,10 +263,14 @@ export function mount(root, args, params = new URLSearchParams()) {
     drawTimelines();
   }
 
-  const events = { type: 'all', offset: 0, limit: 100 };
+  const EVENT_TYPES = ['all', 'representation', 'constraint', 'task_space_expansion', 'phase', 'counter'];
+  const events = { type: EVENT_TYPES.includes(view.events) ? view.events : 'all', offset: view.offset, limit: 100 };
   async function loadEvents() {
+    view.events = events.type;
+    view.offset = events.offset;
+    saveView();
     const d = await api.get(`/api/runs/${uuid}/events${query(events)}`);
-    const typeSelect = el('select', {}, ['all', 'representation', 'constraint', 'task_space_expansion', 'phase', 'counter'].map((t) => el('option', { value: t, text: t, selected: t === events.type })));
+    const typeSelect = el('select', { 'data-testid': 'events-type' }, EVENT_TYPES.map((t) => el('option', { value: t, text: t, selected: t === events.type })));
     typeSelect.addEventListener('change', () => {
       events.type = typeSelect.value;
       events.offset = 0;
@@ -314,7 +324,7 @@ export function mount(root, args, params = new URLSearchParams()) {
         note += ` Right: ${first.slice(0, 8)} (makespan ${fmtNumber(overlayViewer.player.duration)} s), on the same clock.`;
       }
       viewerNote.textContent = note;
-      playback.setViewers([viewer, overlayViewer]);
+      playback.setViewers([viewer, overlayViewer], view.t);
     } catch (e) {
       viewerNote.textContent = '';
       viewerBox.append(errorBox(`3D view: ${e.message}`));
