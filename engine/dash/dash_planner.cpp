@@ -250,7 +250,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   emitter.counter("roadmap_growths", 0);
   emitter.counter("constraint_tree_branchings", 0);
   for (;;) {
-    if (deadline.expired()) return timeout("constraint tree");
+    if (deadline.expired()) return timeout("constraint tree (last: " + last_failure + ")");
     if (open.empty()) {
       // Every node is dead or exhausted under the current roadmaps: denser ones may add hyperpaths
       // or ways round; grow them all and start from the root again.
@@ -270,11 +270,22 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
     }
     emitter.counter("complete_query_passes", query.lastPass());
     if (!path.found()) {
-      if (path.status == HyperpathStatus::kDeadline) return timeout("combined query");
+      if (path.status == HyperpathStatus::kDeadline) return timeout("combined query (last: " + last_failure + ")");
       // Under constraints: back up the tree. Without any, the representation itself has no
       // hyperpath (a move a sparse roadmap misses, e.g. into a narrow cubby): only denser roadmaps
       // can add one, so every robot's roadmaps grow and the root is queried again.
       if (!node.empty()) continue;
+      // Say why: the objects H_M has no route for from their start to their goal (a missing
+      // transition or an unconnected move), if any.
+      std::string unrouted;
+      for (int o = 0; o < space.objectCount(); ++o) {
+        const VertexId start = motion->objectVertex(o, space.startLocation(o));
+        if (start.valid() && !std::isfinite(query.costToGo(start)))
+          unrouted += (unrouted.empty() ? "" : ", ") + scene.objects[o].id;
+      }
+      last_failure = "no hyperpath from the start to the goal in the motion hypergraph" +
+                     (unrouted.empty() ? std::string(" (every object has a route of its own: the objects block each other)")
+                                       : "; no route to the goal for " + unrouted);
       MotionConflict none;
       none.what = last_failure;
       none.robots = all_robots;

@@ -119,7 +119,13 @@ FigureRuns collectFigureRuns(const log::ResultsDb& db, const std::string& batch_
       if (p->run) it->second.runs[x].push_back(p->run);
       else ++it->second.skipped[x];
     }
-    std::sort(line_order.begin(), line_order.end());
+    // Groups in order; within one, planners in the order the batch ran them (the spec's order).
+    std::map<std::string, int> planner_rank;
+    for (const Point* p : mine) planner_rank.emplace(p->planner, static_cast<int>(planner_rank.size()));
+    std::sort(line_order.begin(), line_order.end(), [&](const auto& a, const auto& b) {
+      if (a.first != b.first) return a.first < b.first;
+      return planner_rank[a.second] < planner_rank[b.second];
+    });
     for (const auto& key : line_order) data.lines.push_back(std::move(lines[key]));
     out.families.push_back(std::move(data));
   }
