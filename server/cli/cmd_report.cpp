@@ -4,7 +4,7 @@
 #include <string>
 
 #include "engine/log/results_db.h"
-#include "report/figures/comparison_figures.h"
+#include "server/figures/comparison_figures.h"
 #include "server/batch/batch_report.h"
 #include "server/cli/args.h"
 #include "server/cli/command.h"

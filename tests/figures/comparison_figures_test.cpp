@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "engine/core/check.h"
-#include "report/figures/comparison_figures.h"
+#include "server/figures/comparison_figures.h"
 
 namespace dash::figures {
 namespace {

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "engine/log/results_db.h"
-#include "report/figures/figure_data.h"
-#include "report/figures/svg_chart.h"
+#include "server/figures/figure_data.h"
+#include "server/figures/svg_chart.h"
 
 namespace dash::figures {
 

@@ -1,4 +1,4 @@
-#include "report/figures/figure_data.h"
+#include "server/figures/figure_data.h"
 
 #include <algorithm>
 #include <limits>

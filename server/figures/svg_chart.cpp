@@ -1,4 +1,4 @@
-#include "report/figures/svg_chart.h"
+#include "server/figures/svg_chart.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "report/figures/comparison_figures.h"
+#include "server/figures/comparison_figures.h"
 
 #include <sys/wait.h>
 #include <unistd.h>
