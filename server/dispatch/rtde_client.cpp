@@ -3,6 +3,7 @@
 #include <sys/socket.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -118,21 +119,34 @@ bool RtdeClient::session(Socket& socket) {
     std::lock_guard<std::mutex> lock(mutex_);
     state_.connected = true;
   }
-  const std::size_t expected = 1 + 12 * 8;
+  have_offset_ = false;  // a new session may be a restarted controller: a new time base
   while (!stopping_) {
     std::uint8_t type = 0;
     const IoResult r = readPacket(fd, type, payload, options_.timeout_ms);
     if (r != IoResult::kOk) return false;
-    if (type != rtde::kDataPackage || payload.size() != expected || payload[0] != recipe) continue;
+    if (type != rtde::kDataPackage || payload.size() != rtde::kDataSize || payload[0] != recipe) continue;
+    const std::int64_t received = steadyMicros();
+    const double robot_time = getDouble(payload.data() + 1);
     JointVector q(6), qd(6);
     for (int j = 0; j < 6; ++j) {
-      q[j] = getDouble(payload.data() + 1 + 8 * j);
-      qd[j] = getDouble(payload.data() + 1 + 48 + 8 * j);
+      q[j] = getDouble(payload.data() + 9 + 8 * j);
+      qd[j] = getDouble(payload.data() + 57 + 8 * j);
     }
+    const double offset = received * 1e-6 - robot_time;
+    if (!have_offset_ || received - window_start_us_ > static_cast<std::int64_t>(rtde::kClockWindow * 1e6)) {
+      best_offset_ = have_offset_ ? std::min(window_best_, offset) : offset;
+      window_best_ = offset;
+      window_start_us_ = received;
+      have_offset_ = true;
+    }
+    window_best_ = std::min(window_best_, offset);
+    best_offset_ = std::min(best_offset_, offset);
+    const auto measured = static_cast<std::int64_t>(std::llround((robot_time + best_offset_) * 1e6));
     std::lock_guard<std::mutex> lock(mutex_);
     state_.q = q;
     state_.qd = qd;
-    state_.received_us = steadyMicros();
+    state_.received_us = received;
+    state_.measured_us = std::isfinite(robot_time) ? std::min(measured, received) : received;
   }
   return true;
 }

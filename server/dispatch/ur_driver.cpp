@@ -253,9 +253,9 @@ bool UrDriver::ready(std::string& detail) const {
 
 DriverState UrDriver::state() const {
   const RtdeClient::State s = rtde_->state();
-  const bool fresh = s.connected && s.received_us != 0 &&
-                     (steadyMicros() - s.received_us) <= static_cast<std::int64_t>(staleBound() * 1e6);
-  return {fresh, s.q, s.qd, s.received_us};
+  const bool fresh = s.connected && s.measured_us != 0 &&
+                     (steadyMicros() - s.measured_us) <= static_cast<std::int64_t>(staleBound() * 1e6);
+  return {fresh, s.q, s.qd, s.measured_us};
 }
 
 ResultCode UrDriver::load(const ArmTrajectory& trajectory, const GoalLimits& limits, std::string& message) {
@@ -279,7 +279,11 @@ ResultCode UrDriver::load(const ArmTrajectory& trajectory, const GoalLimits& lim
     lock.unlock();
     const bool answers = gripperAnswers(why);
     lock.lock();
-    if (!answers) return refuse(ResultCode::kInvalidGoal, "the gripper does not answer: " + why);
+    if (!answers) {
+      gripper_ready_ = false;  // the gripper thread reconnects (and checks the activation)
+      gripper_error_ = why;
+      return refuse(ResultCode::kInvalidGoal, "the gripper does not answer: " + why);
+    }
     if (phase_ != Phase::kIdle) return refuse(ResultCode::kInvalidGoal, "busy with another goal");
   }
   std::vector<ur::PointMessage> points;
@@ -394,8 +398,8 @@ void UrDriver::checkGoalLocked(SteadyClock::time_point now) {
     // Without fresh joint state nobody can tell where the arm is: stop it (the server then aborts
     // every arm when this one reports the fault).
     const RtdeClient::State rs = rtde_->state();
-    const double age = rs.received_us == 0 ? std::numeric_limits<double>::infinity()
-                                           : (steadyMicros() - rs.received_us) * 1e-6;
+    const double age = rs.measured_us == 0 ? std::numeric_limits<double>::infinity()
+                                           : (steadyMicros() - rs.measured_us) * 1e-6;
     if (!rs.connected || age > staleBound()) {
       char text[200];
       std::snprintf(text, sizeof text, "no joint state from RTDE for %.0f ms (staleness bound %.0f ms): arm stopped",
@@ -405,7 +409,10 @@ void UrDriver::checkGoalLocked(SteadyClock::time_point now) {
     }
   }
   if (phase_ == Phase::kCancelling && now > deadline_) {
-    progress_ = {ArmStatus::kAborted, ResultCode::kFault, "the robot did not confirm the cancel: " + abort_reason_};
+    // Unconfirmed: end the program (it stops the arm on MODE_STOPPED); the operator restarts it.
+    sendReverse(ur::stoppedMessage(options_.read_timeout_ms));
+    progress_ = {ArmStatus::kAborted, ResultCode::kFault,
+                 "the robot did not confirm the cancel (MODE_STOPPED sent): " + abort_reason_};
     phase_ = Phase::kIdle;
     ++goal_seq_;
   } else if (phase_ == Phase::kGoalCheck) {

@@ -47,7 +47,7 @@ JointVector hermite(const JointVector& q0, const JointVector& v0, const JointVec
 
 }  // namespace
 
-SimUrRobot::SimUrRobot(SimUrRobotOptions options) : options_(std::move(options)) {
+SimUrRobot::SimUrRobot(SimUrRobotOptions options) : options_(std::move(options)), epoch_us_(steadyMicros()) {
   q_ = options_.initial.size() == 6 ? options_.initial : JointVector::Zero(6);
   qd_ = JointVector::Zero(6);
   spline_qd_ = JointVector::Zero(6);
@@ -170,8 +170,9 @@ void SimUrRobot::programLoop() {
         std::lock_guard<std::mutex> lock(mutex_);
         points_left_ = m[2];
         trajectory_running_ = true;
+        q_stamp_us_ = steadyMicros();
       }
-      trajectory_thread_ = std::thread([this, n = m[2]] { trajectoryLoop(n); });
+      trajectory_thread_ = std::thread([this, n = m[2], at = now] { trajectoryLoop(n, at); });
     } else if (mode == forward && action == ur::TrajectoryAction::kCancel) {
       {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -248,12 +249,14 @@ bool SimUrRobot::runSegment(const JointVector& q_end, const JointVector& qd_end,
       std::lock_guard<std::mutex> lock(mutex_);
       qd_ = (q - q_) / options_.step;
       q_ = q;
+      q_stamp_us_ = steadyMicros();
       recordLocked(steadyMicros());
     }
     if (s >= 1.0) break;
   }
   std::lock_guard<std::mutex> lock(mutex_);
   q_ = q_end;
+  q_stamp_us_ = steadyMicros();
   spline_qd_ = qd_end;
   recordLocked(steadyMicros());
   return true;
@@ -276,7 +279,7 @@ JointVector SimUrRobot::reportedLocked(std::int64_t now_us) const {
   return history_.front().second;
 }
 
-void SimUrRobot::trajectoryLoop(int /*points*/) {
+void SimUrRobot::trajectoryLoop(int /*points*/, SteadyClock::time_point started) {
   auto result = ur::TrajectoryResult::kSuccess;
   bool first = true;
   SteadyClock::time_point segment_begin{};
@@ -314,7 +317,7 @@ void SimUrRobot::trajectoryLoop(int /*points*/) {
       points_.push_back(p);
       current = q_;
     }
-    if (first) segment_begin = SteadyClock::now();
+    if (first) segment_begin = started;  // the motion starts on START (its points follow at once)
     const auto type = static_cast<ur::PointType>(p.raw[20]);
     bool ok = true;
     if (type == ur::PointType::kSpline && p.raw[19] == static_cast<std::int32_t>(ur::SplineType::kCubic)) {
@@ -403,17 +406,20 @@ void SimUrRobot::rtdeLoop() {
       if (!streaming) continue;
       std::this_thread::sleep_until(next);
       next += std::chrono::microseconds(static_cast<std::int64_t>(period * 1e6));
-      std::vector<std::uint8_t> data(1 + 96);
+      std::vector<std::uint8_t> data(rtde::kDataSize);
       data[0] = recipe;
       std::lock_guard<std::mutex> lock(mutex_);  // held while sending: stallRtde() sees the last package
       if (rtde_stalled_) continue;
-      const JointVector q = reportedLocked(steadyMicros());
+      // The robot's timestamp is when q was measured: the last control step while moving, now at rest.
+      const std::int64_t measured = trajectory_running_ && q_stamp_us_ != 0 ? q_stamp_us_ : steadyMicros();
+      putDouble(data.data() + 1, (measured - epoch_us_) * 1e-6);
+      const JointVector q = reportedLocked(measured);
       for (int j = 0; j < 6; ++j) {
-        putDouble(data.data() + 1 + 8 * j, q[j]);
-        putDouble(data.data() + 49 + 8 * j, qd_[j]);
+        putDouble(data.data() + 9 + 8 * j, q[j]);
+        putDouble(data.data() + 57 + 8 * j, qd_[j]);
       }
       if (!sendRtde(client.fd(), rtde::kDataPackage, data)) break;
-      last_rtde_sent_us_ = steadyMicros();
+      last_rtde_sent_us_ = measured;  // when the last state sent was measured
     }
   }
 }

@@ -4,7 +4,7 @@
 // "request_program\n" (and checks it), connects the trajectory, script command and reverse sockets,
 // then reads and decodes every reverse message and trajectory point byte for byte, executes the points
 // in (speed-scaled) real time, stops when a reverse read times out, and answers each trajectory with
-// 0 (success), 1 (cancelled) or 2 (failure). It also serves RTDE (actual_q, actual_qd) so the PC side
+// 0 (success), 1 (cancelled) or 2 (failure). It also serves RTDE (timestamp, actual_q, actual_qd) so the PC side
 // can read the joint state (and can stall it, as a real stream can stop while the socket stays open),
 // and stops its program on MODE_STOPPED. Everything it received is recorded for the tests.
 #include <atomic>
@@ -78,7 +78,7 @@ class SimUrRobot {
   /// The PC sent MODE_STOPPED: the program left its loop (when, steady microseconds; 0 = never).
   std::int64_t stoppedByPcAt() const;
   /// Stops (true) or resumes the RTDE data packages; the connection stays open. Returns when the last
-  /// package before the stall was sent (steady microseconds).
+  /// state sent before the stall was measured (steady microseconds).
   std::int64_t stallRtde(bool stall);
   int trajectoryResultsSent() const;
   JointVector q() const;
@@ -89,7 +89,7 @@ class SimUrRobot {
  private:
   void programLoop();
   void rtdeLoop();
-  void trajectoryLoop(int points);
+  void trajectoryLoop(int points, std::chrono::steady_clock::time_point started);
   void cancelTrajectory(bool always_answer);
   /// Runs one segment from `begin` (absolute schedule: delays do not add up); false if cancelled.
   bool runSegment(const JointVector& q_end, const JointVector& qd_end, double duration,
@@ -110,6 +110,8 @@ class SimUrRobot {
   std::atomic<bool> stopping_{false};
   std::atomic<bool> cancel_{false};
   JointVector q_, qd_, spline_qd_;
+  std::int64_t q_stamp_us_ = 0;  ///< when q_ was last computed (steady)
+  std::int64_t epoch_us_ = 0;    ///< the robot controller's time 0 (RTDE timestamp)
   std::string program_;
   bool connected_ = false;
   std::vector<ReceivedPoint> points_;
