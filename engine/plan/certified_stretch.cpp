@@ -18,6 +18,8 @@ inline std::size_t at(int i) { return static_cast<std::size_t>(i); }
 /// m: while the boxes of a pair are this much farther apart than the clearance, conservative
 /// advancement steps on the boxes' distance without an exact one (cheaper than the shorter steps).
 constexpr double kBoxStepMargin = 0.01;
+/// Steps through a contact are this much finer than what the bound allows (depth accuracy).
+constexpr double kContactRefinement = 4.0;
 
 Aabb grown(const Aabb& box, double margin) { return Aabb(box.min().array() - margin, box.max().array() + margin); }
 
@@ -329,7 +331,9 @@ void StretchChecker::advance(const Pair& pair, std::vector<PairContact>& contact
       open = nullptr;
     }
     if (d > enough || pair.rate <= 0.0) break;
-    const double step = std::max(std::abs(d - c) / pair.rate, floor_u);
+    // Clear: certified until the bound reaches the clearance. In contact: certified in contact until
+    // the bound could lift it, but stepped 4 times finer so that the deepest point is found closely.
+    const double step = std::max(in_contact ? (c - d) / (kContactRefinement * pair.rate) : (d - c) / pair.rate, floor_u);
     if (u + step >= 1.0) {
       if (open != nullptr) {
         open->t_last = stretch_.t1;
