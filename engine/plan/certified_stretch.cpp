@@ -17,7 +17,7 @@ inline std::size_t at(int i) { return static_cast<std::size_t>(i); }
 
 /// m: while the boxes of a pair are this much farther apart than the clearance, conservative
 /// advancement steps on the boxes' distance without an exact one (cheaper than the shorter steps).
-constexpr double kBoxStepMargin = 0.01;
+constexpr double kBoxStepMargin = 0.01;  // cmd_validate.cpp says "10 mm" when no pair came closer
 /// Steps through a contact are this much finer than what the bound allows (depth accuracy).
 constexpr double kContactRefinement = 4.0;
 
