@@ -230,3 +230,77 @@ inline HandoverCase urHandover(double overlap) {
 }
 
 }  // namespace dash::test
+
+namespace dash::test {
+
+/// The example UR5e panning from -0.2 to +0.2 rad about its home, past a wall (a 2 x 30 x 8 cm box
+/// at the forearm's height, facing it at the middle of the pan) that the forearm's capsule reaches
+/// `overlap` deep at the middle (negative: stays that far away). Both plan points are clear.
+struct ForearmCase {
+  Scene scene;
+  Plan plan;
+  double reached = 0.0;  ///< the smallest signed distance of forearm and wall found on 1001 samples
+};
+
+inline ForearmCase forearmWall(double overlap) {
+  Scene scene = exampleScene();
+  scene.name = "forearm-wall";
+  scene.tasks.clear();
+  for (SceneObject& o : scene.objects) o.X_WO_goal.reset();
+  scene.end_at_home = false;
+  const SceneRobot& robot = scene.robots[0];
+  const JointVector mid = robot.home;
+  JointVector q_a = mid;
+  JointVector q_b = mid;
+  q_a[0] -= 0.08;
+  q_b[0] += 0.08;
+  int forearm = 0;
+  while (robot.model->bodies[static_cast<std::size_t>(forearm)].name != "forearm") ++forearm;
+  std::vector<Pose> frames(robot.model->bodies.size());
+  bodyFrames(*robot.model, robot.X_WB, mid, frames);
+  const CollisionBody& body = robot.model->bodies[static_cast<std::size_t>(forearm)];
+  // The forearm's outer end (the wrist end, frame 3's origin: its cap reaches 5 mm past wrist_1).
+  const Vec3 m = frames[static_cast<std::size_t>(forearm)] * body.capsule.b;
+  Vec3 n = m - robot.X_WB.translation();
+  n.z() = 0.0;
+  n.normalize();
+  const Quat facing(Eigen::AngleAxisd(std::atan2(n.y(), n.x()), Vec3::UnitZ()));
+  auto wallAt = [&](double face) {  // face: the wall's near face, along n from the base axis
+    const Vec3 centre = robot.X_WB.translation() + (face + 0.01) * n;
+    return makePose(Vec3(centre.x(), centre.y(), m.z()), facing);
+  };
+  SceneObstacle wall;
+  wall.id = "wall";
+  wall.shape.size = Vec3(0.02, 0.04, 0.08);
+  scene.obstacles.push_back(wall);
+  auto closest = [&](double face) {
+    scene.obstacles.back().X_WO = wallAt(face);
+    const CollisionWorld world(scene);
+    CollisionContext context(world);
+    const ObstacleGeometry& o = world.obstacles().back();
+    double best = 1e9;
+    for (int k = 0; k <= 1000; ++k) {
+      const JointVector q = q_a + (q_b - q_a) * (static_cast<double>(k) / 1000.0);
+      bodyFrames(*robot.model, robot.X_WB, q, frames);
+      const auto& g = world.robot(0).bodies[static_cast<std::size_t>(forearm)];
+      best = std::min(best, signedDistance(context, *g.shape, frames[static_cast<std::size_t>(forearm)] * g.X_FG,
+                                           *o.shape, o.X_WO));
+    }
+    return best;
+  };
+  double lo = 0.0;  // deep
+  double hi = 2.0;  // apart
+  for (int i = 0; i < 40; ++i) {
+    const double face = 0.5 * (lo + hi);
+    (closest(face) > -overlap ? hi : lo) = face;
+  }
+  ForearmCase out{scene, {}, closest(hi)};
+  out.scene.robots[0].home = q_a;
+  out.plan.scene = scene.name;
+  out.plan.planner = "test";
+  out.plan.robots.push_back({robot.id, robot.model->joint_names, {point(0.0, q_a), point(1.0, q_b)}});
+  out.plan.makespan = 1.0;
+  return out;
+}
+
+}  // namespace dash::test

@@ -109,3 +109,39 @@ TEST(CertifiedValidator, HostileOptionsAreRefused) {
 
 }  // namespace
 }  // namespace dash
+
+namespace dash {
+namespace {
+
+TEST(CertifiedValidator, ForearmGrazingAWallIsRejected) {
+  const test::ForearmCase graze = test::forearmWall(kDip);
+  ASSERT_NEAR(graze.reached, -kDip, 1e-5);
+  const ValidationReport report = validatePlan(graze.scene, graze.plan);
+  ASSERT_EQ(report.problems.size(), 1u) << report.summary();
+  const ValidationProblem& p = report.problems[0];
+  EXPECT_EQ(p.kind, ProblemKind::kRobotObstacleCollision);
+  EXPECT_EQ(p.other, "wall");
+  EXPECT_NE(p.message.find("forearm"), std::string::npos) << p.message;
+  EXPECT_NEAR(p.distance, -kDip, kDip / 4.0) << p.message;
+  EXPECT_GT(p.t, 0.0);
+  EXPECT_LT(p.t_end, 1.0);
+}
+
+TEST(CertifiedValidator, TheSampledCheckSeesTheForearmToo) {
+  // A capsule's curvature makes a 0.2 mm graze last about 9 mm of travel: the 1 cm sampler sees it.
+  const test::ForearmCase graze = test::forearmWall(kDip);
+  ValidationOptions sampled;
+  sampled.geometry = ValidationOptions::GeometryCheck::kSampled;
+  EXPECT_FALSE(validatePlan(graze.scene, graze.plan, sampled).valid());
+}
+
+TEST(CertifiedValidator, ForearmPassingAWallPasses) {
+  const test::ForearmCase pass = test::forearmWall(-kDip);
+  const ValidationReport report = validatePlan(pass.scene, pass.plan);
+  EXPECT_TRUE(report.valid()) << report.summary();
+  EXPECT_NEAR(report.closest.distance, kDip, kFloor);
+  EXPECT_EQ(report.closest.b, "wall");
+}
+
+}  // namespace
+}  // namespace dash
