@@ -66,7 +66,9 @@ double closest(CollisionContext& context, const std::vector<Part>& as, const std
 double signedDistance(CollisionContext& context, const fcl::CollisionGeometry<double>& a, const Pose& X_WA,
                       const fcl::CollisionGeometry<double>& b, const Pose& X_WB) {
   ++context.counters().narrowphase_calls;
-  const fcl::DistanceRequestd request;
+  // FCL's own GJK: measured several times faster here than libccd's for capsules and boxes.
+  fcl::DistanceRequestd request;
+  request.gjk_solver_type = fcl::GST_INDEP;
   fcl::DistanceResultd result;
   const double d = fcl::distance(&a, X_WA, &b, X_WB, request, result);
   if (d > 0.0) return d;

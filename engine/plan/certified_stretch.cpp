@@ -15,6 +15,12 @@ namespace {
 
 inline std::size_t at(int i) { return static_cast<std::size_t>(i); }
 
+/// m: while the boxes of a pair are this much farther apart than the clearance, conservative
+/// advancement steps on the boxes' distance without an exact one (cheaper than the shorter steps).
+constexpr double kBoxStepMargin = 0.01;  // cmd_validate.cpp says "10 mm" when no pair came closer
+/// Steps through a contact are this much finer than what the bound allows (depth accuracy).
+constexpr double kContactRefinement = 4.0;
+
 Aabb grown(const Aabb& box, double margin) { return Aabb(box.min().array() - margin, box.max().array() + margin); }
 
 Aabb bodyBox(const BodyGeometry& g, const Pose& X_WF) {
@@ -61,6 +67,14 @@ void supportsAt(const CollisionWorld& world, CollisionContext& context, int j, c
   }
 }
 
+/// The largest dyadic fraction in (u, u + step] with a denominator of about 2 / step: never past what
+/// the step certifies, and shared by pairs that advance alike, so their poses are computed once.
+double nextOnGrid(double u, double step) {
+  const double scale = std::exp2(std::ceil(std::log2(2.0 / step)));
+  const double next = std::floor((u + step) * scale) / scale;
+  return next > u ? next : u + step;
+}
+
 }  // namespace
 
 PairId pairId(const CollisionElement& a, const CollisionElement& b) {
@@ -99,13 +113,7 @@ StretchChecker::StretchChecker(const CollisionWorld& world, const PlanMotion& mo
                                const Supports& supports, const ValidationOptions& options)
     : world_(world), motion_(motion), timeline_(timeline), supports_(supports), options_(options), context_(world) {
   robots_.resize(at(world.robotCount()));
-  posed_.resize(at(world.robotCount()));
-  for (int r = 0; r < world.robotCount(); ++r) {
-    const std::size_t bodies = world.robot(r).bodies.size();
-    posed_[at(r)].frames.assign(bodies, Pose::Identity());
-    posed_[at(r)].X_WG.assign(bodies, Pose::Identity());
-    posed_[at(r)].boxes.resize(bodies + 1);
-  }
+  poses_.resize(at(world.robotCount()));
 }
 
 CollisionElement StretchChecker::element(int r, int part) const {
@@ -114,9 +122,18 @@ CollisionElement StretchChecker::element(int r, int part) const {
 }
 
 const StretchChecker::Posed& StretchChecker::pose(int r, double u) {
-  Posed& p = posed_[at(r)];
-  if (p.u == u) return p;
-  p.u = u;
+  Poses& poses = poses_[at(r)];
+  if (const auto found = poses.index.find(u); found != poses.index.end()) return poses.pool[found->second];
+  if (poses.used == poses.pool.size()) {
+    const std::size_t bodies = world_.robot(r).bodies.size();
+    Posed fresh;
+    fresh.frames.assign(bodies, Pose::Identity());
+    fresh.X_WG.assign(bodies, Pose::Identity());
+    fresh.boxes.resize(bodies + 1);
+    poses.pool.push_back(std::move(fresh));
+  }
+  poses.index.emplace(u, poses.used);
+  Posed& p = poses.pool[poses.used++];
   const Robot& robot = robots_[at(r)];
   const RobotGeometry& rg = world_.robot(r);
   const JointVector q = robot.moving ? JointVector(robot.q0 + u * (robot.q1 - robot.q0)) : robot.q0;
@@ -151,8 +168,9 @@ void StretchChecker::setUp(const Stretch& stretch) {
       }
       robot.rate[bodies] = heldDisplacementBound(world_, r, robot.q0, robot.q1, robot.held);
     }
-    posed_[at(r)].u = -1.0;
-    const std::vector<Aabb> start = pose(r, 0.0).boxes;
+    poses_[at(r)].index.clear();
+    poses_[at(r)].used = 0;
+    const std::vector<Aabb>& start = pose(r, 0.0).boxes;
     const Posed& end = pose(r, robot.moving ? 1.0 : 0.0);
     robot.swept.resize(bodies + 1);
     robot.swept_all.setEmpty();
@@ -269,7 +287,8 @@ double StretchChecker::distance(const Pair& pair, double u, double enough, bool&
     box_b = boxAabb(X_b, g.half_extents);
   }
   const double lower = pa.boxes[at(pair.pa)].exteriorDistance(box_b);
-  exact = lower <= enough;
+  // The boxes' distance is a lower bound: enough to step on while it is well above the clearance.
+  exact = lower <= std::min(enough, options_.clearance + kBoxStepMargin);
   if (!exact) return lower;
   ++evaluations_;
   if (!held_a) return signedDistance(context_, *ga.bodies[at(pair.pa)].shape, pa.X_WG[at(pair.pa)], *shape_b, X_b);
@@ -312,7 +331,9 @@ void StretchChecker::advance(const Pair& pair, std::vector<PairContact>& contact
       open = nullptr;
     }
     if (d > enough || pair.rate <= 0.0) break;
-    const double step = std::max(std::abs(d - c) / pair.rate, floor_u);
+    // Clear: certified until the bound reaches the clearance. In contact: certified in contact until
+    // the bound could lift it, but stepped 4 times finer so that the deepest point is found closely.
+    const double step = std::max(in_contact ? (c - d) / (kContactRefinement * pair.rate) : (d - c) / pair.rate, floor_u);
     if (u + step >= 1.0) {
       if (open != nullptr) {
         open->t_last = stretch_.t1;
@@ -320,7 +341,7 @@ void StretchChecker::advance(const Pair& pair, std::vector<PairContact>& contact
       }
       break;
     }
-    u += step;
+    u = nextOnGrid(u, step);
   }
 }
 

@@ -2,8 +2,10 @@
 // Internal to certified_geometry.cpp: conservative advancement over one stretch between two
 // consecutive point or event times (certified_geometry.h says what is checked and why it is sound).
 #include <cstddef>
+#include <deque>
 #include <map>
 #include <tuple>
+#include <unordered_map>
 #include <vector>
 
 #include "engine/collision/collision_context.h"
@@ -68,7 +70,6 @@ class StretchChecker {
  private:
   /// One robot's parts at fraction u of the stretch.
   struct Posed {
-    double u = -1.0;
     std::vector<Pose> frames;
     std::vector<Pose> X_WG;     ///< each body's shape pose
     std::vector<Aabb> boxes;    ///< each body's world box, then the held object's
@@ -111,7 +112,13 @@ class StretchChecker {
   CollisionContext context_;
   Stretch stretch_;
   std::vector<Robot> robots_;
-  std::vector<Posed> posed_;
+  /// One robot's poses in the current stretch, by u (a deque: references stay valid as it grows).
+  struct Poses {
+    std::unordered_map<double, std::size_t> index;
+    std::deque<Posed> pool;
+    std::size_t used = 0;
+  };
+  std::vector<Poses> poses_;
   std::vector<Pair> pairs_;
   std::size_t evaluations_ = 0;
 };

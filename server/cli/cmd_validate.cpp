@@ -59,7 +59,7 @@ int runValidate(const std::vector<std::string>& words) {
                   report.closest.distance * 1000.0, report.closest.a.c_str(), report.closest.b.c_str(), report.closest.t,
                   options.clearance * 1000.0);
     } else {
-      std::printf("smallest clearance: no two parts came near each other\n");
+      std::printf("smallest clearance: over %.4g mm (no two parts came within 10 mm of the clearance)\n", (options.clearance + 0.01) * 1000.0);
     }
   }
   if (report.valid()) {
