@@ -66,6 +66,10 @@ VertexId MotionHypergraph::objectVertex(int object, int location, const Pose& X_
   return addVertex(std::move(v));
 }
 
+VertexId MotionHypergraph::taskVertex(int task, bool done) {
+  return addVertex(MotionVertex{-1, TaskElement::taskState(task, done), {}});
+}
+
 std::optional<HyperarcId> MotionHypergraph::move(VertexId from, VertexId to, const std::vector<JointVector>& path) {
   if (from == to) return std::nullopt;
   const HyperarcId id = addArc({from}, {to}, MotionArc{MotionArcType::kMove, {}}, "move");

@@ -7,7 +7,7 @@
 //   pick/place  tail {robot@q, object@pose} -> head {robot+object@q} (and back for a place)
 //   handover    ONE hyperarc coupling both robots: tail {giver+object@q, receiver@q2},
 //               head {giver@q, receiver+object@q2}
-//   inspect     tail = head = {robot@q}
+//   inspect     tail {robot@q, task pending} -> head {robot@q, task done}
 //   source/sink the start frontier (every robot home, every object at its start) and the end frontier.
 // Elements are deduplicated across rounds (Hypergraph looks them up by property, tail and head): a
 // transition configuration that a later task plan reuses is the same vertex, a move between the same
@@ -35,7 +35,7 @@
 namespace dash::lazy {
 
 /// <v_T, q>: robot >= 0 for a robot's configuration (values = joints), -1 for an object's pose
-/// (values = translation, then the rotation matrix column by column).
+/// (values = translation, then the rotation matrix column by column) or a task's state (no values).
 struct MotionVertex {
   std::int16_t robot = -1;
   TaskElement element;
@@ -86,6 +86,8 @@ class MotionHypergraph {
 
   VertexId robotVertex(int robot, const TaskElement& element, const JointVector& q);
   VertexId objectVertex(int object, int location, const Pose& X_WO);
+  /// A task's state (pending or done: the lab's inspections), with no configuration.
+  VertexId taskVertex(int task, bool done);
   /// A move of one robot; `path` (from -> to) is stored as the arc's pi. Empty when from == to (no arc).
   std::optional<HyperarcId> move(VertexId from, VertexId to, const std::vector<JointVector>& path);
   HyperarcId transition(const TaskArc& action, std::vector<VertexId> tail, std::vector<VertexId> head);

@@ -6,6 +6,8 @@ namespace dash {
 
 std::string motionVertexLabel(const Scene& scene, const lazy::MotionVertex& v) {
   const TaskElement& e = v.element;
+  if (e.kind == ElementKind::kTaskPending || e.kind == ElementKind::kTaskDone)
+    return "task " + std::to_string(e.task) + (e.kind == ElementKind::kTaskDone ? " done" : " pending");
   if (v.robot < 0) return scene.objects[e.object].id + "@" + std::to_string(e.location);
   std::string s = scene.robots[v.robot].id;
   if (e.kind == ElementKind::kHolding)
@@ -56,6 +58,11 @@ void MotionLayer::recordInHypergraph(const TaskPlan& plan, const std::vector<Tra
       object_at[o] = graph_.objectVertex(o, l, space.location(o, l).X_WO);
       start.push_back(*object_at[o]);
     }
+    std::vector<VertexId> task_at;
+    for (int t = 0; t < static_cast<int>(scene.tasks.size()); ++t) {
+      task_at.push_back(graph_.taskVertex(t, false));
+      start.push_back(task_at.back());
+    }
     source = graph_.source(start);
     auto add = [&](std::optional<HyperarcId> arc) {
       if (arc) sequence.push_back(*arc);
@@ -93,6 +100,12 @@ void MotionLayer::recordInHypergraph(const TaskPlan& plan, const std::vector<Tra
         tail.push_back(*object_at[a.object]);
         object_at[a.object].reset();
       }
+      // An inspection takes its task from pending to done (so the hyperarc is no self-loop).
+      if (a.type == TaskArcType::kInspect && a.task >= 0 && a.task < static_cast<int>(task_at.size())) {
+        tail.push_back(task_at[a.task]);
+        task_at[a.task] = graph_.taskVertex(a.task, true);
+        head.push_back(task_at[a.task]);
+      }
       if (a.type == TaskArcType::kPlace) {
         object_at[a.object] = graph_.objectVertex(a.object, a.location, space.location(a.object, a.location).X_WO);
         head.push_back(*object_at[a.object]);
@@ -119,6 +132,7 @@ void MotionLayer::recordInHypergraph(const TaskPlan& plan, const std::vector<Tra
       }
       for (const auto& o : object_at)
         if (o) end.push_back(*o);
+      end.insert(end.end(), task_at.begin(), task_at.end());
       sink = graph_.sink(end);
     }
   }

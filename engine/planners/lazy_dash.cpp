@@ -187,11 +187,16 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
     result.stats.motion_constraints = static_cast<std::int64_t>(motion_constraints.size());
     result.stats.phase_seconds = emitter.phaseTotals();
     result.stats.wall_seconds = emitter.now();
+    result.stats.roadmaps.clear();
     for (int r = 0; r < world.robotCount(); ++r)
       for (const bool holding : {false, true}) {
-        const std::string space = scene.robots[r].id + (holding ? "/holding" : "/empty");
-        emitter.counter("roadmap_vertices:" + space, static_cast<std::int64_t>(motion.roadmapVertices(r, holding)));
-        emitter.counter("roadmap_edges:" + space, static_cast<std::int64_t>(motion.roadmapEdges(r, holding)));
+        const RoadmapSize size{scene.robots[r].id + (holding ? "/holding" : "/empty"),
+                               static_cast<std::int64_t>(motion.roadmapVertices(r, holding)),
+                               static_cast<std::int64_t>(motion.roadmapEdges(r, holding))};
+        if (size.vertices == 0) continue;
+        emitter.counter("roadmap_vertices:" + size.space, size.vertices);
+        emitter.counter("roadmap_edges:" + size.space, size.edges);
+        result.stats.roadmaps.push_back(size);
       }
     emitter.counter("motion_hyperarcs_coupled", static_cast<std::int64_t>(motion.hypergraph().coupledHyperarcCount()));
     result.outcome = outcome;

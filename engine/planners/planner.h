@@ -51,6 +51,13 @@ struct RepresentationCounts {
   std::size_t motion_extended_vertices = 0, motion_extended_hyperarcs = 0;
 };
 
+/// One planning space's roadmap (a robot with an empty hand, or holding), at the end of the run.
+struct RoadmapSize {
+  std::string space;  ///< "ur5e_0/empty", "ur5e_0/holding"
+  std::int64_t vertices = 0;
+  std::int64_t edges = 0;
+};
+
 struct PlanStats {
   /// Seconds per phase; phases are exclusive (a nested one pauses the enclosing one), so their sum is
   /// the planner's accounted time, at most wall_seconds.
@@ -60,8 +67,9 @@ struct PlanStats {
   int iterations = 0;
   std::int64_t collision_checks_eager = 0;  ///< checks done before they were needed (validated roadmaps, IK filters)
   std::int64_t collision_checks_lazy = 0;   ///< checks done on demand (lazy edges, transitions, schedules)
-  std::int64_t roadmap_vertices = 0;
+  std::int64_t roadmap_vertices = 0;  ///< over every planning space
   std::int64_t roadmap_edges = 0;
+  std::vector<RoadmapSize> roadmaps;  ///< per planning space that has a roadmap
   std::int64_t task_constraints = 0;
   std::int64_t motion_constraints = 0;
   std::int64_t task_space_expansions = 0;

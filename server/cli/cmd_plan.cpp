@@ -31,6 +31,13 @@ void printRunSummary(const PlanStats& stats) {
                n.task_vertices, n.task_hyperarcs, n.task_extended_vertices, n.task_extended_hyperarcs,
                n.motion_vertices, n.motion_hyperarcs, n.motion_extended_vertices, n.motion_extended_hyperarcs,
                static_cast<long long>(stats.roadmap_vertices), static_cast<long long>(stats.roadmap_edges));
+  if (!stats.roadmaps.empty()) {
+    std::fprintf(stderr, "roadmaps per planning space:");
+    for (const RoadmapSize& r : stats.roadmaps)
+      std::fprintf(stderr, "  %s %lld/%lld", r.space.c_str(), static_cast<long long>(r.vertices),
+                   static_cast<long long>(r.edges));
+    std::fprintf(stderr, "\n");
+  }
   std::fprintf(stderr, "collision checks: %lld eager, %lld lazy  constraints: %lld task, %lld motion  expansions: %lld\n",
                static_cast<long long>(stats.collision_checks_eager), static_cast<long long>(stats.collision_checks_lazy),
                static_cast<long long>(stats.task_constraints), static_cast<long long>(stats.motion_constraints),

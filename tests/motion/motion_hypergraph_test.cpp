@@ -173,3 +173,29 @@ TEST(MotionLayer, AMotionConstraintsRegionIsAvoidedByTheNextQueryOnTheSamePlan) 
 
 }  // namespace
 }  // namespace dash
+
+namespace dash {
+namespace {
+
+// The lab's inspections take their task from pending to done: the motion query walks the whole
+// schedule (an inspection as a self-loop would repeat a search state and stop the query there).
+TEST(MotionLayer, TheMotionQueryWalksALabScheduleToTheSink) {
+  seedOmplOnce(1);
+  const Scene scene = generateScenario("lab", std::vector<std::pair<std::string, std::string>>{{"containers", "2"}}, 1, RobotLibrary::loadDefault());
+  CollisionWorld world{scene};
+  CollisionContext context{world};
+  log::MemorySink sink;
+  log::EventEmitter emitter{&sink};
+  TaskLayer task{scene, world, context, emitter, 1};
+  MotionLayer motion{world, context, emitter};
+  const TaskLayerResult layer = task.plan(Deadline(120));
+  ASSERT_EQ(layer.status, TaskLayerStatus::kFeasible) << layer.reason;
+  const MotionLayerResult result = motion.plan(layer.plan, layer.transitions, task.space(), Deadline(120));
+  ASSERT_EQ(result.status, MotionStatus::kOk) << result.reason;
+  EXPECT_EQ(sink.counter("motion_query_incomplete", 0), 0);
+  EXPECT_GT(sink.countHyperarcs(log::Layer::MotionExtended, "inspect"), 0);
+  EXPECT_EQ(sink.countHyperarcs(log::Layer::MotionExtended, "sink"), 1);
+}
+
+}  // namespace
+}  // namespace dash
