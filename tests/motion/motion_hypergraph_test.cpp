@@ -180,7 +180,7 @@ namespace {
 // The lab's inspections take their task from pending to done: the motion query walks the whole
 // schedule (an inspection as a self-loop would repeat a search state and stop the query there).
 TEST(MotionLayer, TheMotionQueryWalksALabScheduleToTheSink) {
-  seedOmplOnce(1);
+  const OmplSeedScope ompl_seeds(1);
   const Scene scene = generateScenario("lab", std::vector<std::pair<std::string, std::string>>{{"containers", "2"}}, 1, RobotLibrary::loadDefault());
   CollisionWorld world{scene};
   CollisionContext context{world};
