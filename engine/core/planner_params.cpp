@@ -20,9 +20,13 @@ ParamInfo count(std::string name, int value, int paper, int max, std::string des
           std::move(description)};
 }
 
-// The conflict resolution extensions both planners share (engine/conflict/scheduler.h).
+// What both planners share: the clearance of every check (engine/collision/collision_world.h, whose
+// kDefaultPlanningClearance is this default; a test checks they agree) and the conflict resolution
+// extensions (engine/conflict/scheduler.h).
 std::vector<ParamInfo> schedulerParameters() {
   return {
+      {"clearance", ParamType::kReal, "0.002", "", 0.0, 0.05,
+       "metres every check of the planner keeps between parts not in contact by design (0: touching allowed)"},
       flag("staggered_arrivals", true,
            "a handover whose two robots collide on the way also tries one robot in place first, then the other"),
       flag("idle_arms_home", true, "a robot standing idle in the way is sent home before a step is given up"),

@@ -104,15 +104,17 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   applyTestFault(settings);
   // The named parameters DaSH has (the scheduler's, engine/core/planner_params.h), checked and applied.
   SchedulerParams scheduler_params = params_.scheduler;
+  double clearance = params_.clearance;
   {
     const ParamValues effective = resolveParameters(name(), settings.params);
     ParamValues overrides;
     for (const auto& entry : settings.params) overrides[entry.first] = effective.at(entry.first);
     applySchedulerParameters(scheduler_params, overrides);
+    if (overrides.contains("clearance")) clearance = paramReal(overrides, "clearance");
   }
   const OmplSeedScope ompl_seeds(settings.seed);
   log::EventEmitter emitter(sink);
-  const CollisionWorld world(scene, {.clearance = params_.clearance});
+  const CollisionWorld world(scene, {.clearance = clearance});
   CollisionContext context(world);
   Rng rng(Rng::derive(settings.seed, 23));
   TaskSpace space(scene);

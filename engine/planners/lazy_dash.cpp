@@ -111,6 +111,7 @@ void applyParameters(LazyDashParams& p, const ParamValues& v) {
   set("validator_rechecks", p.validator_rechecks);
   set("validation_feedbacks", p.validation_feedbacks);
   set("motion_budget", p.motion_budget);
+  if (v.contains("clearance")) p.clearance = paramReal(v, "clearance");
   applySchedulerParameters(p.scheduler, v);
 }
 

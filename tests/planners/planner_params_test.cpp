@@ -36,7 +36,15 @@ TEST(PlannerParams, DefaultsAreThePlannersOwn) {
   EXPECT_EQ(applied.motion_budget, plain.motion_budget);
   EXPECT_EQ(applied.task.query.remove_round_trips, plain.task.query.remove_round_trips);
   EXPECT_EQ(applied.scheduler.schedule_memo, plain.scheduler.schedule_memo);
+  EXPECT_EQ(applied.clearance, plain.clearance);
+  EXPECT_EQ(plain.clearance, kDefaultPlanningClearance);
   for (const ParamInfo& p : plannerParameters("lazy-dash")) EXPECT_FALSE(p.description.empty()) << p.name;
+  // Both planners name their clearance, with the collision layer's default.
+  for (const char* planner : {"lazy-dash", "dash"})
+    EXPECT_EQ(paramReal(resolveParameters(planner, {}), "clearance"), kDefaultPlanningClearance) << planner;
+  applyParameters(applied, {{"clearance", "0.005"}});
+  EXPECT_EQ(applied.clearance, 0.005);
+  EXPECT_THROW(resolveParameters("dash", {{"clearance", "0.5"}}), InputError);  // above the 5 cm range
 }
 
 TEST(PlannerParams, BadNamesAndValuesNameTheParameter) {
