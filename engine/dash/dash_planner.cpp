@@ -149,6 +149,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   auto finish = [&](PlanOutcome outcome, std::string message) {
     PlanStats& st = result.stats;
     st.phase_seconds = emitter.phaseTotals();
+    st.wall_seconds = emitter.now();
     st.sizes.task_vertices = task_graph.vertexCount();
     st.sizes.task_hyperarcs = task_graph.hyperarcCount();
     if (motion) {

@@ -23,7 +23,6 @@ namespace og = ompl::geometric;
 namespace dash {
 
 namespace {
-constexpr double kPi = 3.141592653589793;
 constexpr double kSameConfig = 1e-12;
 
 std::vector<double> keyOf(const JointVector& q) { return std::vector<double>(q.data(), q.data() + q.size()); }
@@ -83,17 +82,7 @@ ValidatedRoadmap::ValidatedRoadmap(const CollisionWorld& world, CollisionContext
   const RobotModel& model = *world.scene().robots[robot].model;
   dof_ = model.dof();
   checker_ = std::make_shared<Checker>(Checker{&world, &context, robot, dof_, ObjectLayout::empty(world.scene())});
-  auto state_space = std::make_shared<ob::RealVectorStateSpace>(dof_);
-  ob::RealVectorBounds bounds(dof_);
-  const bool revolute = model.kinematics == KinematicsKind::kUrDh;
-  for (int i = 0; i < dof_; ++i) {
-    // The same planning range as inverseKinematics (joints wrapped into [-pi, pi]).
-    bounds.setLow(i, revolute ? std::max(model.limits.position_min[i], -kPi) : model.limits.position_min[i]);
-    bounds.setHigh(i, revolute ? std::min(model.limits.position_max[i], kPi) : model.limits.position_max[i]);
-  }
-  state_space->setBounds(bounds);
-  seedStateSamplers(*state_space);
-  si_ = std::make_shared<ob::SpaceInformation>(state_space);
+  si_ = std::make_shared<ob::SpaceInformation>(jointSpace(model));
   const Checker* c = checker_.get();
   installValidity(
       si_, [c](const ob::State* s) { return c->stateValid(jointsOf(s, c->dof)); },

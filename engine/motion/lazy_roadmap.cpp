@@ -23,7 +23,6 @@ namespace og = ompl::geometric;
 namespace dash {
 
 namespace {
-constexpr double kPi = 3.141592653589793;
 constexpr double kSameState = 1e-6;  // radians (metres for the gantry), largest joint difference
 }  // namespace
 
@@ -57,16 +56,7 @@ LazyRoadmap::LazyRoadmap(const CollisionWorld& world, CollisionContext& context,
   const RobotModel& model = *world.scene().robots[robot].model;
   const int dof = model.dof();
   checker_ = std::make_shared<Checker>(Checker{&world, &context, robot, dof, {}});
-  auto space = std::make_shared<ob::RealVectorStateSpace>(dof);
-  ob::RealVectorBounds bounds(dof);
-  for (int i = 0; i < dof; ++i) {
-    const bool revolute = model.kinematics == KinematicsKind::kUrDh;
-    bounds.setLow(i, revolute ? std::max(model.limits.position_min[i], -kPi) : model.limits.position_min[i]);
-    bounds.setHigh(i, revolute ? std::min(model.limits.position_max[i], kPi) : model.limits.position_max[i]);
-  }
-  space->setBounds(bounds);
-  seedStateSamplers(*space);
-  si_ = std::make_shared<ob::SpaceInformation>(space);
+  si_ = std::make_shared<ob::SpaceInformation>(jointSpace(model));
   const Checker* c = checker_.get();
   installValidity(
       si_,

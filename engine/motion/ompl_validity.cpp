@@ -4,13 +4,18 @@
 #include <ompl/base/StateValidityChecker.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 
+#include <algorithm>
 #include <utility>
+
+#include "engine/motion/seeded_ompl.h"
 
 namespace ob = ompl::base;
 
 namespace dash {
 
 namespace {
+
+constexpr double kPi = 3.141592653589793;
 
 class PredicateStateChecker final : public ob::StateValidityChecker {
  public:
@@ -59,6 +64,20 @@ void setJoints(const JointVector& q, ob::State* s) {
 void installValidity(const ob::SpaceInformationPtr& si, StatePredicate state_valid, MotionPredicate motion_valid) {
   si->setStateValidityChecker(std::make_shared<PredicateStateChecker>(si, std::move(state_valid)));
   si->setMotionValidator(std::make_shared<PredicateMotionValidator>(si, std::move(motion_valid)));
+}
+
+std::shared_ptr<ompl::base::RealVectorStateSpace> jointSpace(const RobotModel& model) {
+  const int dof = model.dof();
+  auto space = std::make_shared<ompl::base::RealVectorStateSpace>(dof);
+  ompl::base::RealVectorBounds bounds(dof);
+  const bool revolute = model.kinematics == KinematicsKind::kUrDh;
+  for (int i = 0; i < dof; ++i) {
+    bounds.setLow(i, revolute ? std::max(model.limits.position_min[i], -kPi) : model.limits.position_min[i]);
+    bounds.setHigh(i, revolute ? std::min(model.limits.position_max[i], kPi) : model.limits.position_max[i]);
+  }
+  space->setBounds(bounds);
+  seedStateSamplers(*space);
+  return space;
 }
 
 }  // namespace dash

@@ -3,12 +3,19 @@
 // (Lazy-PRM roadmaps, DaSH's validated PRM, composite-space replanning): joint vectors in and out of
 // RealVector states, and validity given as two predicates. Include only from .cpp files that use OMPL.
 #include <ompl/base/SpaceInformation.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
 
 #include <functional>
+#include <memory>
 
 #include "engine/robots/joint_vector.h"
+#include "engine/robots/robot_model.h"
 
 namespace dash {
+
+/// The joint space a robot is planned in: its model's limits, revolute joints kept inside [-pi, pi]
+/// (the range of inverseKinematics), samplers seeded from the planner run (seeded_ompl.h).
+std::shared_ptr<ompl::base::RealVectorStateSpace> jointSpace(const RobotModel& model);
 
 /// The first `dof` values of a RealVector state.
 JointVector jointsOf(const ompl::base::State* s, int dof);

@@ -135,7 +135,7 @@ TEST_P(Conformance, Dash) {
 INSTANTIATE_TEST_SUITE_P(
     Scenes, Conformance,
     ::testing::Values(Case{"sorting_r2_o2", "sorting", {{"robots", "2"}, {"objects", "2"}}, 30.0, true, true},
-                      Case{"sorting_r4_o8", "sorting", {{"robots", "4"}, {"objects", "8"}}, 45.0, true, true}),
+                      Case{"sorting_r4_o8", "sorting", {{"robots", "4"}, {"objects", "8"}}, 150.0, true, true}),
     [](const ::testing::TestParamInfo<Case>& info) { return caseName(info.param); });
 
 TEST(ConformanceNames, BothPlannersAreRegistered) {
