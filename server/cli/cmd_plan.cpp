@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "engine/collision/collision_world.h"
 #include "engine/core/check.h"
 #include "engine/plan/plan_json.h"
 #include "engine/planners/planner.h"
@@ -41,12 +42,14 @@ void printRunSummary(const PlanStats& stats) {
 extern const char* const kPlanHelp;
 const char* const kPlanHelp =
     "usage: dashbench plan --scene FILE [--planner lazy-dash|dash] [--seed S] [--time-limit SEC]\n"
+    "                      [--clearance M]\n"
     "                      [--out PLAN.json] [--task-only] [--json] [--quiet]\n"
     "Plan for a scene. Progress (phase, iteration, representation sizes, elapsed time) goes to stderr;\n"
     "Ctrl-C stops the planner cleanly.\n"
     "  --planner NAME   lazy-dash (default) or dash (the DaSH baseline: exhaustive, validated)\n"
     "  --seed S         the run's seed (roadmaps, samplers); default 1\n"
     "  --time-limit SEC default 600\n"
+    "  --clearance M    metres every check keeps between parts not in contact by design (default 0.002)\n"
     "  --out FILE       write the dashbench.plan/1 file when solved\n"
     "  --task-only      stop after the task layer and print the unvalidated schedule\n"
     "  --json           with --task-only: print the schedule as JSON\n"
@@ -59,7 +62,7 @@ void onPlanInterrupt(int) { g_stop.store(true); }
 }  // namespace
 
 int runPlan(const std::vector<std::string>& words) {
-  Args args(words, {.options = {"scene", "planner", "seed", "time-limit", "out", "test-fault"},
+  Args args(words, {.options = {"scene", "planner", "seed", "time-limit", "out", "test-fault", "clearance"},
                     .flags = {"task-only", "json", "quiet", "verbose"}});
   const Scene scene = loadScene(args.require("scene"), RobotLibrary::loadDefault());
   PlannerSettings settings;
@@ -68,7 +71,9 @@ int runPlan(const std::vector<std::string>& words) {
   DASH_THROW_UNLESS(settings.time_limit > 0.0, "--time-limit must be positive");
   settings.task_only = args.has("task-only");
   settings.test_fault = args.get("test-fault", "");
-  auto planner = makePlanner(args.get("planner", "lazy-dash"));
+  const double clearance = args.number("clearance", kDefaultPlanningClearance);
+  if (!(clearance >= 0.0 && clearance <= 0.1)) throw InputError("--clearance must be between 0 and 0.1 (metres)");
+  auto planner = makePlanner(args.get("planner", "lazy-dash"), clearance);
 
   std::signal(SIGINT, onPlanInterrupt);
   std::signal(SIGTERM, onPlanInterrupt);
