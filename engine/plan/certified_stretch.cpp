@@ -288,7 +288,8 @@ double StretchChecker::distance(const Pair& pair, double u, double enough, bool&
   }
   const double lower = pa.boxes[at(pair.pa)].exteriorDistance(box_b);
   // The boxes' distance is a lower bound: enough to step on while it is well above the clearance.
-  exact = lower <= std::min(enough, options_.clearance + kBoxStepMargin);
+  const double clearance = pair.contact_meant ? 0.0 : options_.clearance;
+  exact = lower <= std::min(enough, clearance + kBoxStepMargin);
   if (!exact) return lower;
   ++evaluations_;
   if (!held_a) return signedDistance(context_, *ga.bodies[at(pair.pa)].shape, pa.X_WG[at(pair.pa)], *shape_b, X_b);

@@ -26,4 +26,18 @@ std::unique_ptr<Planner> makePlanner(const std::string& name) {
   throw InputError("unknown planner '" + name + "' (known: " + known + ")");
 }
 
+std::unique_ptr<Planner> makePlanner(const std::string& name, double clearance) {
+  if (name == "lazy-dash") {
+    LazyDashParams params;
+    params.clearance = clearance;
+    return std::make_unique<LazyDash>(params);
+  }
+  if (name == "dash") {
+    DashParams params;
+    params.clearance = clearance;
+    return std::make_unique<DashPlanner>(params);
+  }
+  return makePlanner(name);
+}
+
 }  // namespace dash

@@ -97,6 +97,8 @@ class Planner {
 
 /// "lazy-dash" or "dash"; throws InputError for any other name.
 std::unique_ptr<Planner> makePlanner(const std::string& name);
+/// The same with the planner's collision clearance (m) set (LazyDashParams / DashParams::clearance).
+std::unique_ptr<Planner> makePlanner(const std::string& name, double clearance);
 /// The names makePlanner accepts.
 std::vector<std::string> plannerNames();
 

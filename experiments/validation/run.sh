@@ -27,7 +27,7 @@ while [ $# -gt 0 ]; do
   scene="$1"; plan="$2"; shift 2
   sampled=$(for _ in $(seq "$REPEAT"); do cpu --scene "$scene" --plan "$plan" --sampled; done | median)
   certified=$(for _ in $(seq "$REPEAT"); do cpu --scene "$scene" --plan "$plan"; done | median)
-  makespan=$(grep -o '"makespan": *[0-9.]*' "$plan" | head -1 | grep -o '[0-9.]*$')
+  makespan=$(grep -o '"makespan": *[0-9.]*' "$plan" | head -1 | grep -o '[0-9.]*$' | awk '{printf "%.1f", $1}')
   closest=$("$DASHBENCH" validate --threads 1 --scene "$scene" --plan "$plan" | grep '^smallest clearance' | sed 's/^smallest clearance: //; s/ (required.*//')
   ratio=$(awk -v a="$certified" -v b="$sampled" 'BEGIN{ if (b > 0) printf "%.2f", a / b; else print "-" }')
   echo "| $(basename "$plan") | $makespan | $sampled | $certified | $ratio | $closest |"

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "engine/collision/collision_world.h"
 #include "engine/core/check.h"
 #include "engine/core/planner_params.h"
 #include "engine/plan/plan_json.h"
@@ -49,6 +50,7 @@ void printRunSummary(const PlanStats& stats) {
 extern const char* const kPlanHelp;
 const char* const kPlanHelp =
     "usage: dashbench plan --scene FILE [--planner lazy-dash|dash] [--seed S] [--time-limit SEC]\n"
+    "                      [--clearance M]\n"
     "                      [--out PLAN.json] [--task-only] [--json] [--quiet]\n"
     "                      [--set NAME=VALUE]... [--profile paper|default] [--params]\n"
     "Plan for a scene. Progress (phase, iteration, representation sizes, elapsed time) goes to stderr;\n"
@@ -56,6 +58,7 @@ const char* const kPlanHelp =
     "  --planner NAME   lazy-dash (default) or dash (the DaSH baseline: exhaustive, validated)\n"
     "  --seed S         the run's seed (roadmaps, samplers); default 1\n"
     "  --time-limit SEC default 600\n"
+    "  --clearance M    metres every check keeps between parts not in contact by design (default 0.002)\n"
     "  --out FILE       write the dashbench.plan/1 file when solved\n"
     "  --task-only      stop after the task layer and print the unvalidated schedule\n"
     "  --json           with --task-only: print the schedule as JSON\n"
@@ -72,7 +75,7 @@ void onPlanInterrupt(int) { g_stop.store(true); }
 }  // namespace
 
 int runPlan(const std::vector<std::string>& words) {
-  Args args(words, {.options = {"scene", "planner", "seed", "time-limit", "out", "test-fault", "profile"},
+  Args args(words, {.options = {"scene", "planner", "seed", "time-limit", "out", "test-fault", "profile", "clearance"},
                     .flags = {"task-only", "json", "quiet", "verbose", "params"},
                     .repeated = {"set"}});
   if (args.has("params")) {
@@ -88,6 +91,7 @@ int runPlan(const std::vector<std::string>& words) {
     auto [name, value] = parseAssignment(assignment);
     params[name] = value;
   }
+  if (const auto clearance = args.get("clearance")) params["clearance"] = *clearance;  // = --set clearance=M
   resolveParameters(planner_name, params);  // every name and value checked before the scene is read
   const Scene scene = loadScene(args.require("scene"), RobotLibrary::loadDefault());
   PlannerSettings settings;
