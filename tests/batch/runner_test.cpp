@@ -94,7 +94,10 @@ TEST(BatchRunner, TinyBatchEndToEndWithTwoWorkers) {
     EXPECT_EQ(r.meta.family, "sorting");
     EXPECT_EQ(r.meta.planner, "lazy-dash");
     EXPECT_EQ(r.meta.planner_config_name, "lazy-task");
-    EXPECT_EQ(r.meta.planner_settings_json, R"({"task_only":true})");
+    // The settings as given, plus every named planner parameter's effective value.
+    EXPECT_NE(r.meta.planner_settings_json.find(R"("task_only":true)"), std::string::npos) << r.meta.planner_settings_json;
+    EXPECT_NE(r.meta.planner_settings_json.find(R"("parameters":{)"), std::string::npos) << r.meta.planner_settings_json;
+    EXPECT_NE(r.meta.planner_settings_json.find(R"("schedule_memo":true)"), std::string::npos);
     EXPECT_EQ(r.meta.time_limit.value_or(0), 20.0);
     EXPECT_EQ(r.meta.memory_limit.value_or(0), 2048.0);
     EXPECT_EQ(r.meta.scene.rfind("sorting-", 0), 0u) << r.meta.scene;  // set once the child generated it
