@@ -144,6 +144,18 @@ TEST(BatchSpecErrors, UnknownKeys) {
   expectError(edit(R"({"from": 3, "count": 2})", R"({"from": 3, "count": 2, "step": 2})"), SpecErrorKind::kUnknownKey);
 }
 
+// A planner's settings also take its named parameters (engine/core/planner_params.h), checked.
+TEST(BatchSpecErrors, NamedPlannerParameters) {
+  const BatchSpec spec =
+      parseBatchSpec(edit(R"({"task_only": true})", R"({"task_only": true, "schedule_memo": false, "motion_budget": 2})"));
+  EXPECT_EQ(plannerParameterSettings(spec.planners[0].settings_json).at("schedule_memo"), "false");
+  std::string msg =
+      expectError(edit(R"({"task_only": true})", R"({"straight_first": "yes"})"), SpecErrorKind::kBadValue);
+  EXPECT_NE(msg.find("planners[0].settings.straight_first"), std::string::npos) << msg;
+  msg = expectError(edit(R"({"task_only": true})", R"({"motion_budget": 0})"), SpecErrorKind::kBadValue);
+  EXPECT_NE(msg.find("motion_budget"), std::string::npos) << msg;
+}
+
 TEST(BatchSpecErrors, MissingKeys) {
   const std::string msg = expectError(edit(R"("name": "tiny",)", ""), SpecErrorKind::kMissingKey);
   EXPECT_NE(msg.find("name"), std::string::npos) << msg;
