@@ -70,7 +70,7 @@ std::string RunDetail::runJson(const std::string& uuid) const {
 
   Json phases = Json::object();
   for (const char* p : {"task_construction", "task_query", "task_conflict_detection", "motion_construction",
-                        "motion_query", "conflict_resolution", "other"}) {
+                        "motion_query", "conflict_resolution", "validation", "other"}) {
     phases[p] = run["time_" + std::string(p)];
   }
   const log::SqlRows counts = db.select(

@@ -52,6 +52,7 @@ std::vector<RunColumn> fixedColumns() {
       {"time_motion_construction", "r.time_motion_construction", T::kReal, "motion construction (s)", "time", false},
       {"time_motion_query", "r.time_motion_query", T::kReal, "motion query (s)", "time", false},
       {"time_conflict_resolution", "r.time_conflict_resolution", T::kReal, "conflict resolution (s)", "time", false},
+      {"time_validation", "r.time_validation", T::kReal, "validation (s)", "time", false},
       {"time_other", "r.time_other", T::kReal, "other (s)", "time", false},
       {"iterations", "r.iterations", T::kInteger, "iterations", "count", false},
       {"task_vertices", "r.task_vertices", T::kInteger, "H_T vertices", "size", true},

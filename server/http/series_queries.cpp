@@ -39,6 +39,7 @@ const std::vector<Metric>& metrics() {
       {"time_motion_construction", "r.time_motion_construction", "motion construction", "s"},
       {"time_motion_query", "r.time_motion_query", "motion query", "s"},
       {"time_conflict_resolution", "r.time_conflict_resolution", "conflict resolution", "s"},
+      {"time_validation", "r.time_validation", "validation", "s"},
       {"time_other", "r.time_other", "other", "s"},
       {"time_task",
        "(COALESCE(r.time_task_construction,0) + COALESCE(r.time_task_query,0) + "

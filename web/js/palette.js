@@ -13,6 +13,7 @@ export const PHASE_COLOURS = {
   motion_construction: '#D55E00',
   motion_query: '#E69F00',
   conflict_resolution: '#CC79A7',
+  validation: '#F0E442',
   other: '#999999',
 };
 
@@ -23,6 +24,7 @@ export const PHASE_LABELS = {
   motion_construction: 'motion: construction',
   motion_query: 'motion: query',
   conflict_resolution: 'motion: conflict resolution',
+  validation: 'validation',
   other: 'other',
 };
 
