@@ -42,6 +42,9 @@ Json preflightJson(const PreflightReport& report) {
 
 constexpr std::size_t kMaxToleranceJoints = 64;
 constexpr double kMaxGoalTime = 60.0;
+constexpr double kMaxStartDelay = 3600.0;   ///< s
+constexpr double kMaxStartTolerance = 0.5;  ///< rad (m): more is no start check at all
+constexpr double kMaxTimeScale = 100.0;     ///< 100 times slower than planned
 constexpr std::size_t kMaxJointNameLength = 100;
 
 Json toleranceJson(const ToleranceSpec& t) {
@@ -171,7 +174,12 @@ DispatchRequestBody parseDispatchRequest(const std::string& body) {
     for (const char* key : {"start_delay", "start_tolerance"}) {
       DASH_THROW_UNLESS(!o.contains(key) || o[key].get<double>() >= 0.0, p + "." + key + ": must not be negative");
     }
+    // Upper bounds too: a hostile number must not overflow the schedule's arithmetic or park a dispatch.
+    DASH_THROW_UNLESS(out.options.start_delay.value_or(0.0) <= kMaxStartDelay, p + ".start_delay: at most 3600 s");
+    DASH_THROW_UNLESS(out.options.start_tolerance.value_or(0.0) <= kMaxStartTolerance,
+                      p + ".start_tolerance: at most 0.5 rad");
     DASH_THROW_UNLESS(out.options.time_scale > 0.0, p + ".time_scale: must be positive");
+    DASH_THROW_UNLESS(out.options.time_scale <= kMaxTimeScale, p + ".time_scale: at most 100 (100 times slower)");
   }
   return out;
 }

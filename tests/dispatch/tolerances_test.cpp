@@ -71,6 +71,10 @@ TEST(Tolerances, HostileToleranceOptionsAreRefused) {
            R"({"goal_tolerance": 1e400})",
            R"({"goal_time_tolerance": 0})",
            R"({"goal_time_tolerance": 3600})",
+           R"({"time_scale": 1e300})",
+           R"({"time_scale": 0})",
+           R"({"start_delay": 1e9})",
+           R"({"start_tolerance": 7})",
            std::string(R"({"path_tolerance": )") + many + "}",
            std::string(R"({"path_tolerance": {"all": 0.1, ")") + std::string(200, 'j') + R"(": 0.1}})",
        }) {
