@@ -34,11 +34,14 @@ TEST(RobotiqGripper, ActivatesTheWayRobotiqsClientDoes) {
   // It waited for STA 0 after the reset and for STA 3 after SET ACT 1 (the sim answered 1 meanwhile).
   const auto commands = sim.commands();
   std::int64_t act1_us = 0;
-  bool saw_activating = false;
+  bool reset = false, saw_reset_done = false, saw_activating = false;
   for (const auto& c : commands) {
+    if (c.line == "SET ATR 0") reset = true;
     if (c.line == "SET ACT 1") act1_us = c.received_us;
+    saw_reset_done = saw_reset_done || (reset && act1_us == 0 && c.line == "GET STA" && c.answer == "STA 0");
     saw_activating = saw_activating || (act1_us != 0 && c.answer == "STA 1");
   }
+  EXPECT_TRUE(saw_reset_done) << "asked STA and got STA 0 between SET ATR 0 and SET ACT 1";
   EXPECT_TRUE(saw_activating) << "asked STA while the activation ran";
   EXPECT_EQ(commands.back().line, "GET STA");
   EXPECT_EQ(commands.back().answer, "STA 3");
