@@ -10,7 +10,8 @@
 // run detail links to its batch and downloads its scene and plan; overlays draw two runs on one plot
 // and two plans on one clock; Space, arrows and Shift+arrows drive the playback, Enter adds a tag;
 // Launch sends one batch however fast it is clicked and its line follows the batch to its end; a run
-// opened while running shows its 3D plan when it ends. No console errors.
+// opened while running shows its 3D plan when it ends, and its planner line shows its settings (no
+// "[object Object]", no raw "{}"). No console errors.
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
@@ -391,6 +392,14 @@ async function main() {
         await page.waitForSelector('[data-testid=run-header] h1 .badge:not(.running)', { timeout: 300000 });
         const status = await page.textContent('[data-testid=run-header] h1 .badge');
         expect(status === 'solved', `the run ended ${status}`);
+        // A batch run's settings carry its full effective parameter set: the planner line shows the
+        // settings as given, never "[object Object]" or a raw "{}".
+        const plannerText = await page.evaluate(() => {
+          const dt = [...document.querySelectorAll('[data-testid=run-header] dl.kv dt')].find((d) => d.textContent === 'planner');
+          return dt ? dt.nextElementSibling.innerText : null;
+        });
+        expect(plannerText && /^dash \(dash\)/.test(plannerText), `the planner line: ${plannerText}`);
+        expect(!/\[object/.test(plannerText) && !/\{\}/.test(plannerText), `the planner line: ${plannerText}`);
         await page.waitForSelector('[data-testid=viewer][data-has-plan="1"]', { timeout: 60000 });
         expect(!(await page.locator('[data-testid=play]').isDisabled()), 'Play stays disabled after the run ended');
         await page.waitForFunction(() => !/0–0 of 0/.test(document.querySelector('[data-testid=events]').textContent), null, { timeout: 30000 });

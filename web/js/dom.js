@@ -52,11 +52,38 @@ export function badge(status) {
   return el('span', { class: `badge ${status}`, text: status });
 }
 
+/// `k=v k=v` for scenario parameters or planner settings as given. Nested objects are left out: a
+/// batch run's settings carry `parameters`, the run's full effective parameter set (see
+/// plannerLine, which shows it on request); lists print as `a,b`.
 export function paramsText(params) {
   if (!params || typeof params !== 'object') return '';
   return Object.entries(params)
-    .map(([k, v]) => `${k}=${v}`)
+    .filter(([, v]) => v === null || typeof v !== 'object' || Array.isArray(v))
+    .map(([k, v]) => `${k}=${Array.isArray(v) ? v.join(',') : v}`)
     .join(' ');
+}
+
+/// The effective parameter set a run's settings carry (`settings.parameters`), or null.
+export function effectiveParameters(settings) {
+  const p = settings && typeof settings === 'object' ? settings.parameters : null;
+  return p && typeof p === 'object' && !Array.isArray(p) ? p : null;
+}
+
+/// A run's planner line: `planner (config)  settings as given`, and the full effective parameter
+/// set (when the run stored it) in a closed <details> beside it, one `name = value` a line.
+export function plannerLine(run, settings) {
+  const given = paramsText(settings);
+  const line = el('span', { 'data-testid': 'planner-line' }, `${run.planner} (${run.config})${given ? `  ${given}` : ''}`);
+  const params = effectiveParameters(settings);
+  if (!params || !Object.keys(params).length) return line;
+  const entries = Object.entries(params).sort(([a], [b]) => a.localeCompare(b));
+  const details = el(
+    'details',
+    { class: 'params-details', 'data-testid': 'planner-parameters' },
+    el('summary', { class: 'muted', text: `all ${entries.length} parameters` }),
+    el('pre', { class: 'mono', text: entries.map(([k, v]) => `${k} = ${typeof v === 'object' ? JSON.stringify(v) : v}`).join('\n') }),
+  );
+  return el('span', {}, line, ' ', details);
 }
 
 /// A table from column names and row objects; `cell(column, value, row)` may return a Node.
