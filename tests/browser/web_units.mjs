@@ -1,7 +1,8 @@
 #!/usr/bin/env node
 // Unit tests of the dashboard's pure modules under Node (no browser): the Compare page's statistics
 // (quantiles, grouping into series, per-scene ratios, Planner Arena's solved-against-time curve with
-// unsolved runs kept in the denominator) and the SVG recorder's colour and path output.
+// unsolved runs kept in the denominator, settings series labelled by the parameters that differ),
+// the planner line's settings text, and the SVG recorder's colour and path output.
 //   node tests/browser/web_units.mjs
 import assert from 'node:assert/strict';
 import path from 'node:path';
@@ -11,6 +12,7 @@ const WEB = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..
 const data = await import(pathToFileURL(path.join(WEB, 'compare_data.js')));
 const svg = await import(pathToFileURL(path.join(WEB, 'svg_context.js')));
 const url = await import(pathToFileURL(path.join(WEB, 'url_state.js')));
+const dom = await import(pathToFileURL(path.join(WEB, 'dom.js')));
 
 let failed = 0;
 function test(name, fn) {
@@ -41,7 +43,38 @@ test('runs group into series per configuration and split value, x sorted numeric
   assert.deepEqual(g.series, ['dash · robots=2', 'lazy-dash · robots=2', 'lazy-dash · robots=4']);
   assert.equal(g.cells.get('lazy-dash · robots=2|2').runs.length, 1);
   const bySettings = data.groupRuns([run({ settings: '{"k":1}' }), run({})], { x: 'objects', split: '', groupBy: 'settings' });
-  assert.deepEqual(bySettings.series, ['lazy-dash', 'lazy-dash {"k":1}']);
+  assert.deepEqual(bySettings.series, ['lazy-dash', 'lazy-dash k=1']);
+});
+
+test('settings series are labelled by the parameters that differ within a configuration', () => {
+  const eff = (clearance, extra = {}) => JSON.stringify({ ...extra, parameters: { clearance, parking: true, motion_budget: 3 } });
+  const runs = [
+    run({ settings: eff(0.002) }),
+    run({ settings: eff(0.005, { clearance: 0.005 }) }),
+    run({ settings: eff(0.005, { clearance: 0.005 }), seed: 2 }),
+    run({ config: 'dash', planner: 'dash', settings: eff(0.002) }),
+    run({ config: 'lazy-task', settings: eff(0.002, { task_only: true }) }),
+  ];
+  data.labelSettings(runs);
+  const g = data.groupRuns(runs, { x: 'objects', split: '', groupBy: 'settings' });
+  assert.deepEqual(g.series, ['dash', 'lazy-dash clearance=0.002', 'lazy-dash clearance=0.005', 'lazy-task']);
+  assert.equal(g.cells.get('lazy-dash clearance=0.005|4').runs.length, 2);
+  for (const label of g.series) assert.ok(!/[{}"]|object/.test(label), `label with JSON: ${label}`);
+  // Two parameters swept together, one of them only in the effective set; a run without stored
+  // parameters (older databases) still gets a readable label.
+  const two = [run({ settings: JSON.stringify({ a: 1, parameters: { a: 1, b: true } }) }), run({ settings: JSON.stringify({ a: 2, parameters: { a: 2, b: false } }) }), run({ config: 'old', settings: '{}' })];
+  data.labelSettings(two);
+  assert.deepEqual(two.map((r) => data.groupKey(r, 'settings')), ['lazy-dash a=1 b=true', 'lazy-dash a=2 b=false', 'old']);
+  assert.deepEqual(data.flatSettings('{"task_only":true,"parameters":{"clearance":0.002}}'), { clearance: 0.002, task_only: true });
+});
+
+test('the planner line prints settings as given, not the nested effective parameter set', () => {
+  assert.equal(dom.paramsText({ task_only: true, parameters: { clearance: 0.002 } }), 'task_only=true');
+  assert.equal(dom.paramsText({ parameters: { clearance: 0.002 } }), '');
+  assert.equal(dom.paramsText({}), '');
+  assert.equal(dom.paramsText({ robots: 2, objects: [2, 4] }), 'robots=2 objects=2,4');
+  assert.deepEqual(dom.effectiveParameters({ parameters: { clearance: 0.002 } }), { clearance: 0.002 });
+  assert.equal(dom.effectiveParameters({ task_only: true }), null);
 });
 
 test('success counts finished runs only; skipped and running runs are not failures', () => {

@@ -34,6 +34,7 @@ export async function fetchRuns(family, filter, batch) {
       r[m.name] = values.length ? values.reduce((a, b) => a + b, 0) : null;
     }
   }
+  labelSettings(runs);
   return { runs, truncated: runs.length < total };
 }
 
@@ -56,11 +57,74 @@ export function isFinished(run) {
   return run.status !== 'running' && run.status !== 'queued' && run.status !== 'cancelled' && run.status !== 'skipped' && (FINISHED.has(run.status) || run.end_time);
 }
 
-/// The series a run belongs to.
+/// The series a run belongs to. Grouped by "configuration and its settings", a run's label is the
+/// one labelSettings gave it (its configuration and the parameters that differ within it), or, for
+/// a run not labelled, its configuration and its settings as given.
 export function groupKey(run, groupBy) {
   if (groupBy === 'planner') return run.planner;
-  if (groupBy === 'settings') return run.settings && run.settings !== '{}' ? `${run.config} ${run.settings}` : run.config;
+  if (groupBy === 'settings') {
+    if (typeof run.settings_label === 'string') return run.settings_label;
+    const given = settingsText(Object.fromEntries(Object.entries(parseSettings(run.settings)).filter(([k, v]) => k !== 'parameters' && (v === null || typeof v !== 'object'))));
+    return given ? `${run.config} ${given}` : run.config;
+  }
   return run.config || run.planner;
+}
+
+function parseSettings(text) {
+  if (text && typeof text === 'object') return text;
+  try {
+    const v = JSON.parse(text || '{}');
+    return v && typeof v === 'object' && !Array.isArray(v) ? v : {};
+  } catch {
+    return {};
+  }
+}
+
+function settingsText(obj) {
+  return Object.keys(obj)
+    .sort()
+    .map((k) => `${k}=${obj[k] !== null && typeof obj[k] === 'object' ? JSON.stringify(obj[k]) : obj[k]}`)
+    .join(' ');
+}
+
+/// A run's settings as one flat object: its effective parameters (`parameters`, which batch runs
+/// store) overlaid with the settings as given.
+export function flatSettings(settings) {
+  const s = parseSettings(settings);
+  const p = s.parameters && typeof s.parameters === 'object' && !Array.isArray(s.parameters) ? s.parameters : {};
+  const out = { ...p };
+  for (const [k, v] of Object.entries(s)) if (k !== 'parameters') out[k] = v;
+  return out;
+}
+
+/// Sets run.settings_label on every run: its configuration followed by the settings whose values
+/// differ among that configuration's runs (a sweep reads `lazy-dash clearance=0.005`); a
+/// configuration that ran with one set of settings is labelled by its name alone.
+export function labelSettings(runs) {
+  const byConfig = new Map();
+  for (const r of runs) {
+    const config = r.config || r.planner;
+    if (!byConfig.has(config)) byConfig.set(config, new Map());
+    const distinct = byConfig.get(config);
+    const raw = typeof r.settings === 'string' ? r.settings : JSON.stringify(r.settings ?? {});
+    if (!distinct.has(raw)) distinct.set(raw, flatSettings(raw));
+  }
+  const labels = new Map();
+  for (const [config, distinct] of byConfig) {
+    const flats = [...distinct.values()];
+    const keys = [...new Set(flats.flatMap((f) => Object.keys(f)))];
+    const differing = keys.filter((k) => new Set(flats.map((f) => JSON.stringify(f[k]))).size > 1);
+    for (const [raw, flat] of distinct) {
+      const shown = Object.fromEntries(differing.filter((k) => flat[k] !== undefined).map((k) => [k, flat[k]]));
+      const text = settingsText(shown);
+      labels.set(`${config}\u0000${raw}`, text ? `${config} ${text}` : config);
+    }
+  }
+  for (const r of runs) {
+    const raw = typeof r.settings === 'string' ? r.settings : JSON.stringify(r.settings ?? {});
+    r.settings_label = labels.get(`${r.config || r.planner}\u0000${raw}`);
+  }
+  return runs;
 }
 
 /// Scenario parameters that some run of the list has (the family's parameters).

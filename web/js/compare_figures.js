@@ -38,7 +38,11 @@ export function cellFilter(ctx, cell) {
   const sample = cell.runs[0];
   if (ctx.groupBy === 'planner') parts.push(`planner = ${quote(sample.planner)}`);
   else parts.push(`config = ${quote(sample.config)}`);
-  if (ctx.groupBy === 'settings') parts.push(`settings = ${quote(sample.settings)}`);
+  if (ctx.groupBy === 'settings') {
+    // One series may hold runs whose stored settings differ in form only (the same values).
+    const distinct = [...new Set(cell.runs.map((r) => r.settings))];
+    parts.push(distinct.length === 1 ? `settings = ${quote(distinct[0])}` : `(${distinct.map((v) => `settings = ${quote(v)}`).join(' or ')})`);
+  }
   parts.push(`${ctx.x} = ${cell.x}`);
   if (ctx.split && cell.splitValue !== null && cell.splitValue !== undefined) parts.push(`${ctx.split} = ${cell.splitValue}`);
   if (ctx.batch) parts.push(`batch = ${quote(ctx.batch)}`);
