@@ -1,5 +1,7 @@
 #include "server/dispatch/dispatch_json.h"
 
+#include <set>
+
 #include "server/dispatch/json_util.h"
 
 namespace dash::dispatch {
@@ -182,6 +184,14 @@ DispatchRequestBody parseDispatchRequest(const std::string& body) {
     DASH_THROW_UNLESS(out.options.time_scale <= kMaxTimeScale, p + ".time_scale: at most 100 (100 times slower)");
   }
   return out;
+}
+
+void checkToleranceJoints(const DispatchOptions& options, const Plan& plan) {
+  std::set<std::string> known;
+  for (const RobotTrajectory& r : plan.robots) known.insert(r.joint_names.begin(), r.joint_names.end());
+  const std::string p = "request.options";
+  if (options.path_tolerance) options.path_tolerance->validateJointNames(known, p + ".path_tolerance");
+  if (options.goal_tolerance) options.goal_tolerance->validateJointNames(known, p + ".goal_tolerance");
 }
 
 std::string errorToJson(const std::string& kind, const std::string& reason, const PreflightReport* preflight) {

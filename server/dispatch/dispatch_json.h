@@ -37,6 +37,9 @@ struct DispatchRequestBody {
   DispatchOptions options;
 };
 DispatchRequestBody parseDispatchRequest(const std::string& body);
+/// Throws InputError (a 400 naming request.options.path_tolerance.NAME or goal_tolerance.NAME) when a
+/// per-joint tolerance names no joint of `plan`'s arms.
+void checkToleranceJoints(const DispatchOptions& options, const Plan& plan);
 
 /// {"error": kind, "reason": text} (plus "preflight" when given).
 std::string errorToJson(const std::string& kind, const std::string& reason, const PreflightReport* preflight = nullptr);

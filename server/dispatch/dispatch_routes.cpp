@@ -67,6 +67,7 @@ bool loadPlan(DispatchService& service, DispatchRequestBody& body, Plan& plan, S
     reply(res, 422, errorToJson("bad_plan", e.what()));
     return false;
   }
+  checkToleranceJoints(body.options, plan);  // a 400: the request, not the plan, is wrong
   return true;
 }
 

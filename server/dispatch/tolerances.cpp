@@ -26,6 +26,15 @@ void ToleranceSpec::validate(const std::string& what) const {
   }
 }
 
+void ToleranceSpec::validateJointNames(const std::set<std::string>& known, const std::string& what) const {
+  for (const auto& [name, value] : joints) {
+    if (known.count(name) != 0) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    throw InputError(what + "." + name + ": not a joint of the plan's arms (" + list + "; \"all\" for the rest)");
+  }
+}
+
 ToleranceCheck checkTolerance(const JointVector& actual, const JointVector& reference, const JointVector& tolerance) {
   ToleranceCheck out;
   if (actual.size() != reference.size()) {

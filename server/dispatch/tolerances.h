@@ -6,6 +6,7 @@
 // arm may take to get within its goal tolerance. A tolerance of 0 is not checked (as in the
 // controller). A violation names the joint, the amount and the time.
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,9 @@ struct ToleranceSpec {
   JointVector resolve(const std::vector<std::string>& joint_names) const;
   /// Throws InputError (naming `what`) on a negative or non-finite value.
   void validate(const std::string& what) const;
+  /// Throws InputError (naming `what`.NAME) for a per-joint name not among `known`: a typo would
+  /// otherwise silently fall back to `all`.
+  void validateJointNames(const std::set<std::string>& known, const std::string& what) const;
 };
 
 /// Defaults a real UR5e meets at the speeds the pre-flight allows. The path tolerance is that of UR's

@@ -311,6 +311,16 @@ TEST_F(Dispatch, PreflightMismatchIsRefusedAndNothingMoves) {
   EXPECT_NE(bad.body.find("plan_valid"), std::string::npos);
   // A malformed body: 400.
   EXPECT_EQ(httpPost(url(), "/api/dispatch", "{\"plan\": 3}").status, 400);
+  // A per-joint tolerance for a joint the plan's arms do not have (a typo): 400 naming the field,
+  // from the checks alone too, instead of silently using "all" for that joint.
+  const std::string typo = R"({"path_tolerance": {"all": 0.2, "wirst_3_joint": 0.05}})";
+  for (const test::HttpReply& r : {dispatch(typo), httpPost(url(), "/api/dispatch/preflight",
+                                                            test::dispatchBody(plan_, scene_, typo))}) {
+    EXPECT_EQ(r.status, 400) << r.body;
+    EXPECT_NE(r.body.find("request.options.path_tolerance.wirst_3_joint: not a joint of the plan's arms"),
+              std::string::npos)
+        << r.body;
+  }
 }
 
 TEST_F(Dispatch, RefusedGoalRefusesTheDispatch) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/core/check.h"
+#include "engine/plan/plan.h"
 #include "server/dispatch/dispatch_json.h"
 #include "server/dispatch/dispatch_protocol.h"
 
@@ -79,6 +80,32 @@ TEST(Tolerances, HostileToleranceOptionsAreRefused) {
            std::string(R"({"path_tolerance": {"all": 0.1, ")") + std::string(200, 'j') + R"(": 0.1}})",
        }) {
     EXPECT_THROW(parseDispatchRequest(request(bad)), InputError) << bad;
+  }
+}
+
+TEST(Tolerances, PerJointNamesNotInThePlanAreRefusedNamingTheField) {
+  Plan plan;
+  plan.robots.push_back({});
+  plan.robots.back().robot = "ur5e_0";
+  plan.robots.back().joint_names = {"shoulder_pan_joint", "elbow_joint", "wrist_3_joint"};
+  const auto check = [&](const std::string& options) {
+    checkToleranceJoints(parseDispatchRequest(request(options)).options, plan);
+  };
+  EXPECT_NO_THROW(check(R"({"path_tolerance": {"all": 0.3, "wrist_3_joint": 0.1}, "goal_tolerance": 0.01})"));
+  for (const auto& [bad, field] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"path_tolerance": {"all": 0.3, "wirst_3_joint": 0.1}})",
+            "request.options.path_tolerance.wirst_3_joint"},
+           {R"({"goal_tolerance": {"all": 0.01, "elbow_joint": 0.02, "Elbow_joint": 0.02}})",
+            "request.options.goal_tolerance.Elbow_joint"},
+       }) {
+    try {
+      check(bad);
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind(field + ": not a joint of the plan's arms (", 0), 0u) << what;
+      EXPECT_NE(what.find("wrist_3_joint"), std::string::npos) << "the known joints listed: " << what;
+    }
   }
 }
 
