@@ -7,7 +7,9 @@
 // pre-flight check from the page, starts, shows live progress per arm (numbers, and the 3D view's
 // planned ghosts), and finishes with every arm SUCCESSFUL; the history records it; with one arm
 // away from the plan's start the check refuses; with it put back, Abort stops a running dispatch and
-// every arm reports CANCELLED. No console errors.
+// every arm reports CANCELLED; on the run's own page, "Dispatch this plan" passes its pre-flight
+// check (the table shows every check), enables Dispatch and starts a dispatch that succeeds. No
+// console errors.
 // Exit: 0 passed, 1 failed, 77 skipped (Chromium cannot start here).
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
@@ -142,6 +144,20 @@ async function main() {
       );
     const agentLogs = () => agents.map((a) => `--- ${a.name}:\n${a.log}`).join('\n');
     agents = startAgents();
+    // Restarts agent `i` at `q` and waits for the registry to have it (its n-th reconnection) ready.
+    const reconnects = robots.map(() => 0);
+    const restart = async (i, q) => {
+      await stopChild(agents[i]);
+      const id = robots[i];
+      agents[i] = startChild(['controller', '--server', url, '--robot', id, '--token-file', tokenFile, '--driver', 'sim', '--model', modelOf[id], '--sim-start', q.join(','), '--quiet'], id);
+      reconnects[i] += 1;
+      for (let n = 0; ; n++) {
+        const c = (await apiGet('/api/controllers')).controllers.find((x) => x.robot === id);
+        if (c && c.reconnects >= reconnects[i] && c.connected && c.ready) break;
+        expect(n < 300, `${id} did not reconnect: ${JSON.stringify(c)}\n${agentLogs()}`);
+        await sleep(100);
+      }
+    };
     console.log(`plan: run ${run.uuid} (${run.family}, makespan ${Number(run.makespan).toFixed(1)} s), robots ${robots.join(', ')}`);
 
     let firstId = '';
@@ -200,29 +216,15 @@ async function main() {
     });
 
     await step('Dispatch: an arm away from the start is refused; Abort stops every arm', async () => {
-      // Restarts one agent at `q` and waits for the registry to have it (its n-th reconnection) ready.
-      let reconnects = 0;
-      const restart = async (q) => {
-        await stopChild(agents[1]);
-        const id = robots[1];
-        agents[1] = startChild(['controller', '--server', url, '--robot', id, '--token-file', tokenFile, '--driver', 'sim', '--model', modelOf[id], '--sim-start', q.join(','), '--quiet'], id);
-        reconnects += 1;
-        for (let i = 0; ; i++) {
-          const c = (await apiGet('/api/controllers')).controllers.find((x) => x.robot === id);
-          if (c && c.reconnects >= reconnects && c.connected && c.ready) break;
-          expect(i < 300, `${id} did not reconnect: ${JSON.stringify(c)}\n${agentLogs()}`);
-          await sleep(100);
-        }
-      };
       const start = plan.robots[robots[1]].points[0].q;
-      await restart(start.map((v, j) => (j === 2 ? v + 0.2 : v)));
+      await restart(1, start.map((v, j) => (j === 2 ? v + 0.2 : v)));
       await page.locator('[data-testid=preflight]').click();
       await page.waitForSelector('[data-testid=preflight-result][data-passed]', { timeout: 60000 });
       const refusal = await page.locator('[data-testid=preflight-result]').textContent();
       expect(/not at the plan's start/.test(refusal) && refusal.includes(robots[1]), `refusal: ${refusal}`);
       expect(await page.locator('[data-testid=start]').isDisabled(), 'Start enabled after a failed check');
       // Put the arm back, check, start, abort from the page.
-      await restart(start);
+      await restart(1, start);
       await page.locator('[data-testid=preflight]').click();
       await page.waitForSelector('[data-testid=preflight-result][data-passed]', { timeout: 60000 });
       expect((await page.getAttribute('[data-testid=preflight-result]', 'data-passed')) === '1', `pre-flight: ${await page.locator('[data-testid=preflight-result]').textContent()}`);
@@ -243,6 +245,38 @@ async function main() {
       const secondId = await page.getAttribute('[data-testid=dispatch-status]', 'data-id');
       await page.waitForSelector(`[data-testid=dispatch-history] tr[data-dispatch="${secondId}"][data-state=aborted]`);
       await page.screenshot({ path: path.join(ARTIFACTS, 'dispatch-aborted.png'), fullPage: true });
+    });
+
+    await step('Run page: "Dispatch this plan" checks, shows the checks, enables Dispatch and starts it', async () => {
+      // Both arms back at the plan's start (the abort left them mid-plan).
+      for (let i = 0; i < robots.length; i++) await restart(i, plan.robots[robots[i]].points[0].q);
+      await page.goto(`${url}/#/run/${run.uuid}`);
+      const panel = page.locator('[data-testid=run-dispatch-slot] [data-testid=run-dispatch]');
+      await panel.waitFor();
+      expect(await page.locator('[data-testid=run-dispatch-start]').isDisabled(), 'Dispatch enabled before any check');
+      await page.locator('[data-testid=run-dispatch-user]').fill('run page');
+      await page.locator('[data-testid=run-dispatch-check]').click();
+      await page.waitForSelector('[data-testid=run-dispatch-preflight][data-passed]', { timeout: 60000 });
+      const checks = page.locator('[data-testid=run-dispatch-preflight]');
+      expect((await checks.getAttribute('data-passed')) === '1', `pre-flight: ${await checks.textContent()}\n${agentLogs()}`);
+      const rows = await checks.locator('tbody tr').allTextContents();
+      expect(rows.length > 0 && rows.every((r) => r.includes('✓')), `the check table: ${rows.join(' | ')}`);
+      expect(robots.every((id) => rows.some((r) => r.includes(id))), `no check row per arm: ${rows.join(' | ')}`);
+      expect(!(await page.locator('[data-testid=run-dispatch-start]').isDisabled()), 'Dispatch stays disabled after a passed check');
+      await page.screenshot({ path: path.join(ARTIFACTS, 'run-dispatch-checked.png'), fullPage: true });
+      await page.locator('[data-testid=run-dispatch-start]').click();
+      await page.waitForSelector('[data-testid=run-dispatch-started]', { timeout: 60000 });
+      const started = await page.locator('[data-testid=run-dispatch-started]').textContent();
+      const id = (started.match(/dispatch (\S+) started/) || [])[1];
+      expect(id && id !== firstId, `started: ${started}`);
+      let record = null;
+      for (let n = 0; ; n++) {
+        record = await apiGet(`/api/dispatches/${id}`);
+        if (record.state === 'succeeded' || ['failed', 'aborted', 'refused'].includes(record.state)) break;
+        expect(n < (Number(run.makespan) + 60) * 10, `dispatch ${id} still ${record.state}`);
+        await sleep(100);
+      }
+      expect(record.state === 'succeeded' && record.run_id === run.uuid && record.requested_by === 'run page', `record: ${JSON.stringify(record)}\n${agentLogs()}`);
     });
 
     await step('no console error', async () => {

@@ -71,7 +71,7 @@ export function mount(root, args, params = new URLSearchParams()) {
   const overlayBox = el('div', { class: 'viewer', 'data-testid': 'viewer-overlay', hidden: true });
   const viewers = el('div', { class: 'viewers' }, viewerBox, overlayBox);
   const viewerNote = el('div', { class: 'muted', 'data-testid': 'viewer-note' });
-  // The dispatch panel (run_dispatch.js) mounts here.
+  // "Dispatch this plan" (run_dispatch.js), below the plan it would send.
   const dispatchSlot = el('div', { 'data-testid': 'run-dispatch-slot' });
 
   root.append(
@@ -91,7 +91,7 @@ export function mount(root, args, params = new URLSearchParams()) {
     dispatchSlot,
     el('div', { class: 'panel' }, el('h2', { text: 'Events' }), eventsBox),
   );
-  mountRunDispatch(header, uuid);
+  mountRunDispatch(dispatchSlot, uuid);
 
   function renderHeader(d) {
     const r = d.run;

@@ -14,8 +14,8 @@ function checksTable(report) {
   });
 }
 
-/// Inserts the panel right after `anchor` (the run header) for run `runId`.
-export function mountRunDispatch(anchor, runId) {
+/// Mounts the panel for run `runId` into `slot` (the run page's place for it).
+export function mountRunDispatch(slot, runId) {
   const scale = el('input', { type: 'number', value: 1, min: 0.1, step: 0.1, style: 'width:5em', 'data-testid': 'run-dispatch-scale' });
   const user = el('input', { type: 'text', size: 12, placeholder: 'your name', value: localStorage.getItem(USER_KEY) || '', 'data-testid': 'run-dispatch-user' });
   const recheck = el('button', { type: 'button', class: 'secondary', 'data-testid': 'run-dispatch-check' }, 'Pre-flight check');
@@ -31,7 +31,7 @@ export function mountRunDispatch(anchor, runId) {
     result,
     message,
   );
-  anchor.after(panel);
+  slot.replaceChildren(panel);
 
   let passedFor = ''; // the options the result shown passed for
   let sequence = 0;   // answers to older checks are dropped
