@@ -1,9 +1,9 @@
 #include "server/cli/args.h"
 
 #include <cmath>
-#include <sstream>
 
 #include "engine/core/check.h"
+#include "engine/core/text_split.h"
 
 namespace dash::cli {
 
@@ -99,10 +99,9 @@ long long Args::integer(const std::string& name, long long fallback) const {
 }
 
 std::vector<double> parseNumberList(const std::string& text, const std::string& what) {
+  // Empty items kept: "1,,3" and "1,2," are refused as not numbers rather than read as shorter lists.
   std::vector<double> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) out.push_back(parseDouble(item, what));
+  for (const std::string& item : splitList(text, ',', EmptyItems::kKeep)) out.push_back(parseDouble(item, what));
   return out;
 }
 

@@ -25,6 +25,8 @@ TEST(Args, UnknownOptionAndBadNumbersAreInputErrors) {
   EXPECT_THROW(a.integer("seed", 0), InputError);
   EXPECT_THROW(parseNumberList("1,nan,3", "--q"), InputError);
   EXPECT_EQ(parseNumberList("1,2.5,-3", "--q").size(), 3u);
+  EXPECT_THROW(parseNumberList("1,,3", "--q"), InputError);
+  EXPECT_THROW(parseNumberList("1,2,", "--q"), InputError);
 }
 
 }  // namespace
