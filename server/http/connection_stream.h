@@ -1,7 +1,8 @@
 #pragma once
 // ConnectionStream: cpp-httplib's Stream over a connected socket, which first hands out the bytes the
 // connection gate already read (the request head and its body) and keeps what a request did not
-// consume (a pipelined next request) for the next one.
+// consume (a pipelined next request) for the next one. It never reads past the request's end: there
+// the body ends (EOF), so no body can be longer than the Content-Length the gate checked.
 #include <chrono>
 #include <string>
 

@@ -28,7 +28,7 @@ TEST(RequestHead, RefusesWhatBypassedTheLimits) {
   const HeadLimits limits{.max_head_bytes = 1024, .max_headers = 3, .max_body_bytes = 100};
   EXPECT_EQ(inspectHead("POST / HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n", limits).status, 411);
   EXPECT_EQ(inspectHead("POST / HTTP/1.1\r\nContent-Encoding: gzip\r\n\r\n", limits).status, 415);
-  EXPECT_EQ(inspectHead("POST / HTTP/1.1\r\nContent-Encoding: identity\r\n\r\n", limits).status, 0);
+  EXPECT_EQ(inspectHead("POST / HTTP/1.1\r\nContent-Encoding: identity\r\nContent-Length: 0\r\n\r\n", limits).status, 0);
   EXPECT_EQ(inspectHead("POST / HTTP/1.1\r\nContent-Length: 101\r\n\r\n", limits).status, 413);
   EXPECT_EQ(inspectHead("POST / HTTP/1.1\r\nContent-Length: 1\r\nContent-Length: 2\r\n\r\n", limits).status, 400);
   EXPECT_EQ(inspectHead("POST / HTTP/1.1\r\nContent-Length: -1\r\n\r\n", limits).status, 400);
@@ -38,6 +38,32 @@ TEST(RequestHead, RefusesWhatBypassedTheLimits) {
   EXPECT_EQ(inspectHead("GET / HTTP/1.1\r\nRange: bytes=0-1\r\n\r\n", limits).status, 0);
   EXPECT_EQ(inspectHead("GET / HTTP/1.1\r\nX: " + std::string(2000, 'a'), limits).status, 431)
       << "an unfinished head past the size limit";
+}
+
+TEST(RequestHead, RefusesAmbiguousHeads) {
+  const HeadLimits limits;
+  // A body-carrying method without a Content-Length: httplib would read until the client closed.
+  for (const char* method : {"POST", "PUT", "PATCH", "PRI"}) {
+    EXPECT_EQ(inspectHead(std::string(method) + " /a HTTP/1.1\r\nHost: x\r\n\r\n", limits).status, 411) << method;
+  }
+  EXPECT_EQ(inspectHead("DELETE /a HTTP/1.1\r\nHost: x\r\n\r\n", limits).status, 0) << "read as an empty body";
+  EXPECT_EQ(inspectHead("POST /a HTTP/1.1\r\nContent-Length : 5\r\n\r\nabcde", limits).status, 400);
+  EXPECT_EQ(inspectHead("POST /a HTTP/1.1\r\nContent-Length\t: 5\r\n\r\nabcde", limits).status, 400);
+  EXPECT_EQ(inspectHead("POST /a HTTP/1.1\r\nTransfer-Encoding : chunked\r\n\r\n", limits).status, 400);
+  EXPECT_EQ(inspectHead("GET / HTTP/1.1\r\nno colon here\r\n\r\n", limits).status, 400);
+  EXPECT_EQ(inspectHead("GET / HTTP/1.1\r\n: empty name\r\n\r\n", limits).status, 400);
+  EXPECT_EQ(inspectHead("GET / HTTP/1.1\r\nA: b\r\n folded\r\n\r\n", limits).status, 400);
+  EXPECT_EQ(inspectHead("GET / HTTP/1.1\r\nA: b\x01c\r\n\r\n", limits).status, 400);
+  EXPECT_EQ(inspectHead("POST / HTTP/1.1\r\nContent-Length: 2\r\nContent-Length: 2\r\n\r\nab", limits).status, 400);
+  EXPECT_EQ(inspectHead("POST / HTTP/1.1\r\nContent-Length: 2, 2\r\n\r\nab", limits).status, 400);
+  // Bare line ends: refused as soon as one arrives, not when a CRLF CRLF never comes.
+  EXPECT_EQ(inspectHead("GET / HTTP/1.1\nHost: x\n", limits).status, 400);
+  EXPECT_EQ(inspectHead("GET / HTTP/1.1\r\nA: b\nContent-Length: 5\r\n\r\n", limits).status, 400);
+  EXPECT_EQ(inspectHead("GET / HTTP/1.1\r\nA: b\rC: d\r\n\r\n", limits).status, 400);
+  // Blank lines before the request line are skipped and count as head bytes.
+  const HeadCheck blank = inspectHead("\r\n\r\nGET / HTTP/1.1\r\nHost: x\r\n\r\n", limits);
+  EXPECT_EQ(blank.status, 0);
+  EXPECT_EQ(blank.head_bytes, 31u);
 }
 
 TEST(RequestHead, WithoutExpectKeepsTheOtherLines) {

@@ -167,6 +167,42 @@ TEST_F(HostileTest, BodyAndHeaderLimitsCannotBeBypassed) {
   expectAlive();
 }
 
+// 4b. A body-carrying request without a usable Content-Length was read until the client closed:
+// 1000 MB accepted, and 64 such connections dripping bytes starved /api/health for 100 s.
+TEST_F(HostileTest, BodiesWithoutALengthAreRefused) {
+  const std::string head = "POST /api/query HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n";
+  const auto refusedAtOnce = [&](const std::string& extra, int expected) {
+    RawConnection c(port());
+    c.send(head + extra + "\r\n");
+    const std::string chunk(1 << 16, 'x');
+    for (int i = 0; i < 16 && c.send(chunk); ++i) {
+    }
+    EXPECT_EQ(RawConnection::statusOf(c.readAll(2)), expected) << extra;
+  };
+  refusedAtOnce("", 411);
+  refusedAtOnce("Content-Length : 5\r\n", 400);
+  refusedAtOnce("Transfer-Encoding : chunked\r\n", 400);
+  refusedAtOnce("Content-Length: 5\r\nContent-Length: 5\r\n", 400);
+  refusedAtOnce("Content-Length\r\n", 400);
+  // Many such connections, each dripping a byte: none holds a worker.
+  std::vector<std::unique_ptr<RawConnection>> drips;
+  for (int i = 0; i < 64; ++i) {
+    drips.push_back(std::make_unique<RawConnection>(port()));
+    drips.back()->send(head + (i % 2 ? "Content-Length : 5\r\n" : "") + "\r\n");
+  }
+  for (auto& d : drips) d->send("x");
+  expectAlive();
+  for (auto& d : drips) EXPECT_NE(RawConnection::statusOf(d->readAll(2)), 200);
+  // A DELETE without a length (httplib reads a body for it) gets an empty body: what follows the
+  // head is the next request, not a body read until close.
+  RawConnection del(port());
+  del.send("DELETE /api/runs/none/tags/x HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
+  const int status = RawConnection::statusOf(del.readUntil("\r\n\r\n", 2));
+  EXPECT_GE(status, 400);
+  EXPECT_LT(status, 500);
+  expectAlive();
+}
+
 // 5. One printf() call ran 16.7 s past the 10 s limit; cross-origin form posts got answers.
 TEST_F(HostileTest, ExpensiveFunctionsAndCrossOriginPosts) {
   for (const char* sql : {"SELECT printf('%.*c', 400000000, 'x') AS a, printf('%.*c', 400000000, 'y') AS b",
