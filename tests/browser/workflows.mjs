@@ -8,7 +8,9 @@
 // solved-against-time curve keeps unsolved runs in the denominator; a click on a plot point opens its
 // runs; runs filter with "or" and sort from the keyboard, and a bad filter leaves no stale table;
 // run detail links to its batch and downloads its scene and plan; overlays draw two runs on one plot
-// and two plans on one clock; Space, arrows and Shift+arrows drive the playback, Enter adds a tag;
+// and two plans on one clock; sizes over time show hyperarcs as well as vertices, the phase breakdown
+// keeps millisecond phases (log axis, labelled bars), Compare's time panels include validation;
+// Space, arrows and Shift+arrows drive the playback, Enter adds a tag;
 // Launch sends one batch however fast it is clicked and its line follows the batch to its end; a run
 // opened while running shows its 3D plan when it ends, and its planner line shows its settings (no
 // "[object Object]", no raw "{}"). No console errors.
@@ -82,6 +84,11 @@ async function main() {
       const labels = await page.evaluate(() => document.querySelector('[data-testid=chart-task-sizes]')._chart.data.datasets.map((d) => d.label));
       expect(labels.some((l) => /^dash\b/.test(l)) && labels.some((l) => /^lazy-dash\b/.test(l)), `the size plot lacks a planner: ${labels.join(' | ')}`);
       expect(labels.some((l) => l.includes('H_T')) && labels.some((l) => l.includes('H_M')), `the size plot lacks a layer: ${labels.join(' | ')}`);
+      // The time panels include the validation phase where the runs carry it (schema v5).
+      const validated = (await api(`/api/runs?limit=1&q=${encodeURIComponent('family = sorting and config = lazy-dash and time_validation > 0')}`)).total;
+      expect(validated > 0, 'no Lazy-DaSH run of the demo database has a validation time');
+      const timeLabels = await page.evaluate(() => [...document.querySelectorAll('[data-testid=chart-times] .chart-box')].filter((b) => /^lazy-dash\b/.test(b.dataset.series || '') && b._chart).flatMap((b) => b._chart.data.datasets.map((d) => d.label)));
+      expect(timeLabels.includes('validation') && timeLabels.includes('total'), `the Lazy-DaSH time panel lacks validation: ${timeLabels.join(' | ')}`);
       await shot(page, 'compare-figures');
     });
 
@@ -287,6 +294,42 @@ async function main() {
       await page.locator('[data-testid=tag-input]').fill('keyboard-tag');
       await page.locator('[data-testid=tag-input]').press('Enter');
       await page.waitForSelector('[data-testid=tags] .chip:has-text("keyboard-tag")');
+    });
+
+    await step('Run detail: sizes over time show hyperarcs as well as vertices; the phase breakdown keeps millisecond phases', async () => {
+      const first = async (q) => (await api(`/api/runs?limit=1&sort=id&order=asc&q=${encodeURIComponent(q)}`)).runs[0];
+      const dash = await first('config = dash and status = solved and robots = 2');
+      const lazy = await first('config = lazy-dash and status = solved and robots = 2');
+      expect(dash && lazy, 'the demo database needs a solved 2-robot DaSH and Lazy-DaSH run');
+      const sizeLabels = () => page.evaluate(() => document.querySelector('[data-testid=chart-timeline]')._chart.data.datasets.map((d) => d.label));
+      await page.goto(`${url}/#/run/${dash.uuid}`);
+      await points('chart-timeline');
+      await page.selectOption('[data-testid=sizes-count]', 'both');
+      await points('chart-timeline');
+      const both = await sizeLabels();
+      expect(both.includes('H_M vertices') && both.includes('H_M hyperarcs'), `sizes over time: ${both.join(' | ')}`);
+      // DaSH's H_M gains hyperarcs over the run (its vertices may stay flat).
+      const arcs = await page.evaluate(() => document.querySelector('[data-testid=chart-timeline]')._chart.data.datasets.find((d) => d.label === 'H_M hyperarcs').data.map((p) => p.y));
+      expect(arcs.length > 1 && arcs[arcs.length - 1] > arcs[0], `H_M hyperarcs over time: ${arcs.join(', ')}`);
+      await page.selectOption('[data-testid=sizes-count]', 'hyperarcs');
+      await page.waitForFunction(() => document.querySelector('[data-testid=chart-timeline]')._chart?.data.datasets.every((d) => d.label.endsWith('hyperarcs')));
+      const title = await page.evaluate(() => document.querySelector('[data-testid=chart-timeline]')._chart.options.scales.y.title.text);
+      expect(/^hyperarcs/.test(title), `y axis title: ${title}`);
+      await page.selectOption('[data-testid=sizes-count]', 'both');
+
+      await page.goto(`${url}/#/run/${lazy.uuid}`);
+      await points('chart-phases');
+      const r = await page.evaluate(() => {
+        const c = document.querySelector('[data-testid=chart-phases]')._chart;
+        const meta = c.getDatasetMeta(0);
+        const bars = c.data.datasets[0].data.map((p, i) => ({ label: p.y, seconds: p.x, text: p.text, px: Math.abs(meta.data[i].x - meta.data[i].base) }));
+        return { type: c.scales.x.type, ticks: c.scales.x.ticks.filter((t) => t.label !== '' && t.label !== undefined).length, bars };
+      });
+      const short = r.bars.filter((b) => b.seconds < 0.01);
+      expect(r.type === 'logarithmic' && r.ticks >= 2, `phase axis: ${r.type}, ${r.ticks} labelled ticks`);
+      expect(short.length > 0, `no millisecond phase in ${lazy.uuid}: ${JSON.stringify(r.bars)}`);
+      expect(r.bars.every((b) => b.px >= 3 && /s\b/.test(b.text || '')), `a phase bar is hidden or unlabelled: ${JSON.stringify(r.bars)}`);
+      await shot(page, 'run-phases');
     });
 
     await step('Query: the statement in the URL, results as CSV', async () => {

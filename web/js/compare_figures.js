@@ -19,6 +19,9 @@ export const TIME_PARTS = {
   time_construction: { label: 'construction', point: 'rect', dash: [7, 4], width: 1.8 },
   time_query: { label: 'query', point: 'triangle', dash: [2, 3], width: 1.8 },
   time_conflicts: { label: 'conflict resolution', point: 'rectRot', dash: [10, 3, 2, 3], width: 1.8 },
+  // Runs recorded before the runs table had it (schema v5), and planners that do not validate, have
+  // no validation time: their panels leave the line out.
+  time_validation: { label: 'validation', point: 'star', dash: [1, 2], width: 1.8 },
 };
 
 /// The figures' shared inputs: {runs, grouped: groupRuns(...), x, split, groupBy, family,
@@ -123,7 +126,8 @@ export function drawSizes(box, ctx, count, extended) {
 }
 
 /// (b) Planning time by phase: one small panel per series (the same y range on all of them), with
-/// construction, query, conflict resolution and total as lines; log scale. `container` gets the
+/// construction, query, conflict resolution, validation (where the runs have it) and total as
+/// lines; log scale. `container` gets the
 /// panels and data-points (all of them).
 export function drawTimes(container, ctx, shown) {
   destroyCharts(container);

@@ -1,7 +1,7 @@
 // A run's timeline plots, for one run or several overlaid: representation sizes over time (stepped,
-// log scale) and the constraints and task space expansions as marks on rows by kind. One run: colour
-// tells the layers (and the kinds) apart. Several: colour is the run, line dash the layer, and each
-// run's marks sit side by side within the kind's row.
+// log scale; vertices, hyperarcs or both) and the constraints and task space expansions as marks on
+// rows by kind. One run: colour tells the layers (and the kinds) apart. Several: colour is the run,
+// line dash the layer, and each run's marks sit side by side within the kind's row.
 import { drawChart, valueAxis, axisTitle } from './charts.js';
 import { fmtNumber, fmtSeconds } from './dom.js';
 import { LAYER_STYLES, OKABE_ITO, colour } from './palette.js';
@@ -11,8 +11,52 @@ const LAYER_COLOURS = { task: '#0072B2', task_extended: '#56B4E9', motion: '#D55
 export const MARK_ROWS = ['frontier', 'history', 'motion', 'interaction', 'task space expansion'];
 const ROW_SPREAD = 0.5; // of a row's height, shared by the overlaid runs' marks
 
-/// entries: [{uuid, progress: {columns, rows}, end}]; the first is the run of the page.
-export function drawSizesOverTime(box, entries) {
+export const SIZE_COUNTS = ['both', 'vertices', 'hyperarcs'];
+const COUNT_TEXT = { both: 'vertices and hyperarcs', vertices: 'vertices', hyperarcs: 'hyperarcs' };
+const COUNT_KEY = 'dashbench.run.sizeCounts'; // the choice is kept in the browser
+
+function savedCount() {
+  try {
+    const v = localStorage.getItem(COUNT_KEY);
+    return SIZE_COUNTS.includes(v) ? v : 'both';
+  } catch {
+    return 'both';
+  }
+}
+
+/// The "vertices / hyperarcs / both" choice above the sizes plot (made once per box).
+function countControl(box) {
+  if (box._countSelect) return box._countSelect;
+  const select = document.createElement('select');
+  select.dataset.testid = 'sizes-count';
+  select.title = 'which counts the plot shows';
+  for (const c of SIZE_COUNTS) select.append(new Option(COUNT_TEXT[c], c));
+  select.value = savedCount();
+  select.addEventListener('change', () => {
+    try {
+      localStorage.setItem(COUNT_KEY, select.value);
+    } catch {
+      // private mode: the choice lasts as long as the page
+    }
+    if (box._sizeEntries) drawSizesOverTime(box, box._sizeEntries);
+  });
+  const label = document.createElement('label');
+  label.className = 'toolbar sizes-count';
+  label.append('show ', select);
+  box.before(label);
+  box._countSelect = select;
+  return select;
+}
+
+/// entries: [{uuid, progress: {columns, rows}, end}]; the first is the run of the page. Vertices,
+/// hyperarcs or both (a control above the plot chooses; DaSH's H_M grows in hyperarcs while its
+/// vertices stay flat). One run: colour is the layer, and with both counts vertices are solid lines
+/// and hyperarcs dashed with hollow points. Several: colour is the run, dash the layer, and
+/// hyperarcs thinner with hollow points. `count` overrides the control.
+export function drawSizesOverTime(box, entries, count = null) {
+  box._sizeEntries = entries;
+  const mode = count || (box.parentElement ? countControl(box).value : savedCount());
+  const counts = mode === 'both' ? ['vertices', 'hyperarcs'] : [mode];
   const overlay = entries.length > 1;
   const datasets = [];
   const rows = [];
@@ -22,41 +66,65 @@ export function drawSizesOverTime(box, entries) {
     const ti = cols.indexOf('t');
     end = Math.max(end, entry.end || 0);
     for (const l of LAYERS) {
-      const i = cols.indexOf(`${l}_vertices`);
-      const data = entry.progress.rows.filter((row) => row[i] > 0).map((row) => ({ x: row[ti], y: row[i] }));
-      if (!data.length) continue;
-      for (const d of data) rows.push({ run: entry.uuid, layer: LAYER_STYLES[l].label, t: d.x, vertices: d.y });
-      end = Math.max(end, data[data.length - 1].x);
-      const c = overlay ? colour(k) : LAYER_COLOURS[l];
-      datasets.push({
-        label: overlay ? `${entry.uuid.slice(0, 8)} ${LAYER_STYLES[l].label}` : `${LAYER_STYLES[l].label} vertices`,
-        data,
-        borderColor: c,
-        backgroundColor: c,
-        borderDash: overlay ? [[], [2, 3], [7, 4], [10, 3, 2, 3]][LAYERS.indexOf(l)] : LAYER_STYLES[l].dash,
-        pointStyle: LAYER_STYLES[l].point,
-        pointRadius: data.length > 60 ? 0 : 2,
-        borderWidth: 2,
-        stepped: 'before',
-      });
+      for (const what of counts) {
+        const i = cols.indexOf(`${l}_${what}`);
+        if (i < 0) continue;
+        const data = entry.progress.rows.filter((row) => row[i] > 0).map((row) => ({ x: row[ti], y: row[i] }));
+        if (!data.length) continue;
+        for (const d of data) rows.push({ run: entry.uuid, layer: LAYER_STYLES[l].label, count: what, t: d.x, value: d.y });
+        end = Math.max(end, data[data.length - 1].x);
+        const c = overlay ? colour(k) : LAYER_COLOURS[l];
+        const arcs = what === 'hyperarcs';
+        const both = counts.length > 1;
+        let dash = overlay ? [[], [2, 3], [7, 4], [10, 3, 2, 3]][LAYERS.indexOf(l)] : LAYER_STYLES[l].dash;
+        if (!overlay && both) dash = arcs ? [6, 3] : [];
+        datasets.push({
+          label: overlay ? `${entry.uuid.slice(0, 8)} ${LAYER_STYLES[l].label} ${what}` : `${LAYER_STYLES[l].label} ${what}`,
+          data,
+          borderColor: c,
+          backgroundColor: both && arcs ? '#ffffff' : c,
+          borderDash: dash,
+          pointStyle: LAYER_STYLES[l].point,
+          pointRadius: data.length > 60 ? 0 : both && arcs ? 3 : 2,
+          borderWidth: overlay && both && arcs ? 1.2 : 2,
+          stepped: 'before',
+        });
+      }
     }
   });
+  // Overlaid runs: one legend entry per run (its colour) and per layer (its dash and point), not
+  // one per line (runs x layers x counts).
+  const legend = overlay
+    ? {
+        onClick: () => {},
+        labels: {
+          generateLabels: () => {
+            const grey = '#555555';
+            const items = entries.map((entry, k) => ({ text: entry.uuid.slice(0, 8), fillStyle: colour(k), strokeStyle: colour(k), lineWidth: 2, pointStyle: 'circle', hidden: false }));
+            const present = LAYERS.filter((l) => datasets.some((d) => d.label.includes(` ${LAYER_STYLES[l].label} `)));
+            for (const l of present) items.push({ text: LAYER_STYLES[l].label, fillStyle: grey, strokeStyle: grey, lineWidth: 1, lineDash: [[], [2, 3], [7, 4], [10, 3, 2, 3]][LAYERS.indexOf(l)], pointStyle: LAYER_STYLES[l].point, hidden: false });
+            if (counts.length > 1) items.push({ text: 'hollow, thin: hyperarcs', fillStyle: '#ffffff', strokeStyle: grey, lineWidth: 1, pointStyle: 'circle', hidden: false });
+            return items;
+          },
+        },
+      }
+    : {};
   drawChart(
     box,
     {
       type: 'line',
       data: { datasets },
       options: {
-        plugins: { tooltip: { callbacks: { label: (c) => `${c.dataset.label}: ${fmtNumber(c.raw.y)} at ${fmtSeconds(c.raw.x)}` } } },
+        plugins: { legend, tooltip: { callbacks: { label: (c) => `${c.dataset.label}: ${fmtNumber(c.raw.y)} at ${fmtSeconds(c.raw.x)}` } } },
         scales: {
           x: { type: 'linear', min: 0, max: end > 0 ? end : undefined, title: axisTitle('time since the run started (s)') },
-          y: valueAxis('vertices (count, log scale)', { log: true }),
+          y: valueAxis(`${COUNT_TEXT[mode]} (count, log scale)`, { log: true }),
         },
       },
     },
     rows.length,
     'no progress snapshots stored for this run',
-    { csv: () => ({ columns: ['run', 'layer', 't', 'vertices'], rows }) },
+    { csv: () => ({ columns: ['run', 'layer', 'count', 't', 'value'], rows }) },
   );
 }
 

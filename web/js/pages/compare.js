@@ -75,7 +75,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       'div',
       { class: 'panel wide' },
       el('div', { class: 'panel-head' }, el('h2', { text: 'Planning time by phase' }), figureButtons('figure-times', 'time-breakdown', () => [...timesBox.querySelectorAll('.chart-box')])),
-      el('div', { class: 'muted', text: 'One panel per series, the same y range on all: median across seeds of construction (task + motion), query (task + motion), conflict detection and resolution, and total; log scale. Line style and point shape: phase. Each panel exports on its own.' }),
+      el('div', { class: 'muted', text: 'One panel per series, the same y range on all: median across seeds of construction (task + motion), query (task + motion), conflict detection and resolution, validation (where the runs have it), and total; log scale. Line style and point shape: phase. Each panel exports on its own.' }),
       el('div', { class: 'toolbar' }, phaseBoxes),
       timesBox,
     ),
