@@ -77,6 +77,10 @@ test('the planner line prints settings as given, not the nested effective parame
   assert.equal(dom.effectiveParameters({ task_only: true }), null);
 });
 
+test('numbers: significant digits, no trailing zeros, thousands separated', () => {
+  assert.deepEqual([dom.fmtNumber(0.0015), dom.fmtNumber(7.022), dom.fmtNumber(1233), dom.fmtNumber(1143.6, 4), dom.fmtNumber(1143.6, 5), dom.fmtNumber(12345.6, 4)], ['0.0015', '7.02', '1,233', '1,144', '1,143.6', '12,346']);
+});
+
 test('success counts finished runs only; skipped and running runs are not failures', () => {
   const cell = { runs: [run({}), run({ status: 'timeout' }), run({ status: 'running', end_time: null }), run({ status: 'skipped' })] };
   assert.deepEqual(data.successOf(cell), { finished: 2, solved: 1, skipped: 1, rate: 0.5 });

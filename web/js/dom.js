@@ -31,6 +31,8 @@ export function fmtNumber(v, digits = 3) {
   if (!Number.isFinite(v)) return String(v);
   if (Number.isInteger(v)) return v.toLocaleString('en-US');
   if (Math.abs(v) >= 10 ** digits) return Math.round(v).toLocaleString('en-US');
+  // Thousands separated as for integers ("1,144", not "1144" beside "1,233").
+  if (Math.abs(v) >= 1000) return Number(v.toPrecision(digits)).toLocaleString('en-US', { maximumFractionDigits: 20 });
   return trimZeros(v.toPrecision(digits));
 }
 
