@@ -7,13 +7,14 @@
 // pauses, arrows step 1 % (Shift: to the next plan point), Enter in the tag box adds the tag.
 import { api, query } from '../api.js';
 import { on } from '../events.js';
-import { el, clear, badge, fmtNumber, fmtSeconds, paramsText, errorBox, table } from '../dom.js';
-import { drawChart, valueAxis, axisTitle, destroyCharts, chartPanel } from '../charts.js';
-import { PHASE_COLOURS, PHASE_LABELS, LAYER_STYLES } from '../palette.js';
+import { el, clear, badge, fmtNumber, fmtSeconds, paramsText, plannerLine, errorBox, table } from '../dom.js';
+import { destroyCharts, chartPanel } from '../charts.js';
+import { LAYER_STYLES } from '../palette.js';
 import { drawSizesOverTime, drawMarks, LAYERS } from '../run_timeline.js';
 import { readList, readNumber, readString, writeState } from '../url_state.js';
 import { PlaybackControls } from '../run_playback.js';
 import { mountRunDispatch } from './run_dispatch.js';
+import { drawPhaseBreakdown, PHASES_HELP } from '../run_phases.js';
 
 const MAX_OVERLAYS = 5;
 const UUID_RE = /^[0-9A-Fa-f-]{8,64}$/;
@@ -55,10 +56,10 @@ export function mount(root, args, params = new URLSearchParams()) {
   });
 
   const header = el('div', { class: 'panel', 'data-testid': 'run-header' });
-  const phases = chartPanel({ title: 'Phase breakdown', testid: 'chart-phases', name: `run-${uuid.slice(0, 8)}-phases`, help: 'Seconds per phase in each planning iteration (stacked).' });
+  const phases = chartPanel({ title: 'Phase breakdown', testid: 'chart-phases', name: `run-${uuid.slice(0, 8)}-phases`, help: PHASES_HELP });
   const phaseTable = el('div', {});
   phases.panel.append(phaseTable);
-  const sizes = chartPanel({ title: 'Representation sizes over time', testid: 'chart-timeline', name: `run-${uuid.slice(0, 8)}-sizes`, help: 'Vertices of each representation at each stored progress snapshot (log scale); overlaid runs in their own colours, layers by line style.' });
+  const sizes = chartPanel({ title: 'Representation sizes over time', testid: 'chart-timeline', name: `run-${uuid.slice(0, 8)}-sizes`, help: 'Vertices and hyperarcs (choose below) of each representation at each stored progress snapshot (log scale); overlaid runs in their own colours, layers by line style.' });
   const marks = chartPanel({ title: 'Timeline: constraints and expansions', testid: 'chart-marks', name: `run-${uuid.slice(0, 8)}-constraints`, help: 'Each mark is a constraint (by kind) or a task space expansion; hover for what it says and the conflict that caused it.' });
   marks.box.style.height = '260px';
   const constraintsBox = el('div', {});
@@ -121,7 +122,6 @@ export function mount(root, args, params = new URLSearchParams()) {
         noteStatus.textContent = e.message;
       }
     });
-    const settings = paramsText(d.settings);
     const batch = r.batch
       ? el(
           'span',
@@ -143,7 +143,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       ['uuid', r.uuid],
       ['status', r.status],
       ['family', `${r.family}  ${paramsText(d.params)}  seed ${r.seed}`],
-      ['planner', `${r.planner} (${r.config})${settings ? `  ${settings}` : ''}`],
+      ['planner', plannerLine(r, d.settings)],
       ['batch', batch],
       ['scene', r.scene || '—'],
       ['total time', r.total_time === null ? '—' : fmtSeconds(r.total_time)],
@@ -169,38 +169,6 @@ export function mount(root, args, params = new URLSearchParams()) {
     } catch (e) {
       header.append(errorBox(e.message));
     }
-  }
-
-  function renderPhases(d) {
-    const iterations = [...new Set(d.phase_iterations.map((p) => p.iteration))].sort((a, b) => a - b);
-    const names = Object.keys(PHASE_COLOURS);
-    const datasets = names
-      .map((p) => ({
-        label: PHASE_LABELS[p],
-        backgroundColor: PHASE_COLOURS[p],
-        data: iterations.map((it) => d.phase_iterations.filter((x) => x.iteration === it && x.phase === p).reduce((s, x) => s + x.seconds, 0)),
-      }))
-      .filter((ds) => ds.data.some((v) => v > 0));
-    const csvRows = [];
-    for (const ds of datasets) iterations.forEach((it, i) => csvRows.push({ iteration: it, phase: ds.label, seconds: ds.data[i] }));
-    drawChart(
-      phases.box,
-      {
-        type: 'bar',
-        data: { labels: iterations.map(String), datasets },
-        options: {
-          plugins: { tooltip: { mode: 'index', callbacks: { label: (c) => `${c.dataset.label}: ${fmtSeconds(c.raw)}` } } },
-          scales: { x: { stacked: true, title: axisTitle('iteration') }, y: valueAxis('time (s)', { stacked: true }) },
-        },
-      },
-      datasets.reduce((n, ds) => n + ds.data.filter((v) => v > 0).length, 0),
-      'no phase times stored for this run',
-      { csv: () => ({ columns: ['iteration', 'phase', 'seconds'], rows: csvRows }) },
-    );
-    const total = d.run.total_time || 0;
-    const rows = names.map((p) => ({ phase: PHASE_LABELS[p], seconds: d.phases[p], share: total && d.phases[p] !== null ? `${((100 * d.phases[p]) / total).toFixed(1)}%` : '' }));
-    rows.push({ phase: 'total', seconds: d.run.total_time, share: '' });
-    clear(phaseTable).append(table(['phase', 'seconds', 'share'], rows, { cell: (c, v) => (c === 'seconds' && typeof v === 'number' ? fmtSeconds(v) : v) }));
   }
 
   function runEnd() {
@@ -335,7 +303,7 @@ export function mount(root, args, params = new URLSearchParams()) {
     const d = await api.get(`/api/runs/${uuid}`);
     detail = d;
     renderHeader(d);
-    renderPhases(d);
+    drawPhaseBreakdown(phases.box, phaseTable, d);
     return d;
   }
 
