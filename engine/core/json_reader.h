@@ -14,8 +14,9 @@
 
 namespace dash {
 
-/// What went wrong with a field, for callers that classify errors (the batch spec's error kinds).
-enum class JsonErrorKind { kType, kMissing, kRange, kValue };
+/// What went wrong with a field, for callers that classify errors (the batch spec's error kinds);
+/// kSyntax: the text is no JSON at all (json_parse.h).
+enum class JsonErrorKind { kSyntax, kType, kMissing, kRange, kValue };
 
 /// "path.key", or "key" at the root.
 inline std::string jsonPathJoin(const std::string& path, const std::string& key) {

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "engine/core/check.h"
+#include "engine/core/json_parse.h"
 #include "engine/core/json_reader.h"
 #include "engine/geometry/pose_json.h"
 
@@ -117,12 +118,7 @@ Json vectorJson(const JointVector& q) {
 
 Plan parsePlan(const std::string& json_text, const std::string& source_name) {
   const Reader r(source_name);
-  Json root;
-  try {
-    root = Json::parse(json_text);
-  } catch (const Json::parse_error& e) {
-    r.fail("", std::string("invalid JSON: ") + e.what());
-  }
+  const Json root = parseJsonText(r, json_text);
   r.requireObject(root, "");
   Plan plan;
   plan.format = r.string(r.field(root, "", "format"), "format");

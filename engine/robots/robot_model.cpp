@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "engine/core/check.h"
+#include "engine/core/json_parse.h"
 #include "engine/core/json_reader.h"
 #include "engine/core/paths.h"
 #include "engine/geometry/pose_json.h"
@@ -232,12 +233,7 @@ bool RobotModel::withinLimits(const JointVector& q, double tolerance) const {
 
 RobotModel parseRobotModel(const std::string& json_text, const std::string& source_name) {
   const Reader r(source_name);
-  json doc;
-  try {
-    doc = json::parse(json_text);
-  } catch (const json::parse_error& e) {
-    throw InputError(source_name + ": not valid JSON: " + e.what());
-  }
+  const json doc = parseJsonText(r, json_text);
   if (!doc.is_object()) r.fail("(document)", "expected a JSON object");
 
   RobotModel m;

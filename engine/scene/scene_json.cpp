@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "engine/core/check.h"
+#include "engine/core/json_parse.h"
 #include "engine/core/json_reader.h"
 #include "engine/geometry/pose_json.h"
 
@@ -218,12 +219,7 @@ Scene parseScene(const std::string& json_text, std::shared_ptr<const RobotLibrar
                  const std::string& source_name) {
   DASH_DEMAND(library != nullptr);
   const Validator v(source_name);
-  Json root;
-  try {
-    root = Json::parse(json_text);
-  } catch (const Json::exception& e) {  // syntax errors, and numbers too large for a double
-    v.fail("", std::string("invalid JSON: ") + e.what());
-  }
+  const Json root = parseJsonText(v, json_text);
   v.requireObject(root, "");
   const std::string format = v.string(v.field(root, "", "format"), "format");
   if (format != kSceneFormat) {

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "engine/core/json_parse.h"
 #include "engine/core/json_reader.h"
 #include "engine/planners/planner.h"
 #include "engine/robots/robot_model.h"
@@ -63,6 +64,7 @@ std::string joinNames(const std::vector<std::string>& names) {
 
 SpecErrorKind specErrorKind(JsonErrorKind kind) {
   switch (kind) {
+    case JsonErrorKind::kSyntax:
     case JsonErrorKind::kType: return SpecErrorKind::kSyntax;
     case JsonErrorKind::kMissing: return SpecErrorKind::kMissingKey;
     case JsonErrorKind::kRange: return SpecErrorKind::kOutOfRange;
@@ -388,12 +390,7 @@ ParamValues plannerParameterSettings(const std::string& settings_json) {
 
 BatchSpec parseBatchSpec(const std::string& json_text, const std::string& source_name, const SpecOptions& options) {
   const Checker check(source_name);
-  Json j;
-  try {
-    j = Json::parse(json_text, nullptr, true, /*ignore_comments=*/false);
-  } catch (const nlohmann::json::parse_error& e) {
-    check.fail(SpecErrorKind::kSyntax, "", std::string("not valid JSON: ") + e.what());
-  }
+  Json j = parseJsonText(check, json_text);
   check.keys(j, "", {"name", "description", "time_limit", "memory_limit", "scenarios", "planners", "seeds"},
              {"name", "scenarios", "planners", "seeds"});
   BatchSpec spec;
