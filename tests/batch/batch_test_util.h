@@ -12,32 +12,11 @@
 #include "engine/log/results_db.h"
 #include "server/batch/batch_runner.h"
 #include "server/batch/batch_spec.h"
+#include "tests/common/temp_dir.h"
 
 namespace dash::batch::testing {
 
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "dash_batch_XXXXXX").string();
-    char* made = mkdtemp(pattern.data());
-    EXPECT_NE(made, nullptr);
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(file(name)) << text;
-    return file(name);
-  }
-
- private:
-  std::filesystem::path path_;
-};
+using test::TempDir;
 
 inline std::string binary() { return DASHBENCH_BINARY; }
 

@@ -19,7 +19,7 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 Json example() {
-  std::ifstream in(test::examplePath());
+  std::ifstream in(test::exampleScenePath());
   return Json::parse(in);
 }
 
@@ -57,7 +57,7 @@ std::string joined(const std::vector<std::string>& problems) {
 TEST(CheckScene, ExamplePasses) {
   const Scene scene = test::exampleScene();
   EXPECT_TRUE(findSceneProblems(scene).empty()) << joined(findSceneProblems(scene));
-  const CliResult r = runCheckScene(test::examplePath());
+  const CliResult r = runCheckScene(test::exampleScenePath());
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("ok"), std::string::npos) << r.output;
 }

@@ -8,17 +8,12 @@
 #include "engine/robots/robot_model.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_json.h"
+#include "tests/common/examples.h"
+#include "tests/common/robot_library.h"
 
 namespace dash::test {
 
-inline std::shared_ptr<const RobotLibrary> library() {
-  static const auto lib = RobotLibrary::loadDefault();
-  return lib;
-}
-
-inline std::string examplePath() { return std::string(DASHBENCH_EXAMPLES_DIR) + "/pick_place_scene.json"; }
-
-inline Scene exampleScene() { return loadScene(examplePath(), library()); }
+inline Scene exampleScene() { return loadScene(exampleScenePath(), library()); }
 
 inline Pose yawPose(double x, double y, double z, double yaw = 0.0) {
   return makePose(Vec3(x, y, z), Quat(Eigen::AngleAxisd(yaw, Vec3::UnitZ())));

@@ -2,7 +2,6 @@
 // expected panels and series, the time panels share one y range, skipped sizes are drawn.
 #include <gtest/gtest.h>
 #include <sqlite3.h>
-#include <stdlib.h>
 
 #include <filesystem>
 #include <fstream>
@@ -12,26 +11,12 @@
 
 #include "engine/core/check.h"
 #include "server/figures/comparison_figures.h"
+#include "tests/common/temp_dir.h"
 
 namespace dash::figures {
 namespace {
 
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "dash_figures_XXXXXX").string();
-    EXPECT_NE(mkdtemp(pattern.data()), nullptr);
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
+using test::TempDir;
 
 /// One finished run: sizes and phase seconds scaled by `k`.
 void addRun(log::ResultsDb& db, const std::string& family, const std::string& params, std::uint64_t seed,

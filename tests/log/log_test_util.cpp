@@ -1,19 +1,8 @@
 #include "tests/log/log_test_util.h"
 
 #include <sqlite3.h>
-#include <stdlib.h>
 
 namespace dash::log::testing {
-
-TempDir::TempDir() {
-  std::string pattern = (std::filesystem::temp_directory_path() / "dashbench-log-test-XXXXXX").string();
-  path_ = mkdtemp(pattern.data());
-}
-
-TempDir::~TempDir() {
-  std::error_code ignored;
-  std::filesystem::remove_all(path_, ignored);
-}
 
 RunMetadata sampleMeta(const std::string& family, const std::string& params, const std::string& planner,
                        std::uint64_t seed) {

@@ -1,26 +1,16 @@
 #pragma once
 // Shared by the engine/log tests: a temporary folder, and a scripted planner event stream.
-#include <filesystem>
 #include <string>
 
 #include "engine/events/event_emitter.h"
 #include "engine/events/memory_sink.h"
 #include "engine/log/results_db.h"
 #include "engine/log/sqlite_recorder.h"
+#include "tests/common/temp_dir.h"
 
 namespace dash::log::testing {
 
-class TempDir {
- public:
-  TempDir();
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
+using test::TempDir;
 
 RunMetadata sampleMeta(const std::string& family = "sorting", const std::string& params = R"({"robots":2,"objects":4})",
                        const std::string& planner = "lazy-dash", std::uint64_t seed = 1);

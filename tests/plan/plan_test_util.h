@@ -2,10 +2,8 @@
 // Shared helpers of the plan tests: the contract's worked example, and small hand-made scenes (two
 // arms, a wall, a gantry with a lidded container) with plans built in code.
 #include <cmath>
-#include <fstream>
 #include <memory>
 #include <numbers>
-#include <sstream>
 #include <string>
 
 #include "engine/plan/plan.h"
@@ -14,24 +12,10 @@
 #include "engine/robots/robot_model.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_json.h"
+#include "tests/common/examples.h"
+#include "tests/common/robot_library.h"
 
 namespace dash::test {
-
-inline std::shared_ptr<const RobotLibrary> library() {
-  static const auto lib = RobotLibrary::loadDefault();
-  return lib;
-}
-
-inline std::string examplesDir() { return std::string(DASHBENCH_EXAMPLES_DIR) + "/"; }
-inline std::string exampleScenePath() { return examplesDir() + "pick_place_scene.json"; }
-inline std::string examplePlanPath() { return examplesDir() + "pick_place_plan.json"; }
-
-inline std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 inline Scene exampleScene() { return loadScene(exampleScenePath(), library()); }
 inline Plan examplePlan() { return loadPlan(examplePlanPath()); }

@@ -6,15 +6,11 @@
 
 #include "engine/robots/robot_model.h"
 #include "engine/scenarios/scenario_registry.h"
+#include "tests/common/robot_library.h"
 
 namespace dash::test {
 
 using KeyValues = std::vector<std::pair<std::string, std::string>>;
-
-inline std::shared_ptr<const RobotLibrary> library() {
-  static const auto lib = RobotLibrary::loadDefault();
-  return lib;
-}
 
 inline GeneratedScenario generate(const std::string& family, const KeyValues& kv, std::uint64_t seed) {
   const ScenarioParams params = resolveParams(family, scenarioFamily(family).params, kv);

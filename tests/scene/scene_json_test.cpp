@@ -95,7 +95,7 @@ const char* const kLabScene = R"({
 })";
 
 TEST(SceneJson, LoadsTheContractExample) {
-  const Scene scene = loadScene(test::examplePath(), library());
+  const Scene scene = loadScene(test::exampleScenePath(), library());
   EXPECT_EQ(scene.name, "example-pick-place");
   ASSERT_EQ(scene.robots.size(), 1u);
   EXPECT_EQ(scene.robots[0].model_name, "ur5e");
@@ -142,7 +142,7 @@ TEST(SceneJson, ParsesEveryField) {
 }
 
 TEST(SceneJson, RoundTripKeepsEveryField) {
-  for (const std::string& text : {test::readFile(test::examplePath()), std::string(kLabScene)}) {
+  for (const std::string& text : {test::readFile(test::exampleScenePath()), std::string(kLabScene)}) {
     const Scene a = parseScene(text, library());
     const std::string saved = sceneToJson(a);
     const Scene b = parseScene(saved, library());

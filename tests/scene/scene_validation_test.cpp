@@ -12,7 +12,7 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-Json example() { return Json::parse(test::readFile(test::examplePath())); }
+Json example() { return Json::parse(test::readFile(test::exampleScenePath())); }
 
 /// Parses `text` and expects an InputError whose message contains `expected`.
 void expectError(const std::string& text, const std::string& expected) {

@@ -9,7 +9,7 @@ namespace {
 
 using Vec2 = Eigen::Vector2d;
 
-Scene example() { return loadScene(test::examplePath(), test::library()); }
+Scene example() { return loadScene(test::exampleScenePath(), test::library()); }
 
 Pose at(double x, double y, double z, double yaw = 0.0) {
   return makePose(Vec3(x, y, z), Quat(Eigen::AngleAxisd(yaw, Vec3::UnitZ())));

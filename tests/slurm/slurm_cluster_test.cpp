@@ -3,7 +3,6 @@
 // run twice; a batch cancelled mid-way (scancel) resumes with exactly its missing runs.
 // Skipped (exit code 77, CTest's SKIP_RETURN_CODE) when not root or without slurm-wlm and munge.
 #include <gtest/gtest.h>
-#include <stdlib.h>
 #include <sys/wait.h>
 
 #include <chrono>
@@ -19,6 +18,7 @@
 #include "engine/log/results_db.h"
 #include "server/batch/slurm_backend.h"
 #include "server/batch/slurm_client.h"
+#include "tests/common/temp_dir.h"
 #include "tests/slurm/slurm_cluster.h"
 
 namespace dash::batch::testing {
@@ -26,28 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "dash_slurm_test_XXXXXX").string();
-    EXPECT_NE(mkdtemp(pattern.data()), nullptr);
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string file(const std::string& name) const { return path_ + "/" + name; }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(file(name)) << text;
-    return file(name);
-  }
-
- private:
-  std::string path_;
-};
+using test::TempDir;
 
 /// The dashbench binary with `args`; its exit code and stdout (stderr goes to the test's log).
 CommandResult dashbench(const std::vector<std::string>& args, double timeout = 120.0) {
