@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 #include <tuple>
 
 #include "engine/collision/collision_context.h"
@@ -10,6 +9,7 @@
 #include "engine/collision/segment_queries.h"
 #include "engine/plan/certified_stretch.h"
 #include "engine/plan/validation_problems.h"
+#include "engine/plan/validation_workers.h"
 
 namespace dash::validation {
 
@@ -85,9 +85,7 @@ void checkGeometryCertified(const Plan& plan, const PlanMotion& motion, const Ti
   CollisionContext context(world);
   const Supports supports = findSupports(world, context, timeline);
 
-  std::size_t threads = options.threads > 0 ? static_cast<std::size_t>(options.threads)
-                                            : std::max(1u, std::thread::hardware_concurrency());
-  threads = std::max<std::size_t>(1, std::min(threads, stretches.size() / kMinStretchesPerThread));
+  const std::size_t threads = workerCount(options.threads, stretches.size(), kMinStretchesPerThread);
   struct Found {
     std::vector<PairContact> contacts;
     std::vector<HandoverMismatch> handovers;
@@ -104,13 +102,7 @@ void checkGeometryCertified(const Plan& plan, const PlanMotion& motion, const Ti
     }
     found[w].evaluations = checker.evaluations();
   };
-  if (threads == 1) {
-    work(0);
-  } else {
-    std::vector<std::thread> pool;
-    for (std::size_t w = 0; w < threads; ++w) pool.emplace_back(work, w);
-    for (auto& thread : pool) thread.join();
-  }
+  runWorkers(threads, work);
   std::vector<PairContact> contacts;
   std::vector<HandoverMismatch> handovers;
   PairMinima minima;

@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <fcl/narrowphase/collision.h>
-#include <thread>
 #include <tuple>
 
 #include "engine/collision/collision_context.h"
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/collision_world.h"
 #include "engine/collision/segment_queries.h"
+#include "engine/plan/validation_workers.h"
 
 namespace dash::validation {
 
@@ -164,9 +164,7 @@ class GeometryChecker {
   }
 
   std::vector<Hit> sampleAll() {
-    std::size_t threads = options_.threads > 0 ? static_cast<std::size_t>(options_.threads)
-                                               : std::max(1u, std::thread::hardware_concurrency());
-    threads = std::max<std::size_t>(1, std::min(threads, samples_.size() / kMinSamplesPerThread));
+    const std::size_t threads = workerCount(options_.threads, samples_.size(), kMinSamplesPerThread);
     std::vector<std::vector<Hit>> found(threads);
     auto work = [&](std::size_t w) {
       CollisionContext context(world_);
@@ -174,13 +172,7 @@ class GeometryChecker {
       const std::size_t end = samples_.size() * (w + 1) / threads;
       for (std::size_t i = begin; i < end; ++i) checkSample(context, i, found[w]);
     };
-    if (threads == 1) {
-      work(0);
-    } else {
-      std::vector<std::thread> pool;
-      for (std::size_t w = 0; w < threads; ++w) pool.emplace_back(work, w);
-      for (auto& thread : pool) thread.join();
-    }
+    runWorkers(threads, work);
     std::vector<Hit> hits;
     for (auto& part : found) hits.insert(hits.end(), part.begin(), part.end());
     return hits;
