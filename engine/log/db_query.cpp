@@ -278,28 +278,41 @@ SqlRows runReadOnlyQuery(const std::string& path, const std::string& sql, const 
       }
       throw InputError(std::string("SQL error: ") + sqlite3_errmsg(db));
     }
-    if (static_cast<std::int64_t>(out.rows.size()) >= limits.max_rows ||
-        (limits.max_result_bytes > 0 && bytes > limits.max_result_bytes)) {
+    if (static_cast<std::int64_t>(out.rows.size()) >= limits.max_rows) {
       out.truncated = true;
       break;
     }
-    std::vector<SqlValue>& row = out.rows.emplace_back();
-    for (int c = 0; c < columns; ++c) {
+    // The byte budget is checked cell by cell, so one wide row (50 columns of 4 MB) cannot pass it
+    // by more than one cell: the cell that crosses it is the last one read. A row complete with
+    // that cell is kept, a row cut short is left out whole; the answer stops there (truncated).
+    std::vector<SqlValue> row;
+    row.reserve(static_cast<std::size_t>(columns));
+    bool over_budget = false;
+    for (int c = 0; c < columns && !over_budget; ++c) {
       bytes += 8;
       switch (sqlite3_column_type(raw, c)) {
         case SQLITE_INTEGER: row.emplace_back(static_cast<std::int64_t>(sqlite3_column_int64(raw, c))); break;
         case SQLITE_FLOAT: row.emplace_back(sqlite3_column_double(raw, c)); break;
-        case SQLITE_TEXT:
-          bytes += sqlite3_column_bytes(raw, c);
+        case SQLITE_TEXT: {
+          const int n = sqlite3_column_bytes(raw, c);
+          bytes += n;
           row.emplace_back(std::string(reinterpret_cast<const char*>(sqlite3_column_text(raw, c)),
-                                       static_cast<std::size_t>(sqlite3_column_bytes(raw, c))));
+                                       static_cast<std::size_t>(n)));
           break;
+        }
         case SQLITE_BLOB:
           row.emplace_back("<blob " + std::to_string(sqlite3_column_bytes(raw, c)) + " bytes>");
           break;
         default: row.emplace_back(std::monostate{});
       }
+      over_budget = limits.max_result_bytes > 0 && bytes > limits.max_result_bytes;
     }
+    if (over_budget) {
+      if (static_cast<int>(row.size()) == columns) out.rows.push_back(std::move(row));
+      out.truncated = true;
+      break;
+    }
+    out.rows.push_back(std::move(row));
   }
   return out;
 }

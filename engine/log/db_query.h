@@ -39,7 +39,9 @@ struct QueryLimits {
   double timeout_seconds = 10.0;
   int max_cell_bytes = 64 << 20;      ///< SQLITE_LIMIT_LENGTH: a longer string or blob is an SQL error
   int max_columns = 2000;             ///< SQLITE_LIMIT_COLUMN
-  std::int64_t max_result_bytes = 0;  ///< stop (truncated) once the cells read add up to more; 0: none
+  /// Stop (truncated) once the cells read add up to more, checked cell by cell: the answer holds at
+  /// most this plus one cell; a row cut short is left out. 0: none.
+  std::int64_t max_result_bytes = 0;
 };
 
 /// Runs one read-only SQL statement on the file at `path`. Throws QueryRefused for a guard,

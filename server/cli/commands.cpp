@@ -27,6 +27,8 @@ int runReport(const std::vector<std::string>& words);
 extern const char* const kReportHelp;
 int runRunOne(const std::vector<std::string>& words);
 extern const char* const kRunOneHelp;
+int runQueryWorker(const std::vector<std::string>& words);
+extern const char* const kQueryWorkerHelp;
 
 const std::vector<Command>& allCommands() {
   static const std::vector<Command> commands = {
@@ -49,6 +51,8 @@ const std::vector<Command>& allCommands() {
        kReportHelp, runReport},
       {"run-one", "(internal) one run of a batch in its own process; started by `batch run`", kRunOneHelp,
        runRunOne},
+      {"query-worker", "(internal) one query of the server's SQL console in its own process; started by `serve`",
+       kQueryWorkerHelp, runQueryWorker},
   };
   return commands;
 }

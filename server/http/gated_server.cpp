@@ -68,7 +68,15 @@ void closeQuietly(int fd) {
   ::close(fd);
 }
 
+thread_local int current_client_fd = -1;
+
 }  // namespace
+
+bool currentClientGone() {
+  if (current_client_fd < 0) return false;
+  pollfd p{.fd = current_client_fd, .events = POLLRDHUP, .revents = 0};
+  return ::poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;
+}
 
 struct GatedServer::Waiting {
   int fd = -1;
@@ -212,7 +220,9 @@ void GatedServer::serve(int fd, std::string request, std::size_t request_bytes, 
   }
   const bool last = stopping || served + 1 >= options_.max_requests_per_connection;
   bool client_closes = false;
+  current_client_fd = fd;
   const bool answered = process_request(stream, last, client_closes, nullptr);
+  current_client_fd = -1;
   --in_flight_;
   if (answered && !last && !client_closes) {
     admit(fd, stream.takeBuffered(), served + 1);

@@ -34,6 +34,11 @@
 
 namespace dash::http {
 
+/// On a worker thread, inside a handler: whether the client of the request being handled has
+/// closed its side (or reset) the connection. False elsewhere. A long handler (a console query)
+/// asks it to stop work nobody waits for.
+bool currentClientGone();
+
 struct GateOptions {
   HeadLimits limits;
   std::chrono::milliseconds request_timeout{10000};  ///< first byte of a request to its last body byte

@@ -148,6 +148,8 @@ void HttpServer::Impl::configure() {
                                            hub);
   ctx.db_path = options.db_path;
   ctx.token = options.token;
+  ctx.executable = options.executable;
+  ctx.query_timeout_seconds = options.query_timeout_seconds;
   ctx.max_body_bytes = options.max_body_bytes;
   ctx.hub = &hub;
   ctx.batches = batches.get();

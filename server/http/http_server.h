@@ -28,6 +28,7 @@ struct ServerOptions {
   int threads = 64;                         ///< HTTP workers (each open event stream holds one)
   int max_event_streams = 32;               ///< open /api/events streams at once (at most threads / 2); more: 503
   double request_timeout_seconds = 10;      ///< a request's first byte to its last, else 408
+  double query_timeout_seconds = 10;        ///< a console query's time limit (its process is killed then)
   double idle_timeout_seconds = 5;          ///< a kept-alive connection's wait for its next request
   double poll_seconds = 0.5;                ///< database watcher period
   int max_batch_workers = 0;                ///< runs at once per batch, at most; 0: the number of cores

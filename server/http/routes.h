@@ -21,7 +21,9 @@ namespace dash::http {
 struct ApiContext {
   std::string db_path;
   std::string token;
+  std::string executable;  ///< the dashbench binary (query-worker); empty: /proc/self/exe
   std::size_t max_body_bytes = 0;
+  double query_timeout_seconds = 10;
   int max_event_streams = 32;
   bool dispatch_mounted = false;
   EventHub* hub = nullptr;

@@ -7,7 +7,9 @@
 #include "engine/log/db_query.h"
 #include "server/http/api_json.h"
 #include "server/http/api_util.h"
+#include "server/http/query_process.h"
 #include "server/http/routes.h"
+#include "server/http/gated_server.h"  // after routes.h: httplib must follow Eigen
 
 // clang-format off
 #include <httplib.h>  // last: it must follow Eigen (see server/dispatch/dispatch_routes.h)
@@ -18,7 +20,6 @@ namespace dash::http {
 namespace {
 
 constexpr std::int64_t kMaxQueryRows = 10000;
-constexpr double kQueryTimeout = 10.0;
 // What one query may cost the server (issue 24: a 64 MB cell limit let one query return 640 MB and
 // peak at 2.6 GB). The process-wide SQLite heap limit (HttpServer) bounds what is left over.
 constexpr int kMaxQueryCellBytes = 4 << 20;  ///< a stored plan is well below this
@@ -120,12 +121,14 @@ void registerDataRoutes(httplib::Server& server, ApiContext& ctx) {
         if (body.contains("max_rows")) max_rows = intMember(body, "max_rows", 1, kMaxQueryRows);
         const QuerySlot slot(*running);
         try {
-          const log::SqlRows rows = log::runReadOnlyQuery(ctx.db_path, body["sql"].get<std::string>(),
-                                                          log::QueryLimits{.max_rows = max_rows,
-                                                                           .timeout_seconds = kQueryTimeout,
-                                                                           .max_cell_bytes = kMaxQueryCellBytes,
-                                                                           .max_columns = kMaxQueryColumns,
-                                                                           .max_result_bytes = kMaxQueryResultBytes});
+          // In a child process with CPU, memory and wall-clock limits (query_process.h).
+          const log::SqlRows rows = runQueryInChild(ctx.executable, ctx.db_path, body["sql"].get<std::string>(),
+                                                    log::QueryLimits{.max_rows = max_rows,
+                                                                     .timeout_seconds = ctx.query_timeout_seconds,
+                                                                     .max_cell_bytes = kMaxQueryCellBytes,
+                                                                     .max_columns = kMaxQueryColumns,
+                                                                     .max_result_bytes = kMaxQueryResultBytes},
+                                                    currentClientGone);
           Json out = rowsToJson(rows);
           out["max_rows"] = max_rows;
           out["max_bytes"] = kMaxQueryResultBytes;

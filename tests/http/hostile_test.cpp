@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include <chrono>
+#include <future>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -36,6 +37,7 @@ class HostileTest : public ServerTest {
     o.threads = 64;                   // the defaults the attacks of issue 24 met
     o.max_event_streams = 32;
     o.max_body_bytes = 1 << 20;
+    o.query_timeout_seconds = 2.0;  // the expensive-call tests wait for it
     return o;
   }
   int port() const { return server->port(); }
@@ -225,6 +227,91 @@ TEST_F(HostileTest, ExpensiveFunctionsAndCrossOriginPosts) {
   const std::string own = "Origin: http://127.0.0.1\r\nSec-Fetch-Site: same-origin\r\n";
   EXPECT_EQ(statusOf(post("/api/query", sql, own)), 200);
   expectAlive();
+}
+
+// 2b. The byte budget was checked between rows only: one row of 50 cells of 4 MB passed it (200 MB).
+TEST_F(HostileTest, OneWideRowCannotPassTheByteBudget) {
+  const auto columns = [](int n) {
+    std::string cols;
+    for (int i = 0; i < n; ++i) cols += std::string(i ? ", " : "") + "hex(zeroblob(2000000)) AS c" + std::to_string(i);
+    return "SELECT " + cols;
+  };
+  const Json wide = query(columns(20));  // 80 MB in one row
+  ASSERT_EQ(wide["status"], 200) << wide.dump().substr(0, 300);
+  EXPECT_TRUE(wide["truncated"].get<bool>());
+  EXPECT_EQ(wide["rows"].size(), 0u) << "the row over the budget is left out whole";
+  EXPECT_LT(wide["bytes"].get<std::size_t>(), std::size_t{1} << 20);
+  // 50 columns (200 MB of cells, 300 MB while SQLite builds them) pass the query process's SQLite
+  // heap limit first: a 400, and the server's own memory is not involved.
+  const Json wider = query(columns(50));
+  EXPECT_TRUE(wider["status"] == 400 || (wider["status"] == 200 && wider["truncated"].get<bool>()))
+      << wider.dump().substr(0, 300);
+  EXPECT_LT(wider["bytes"].get<std::size_t>(), std::size_t{1} << 20);
+  const Json rows = query("SELECT hex(zeroblob(1000000)) AS a, hex(zeroblob(1000000)) AS b FROM (VALUES (1), (2), (3))");
+  ASSERT_EQ(rows["status"], 200);
+  EXPECT_EQ(rows["rows"].size(), 2u) << "rows of 4 MB: two fit the 8 MB budget, the third is cut";
+  EXPECT_TRUE(rows["truncated"].get<bool>());
+  expectAlive();
+}
+
+// 5b. One call of trim/instr/replace on long strings, or a backtracking LIKE/GLOB, ran inside one
+// VM step (trim of 80K chars: 14.8 s; of 4 MB: hours). Each query now runs in a child process that
+// is killed at the time limit (2 s here), and the server answers meanwhile.
+TEST_F(HostileTest, OneExpensiveFunctionCallIsStoppedAtTheTimeLimit) {
+  const std::string zeros = "hex(zeroblob(1000000))";  // 2 MB of '0'
+  // trim's character set costs SQLite 12 bytes a character, within the 4 MB cell limit: 200K.
+  const std::string ones = "replace(hex(zeroblob(100000)), '0', '1')";
+  const std::vector<std::string> slow = {
+      "SELECT length(trim(" + zeros + ", " + ones + " || '0'))",
+      "SELECT length(rtrim(" + zeros + ", " + ones + " || '0'))",
+      "SELECT instr(" + zeros + " || " + zeros + ", " + zeros + " || '1')",
+      "SELECT length(replace(" + zeros + " || " + zeros + ", " + zeros + " || '1', 'x'))",
+  };
+  // SQLite (3.20+) stops LIKE/GLOB backtracking early and limits patterns to 1000 bytes: these end
+  // by themselves; if one did not, the same limit would stop it.
+  const std::vector<std::string> patterns = {
+      "SELECT " + zeros + " LIKE '%0%0%0%0%0%0%0%0%0%0%0%0%1'",
+      "SELECT " + zeros + " GLOB '*0*0*0*0*0*0*0*0*0*0*0*0*1'",
+  };
+  const auto started = std::chrono::steady_clock::now();
+  std::vector<std::future<Json>> answers;
+  for (std::size_t i = 0; i < slow.size(); ++i) {
+    answers.push_back(std::async(std::launch::async, [this, sql = slow[i]] { return query(sql); }));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  expectAlive();
+  for (std::size_t i = 0; i < answers.size(); ++i) {
+    const Json r = answers[i].get();
+    EXPECT_EQ(r["status"], 403) << slow[i] << ": " << r.dump().substr(0, 300);
+    EXPECT_EQ(r.value("guard", ""), "time_limit") << slow[i];
+  }
+  for (const std::string& sql : patterns) {
+    const Json r = query(sql);
+    EXPECT_TRUE(r["status"] == 200 || r.value("guard", "") == "time_limit") << sql << ": " << r.dump().substr(0, 300);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  EXPECT_LT(seconds, 2 * (2.0 + 1.0)) << "two rounds of the 2 s limit, not more";
+  expectAlive();
+}
+
+// 5c. A client that goes away stops its query: its process is killed and its slot freed at once.
+TEST_F(HostileTest, AQueryStopsWhenItsClientGoesAway) {
+  const std::string sql =
+      Json{{"sql", "SELECT length(trim(hex(zeroblob(1000000)), replace(hex(zeroblob(100000)), '0', '1') || '0'))"}}
+          .dump();
+  {
+    std::vector<std::unique_ptr<RawConnection>> gone;
+    for (int i = 0; i < 4; ++i) {
+      gone.push_back(std::make_unique<RawConnection>(port()));
+      gone.back()->send(post("/api/query", sql));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  }  // all four closed: without the kill, every query slot stays busy for 2 s
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  const auto started = std::chrono::steady_clock::now();
+  const Json r = query("SELECT 1");
+  EXPECT_EQ(r["status"], 200) << r.dump();
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), 1.0);
 }
 
 // 6. fts3_tokenizer leaked a library address and could register pointers.
