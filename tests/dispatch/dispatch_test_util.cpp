@@ -13,24 +13,18 @@
 #include "engine/plan/plan_json.h"
 #include "engine/scene/scene_json.h"
 #include "server/dispatch/dispatch_routes.h"
+#include "tests/common/examples.h"
 
 namespace dash::dispatch::test {
 
-std::shared_ptr<const RobotLibrary> library() {
-  static const auto lib = RobotLibrary::loadDefault();
-  return lib;
-}
-
 namespace {
-
-std::string examples() { return std::string(DASHBENCH_EXAMPLES_DIR) + "/"; }
 
 const Vec3 kExtraBases[] = {Vec3(2.5, 0.0, 0.0), Vec3(-2.5, 0.0, 0.0), Vec3(0.0, 2.5, 0.0)};
 
 }  // namespace
 
 Scene multiArmScene(int extra_arms) {
-  Scene scene = loadScene(examples() + "pick_place_scene.json", library());
+  Scene scene = loadScene(dash::test::exampleScenePath(), library());
   for (int k = 0; k < extra_arms; ++k) {
     SceneRobot arm = scene.robots.front();
     arm.id = "ur5e_" + std::to_string(k + 1);
@@ -45,7 +39,7 @@ JointVector homeOf(const Scene& scene, const std::string& robot) {
 }
 
 Plan multiArmPlan(const Scene& scene) {
-  Plan plan = loadPlan(examples() + "pick_place_plan.json");
+  Plan plan = loadPlan(dash::test::examplePlanPath());
   JointVector offset(6);
   offset << 0.5, 0.2, -0.3, 0.2, 0.3, 0.6;
   for (std::size_t i = 1; i < scene.robots.size(); ++i) {

@@ -22,6 +22,7 @@
 #include "server/dispatch/sim_driver.h"
 #include "server/dispatch/ur_driver.h"
 #include "sim_ur_robot.h"
+#include "tests/common/robot_library.h"
 
 namespace httplib {
 class Server;
@@ -43,7 +44,7 @@ inline constexpr double kLoadProofStateTimeout = 1.5;
 /// a loaded machine (tens of milliseconds at up to 3 rad/s) stays far inside it.
 inline constexpr double kLoadProofPathTolerance = 0.5;
 
-std::shared_ptr<const RobotLibrary> library();
+using dash::test::library;  // the robot models of data/robots (tests/common/robot_library.h)
 /// The contract's pick-and-place scene (ur5e_0 picks obj_0) plus `extra_arms` UR5e arms at x = 2.5,
 /// -2.5, ... m, clear of everything.
 Scene multiArmScene(int extra_arms);
