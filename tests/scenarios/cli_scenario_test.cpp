@@ -4,27 +4,20 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "engine/scene/scene_json.h"
 #include "scenario_test_util.h"
 #include "tests/common/cli_run.h"
+#include "tests/common/examples.h"
 
 namespace dash {
 namespace {
 
 using RunResult = test::CliRun;
+using test::readFile;
 
 RunResult runCli(const std::string& arguments) { return test::runDashbench("scenario " + arguments); }
-
-std::string readFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 class CliScenario : public ::testing::Test {
  protected:
@@ -46,15 +39,15 @@ TEST_F(CliScenario, StdoutShortAndLongOutputAgree) {
   const auto b = dir_ / "b.json";
   ASSERT_EQ(runCli("sorting --seed 3 robots=4 objects=8 -o " + a.string()).exit_code, 0);
   ASSERT_EQ(runCli("sorting robots=4 --out " + b.string() + " objects=8 --seed=3").exit_code, 0);
-  EXPECT_EQ(readFile(a), expected);
-  EXPECT_EQ(readFile(b), expected);
+  EXPECT_EQ(readFile(a.string()), expected);
+  EXPECT_EQ(readFile(b.string()), expected);
 }
 
 TEST_F(CliScenario, WritesAPicture) {
   const auto png = dir_ / "s.png";
   const RunResult r = runCli("lab --seed 2 containers=3 -o " + (dir_ / "s.json").string() + " --png " + png.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(readFile(png).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_EQ(readFile(png.string()).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
 }
 
 TEST_F(CliScenario, ListNamesEveryFamily) {

@@ -2,12 +2,10 @@
 // byte for byte (which also catches a machine whose arithmetic differs).
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
-
 #include "engine/core/paths.h"
 #include "engine/scene/scene_json.h"
 #include "scenario_test_util.h"
+#include "tests/common/examples.h"
 
 namespace dash {
 namespace {
@@ -71,19 +69,12 @@ TEST(ScenarioDeterminism, WrittenSceneReadsBackUnchanged) {
   }
 }
 
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // The example of each family in data/scenes was written by
 // `dashbench scenario FAMILY --seed 1 -o data/scenes/FAMILY.json` with default parameters.
 TEST(ScenarioDeterminism, ExamplesInDataAreReproduced) {
   for (const auto& f : scenarioFamilies()) {
     const std::string path = dataDirectory() + "/scenes/" + f.name + ".json";
-    const std::string stored = readFile(path);
+    const std::string stored = test::readFile(path);
     ASSERT_FALSE(stored.empty()) << path;
     EXPECT_EQ(sceneToJson(test::generate(f.name, {}, 1).scene), stored) << path;
   }

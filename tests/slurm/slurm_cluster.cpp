@@ -14,10 +14,10 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
-#include <sstream>
 #include <thread>
 
 #include "server/batch/slurm_client.h"
+#include "tests/common/examples.h"
 
 extern char** environ;
 
@@ -45,13 +45,6 @@ int freePort() {
 }
 
 std::string firstLine(const std::string& text) { return text.substr(0, text.find('\n')); }
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 }  // namespace
 
@@ -97,7 +90,7 @@ pid_t SlurmCluster::spawnDaemon(const std::vector<std::string>& argv, const std:
 std::string SlurmCluster::logs() const {
   std::string out;
   for (const char* name : {"munged.out", "slurmctld.out", "slurmd.out"}) {
-    out += std::string("--- ") + name + "\n" + readFile(dir_ + "/" + name);
+    out += std::string("--- ") + name + "\n" + dash::test::readFile(dir_ + "/" + name);
   }
   return out;
 }
