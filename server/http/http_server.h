@@ -26,7 +26,7 @@ struct ServerOptions {
   std::string executable;                   ///< the dashbench binary that runs each run; empty: /proc/self/exe
   std::size_t max_body_bytes = 1 << 20;     ///< larger request bodies get 413
   int threads = 64;                         ///< HTTP workers (each open event stream holds one)
-  int max_event_streams = 32;               ///< open /api/events streams at once (at most threads / 2); more: 503
+  int max_event_streams = 32;               ///< open /api/events streams at once (at most threads / 2); more: the oldest is ended
   double request_timeout_seconds = 10;      ///< a request's first byte to its last, else 408
   double query_timeout_seconds = 10;        ///< a console query's time limit (its process is killed then)
   double idle_timeout_seconds = 5;          ///< a kept-alive connection's wait for its next request

@@ -4,12 +4,17 @@
 // A reconnecting EventSource sends Last-Event-ID and gets what it missed while the hub still has
 // it; otherwise a "resync" event tells the page to refetch. A comment line every few seconds keeps
 // proxies from closing an idle stream and lets the server notice a closed tab.
-// Each open stream holds a worker thread: at most ApiContext::max_event_streams are open at once
-// (more get 503 with Retry-After), so that streams never take every worker (issue 24).
+// Each open stream holds a worker thread: at most ApiContext::max_event_streams are open at once, so
+// that streams never take every worker (issue 24). A new stream beyond that ends the oldest one (it
+// closes within kWaitSlice; its EventSource reconnects), so that streams nobody reads cannot keep
+// real tabs out. Only while more than half that many dropped streams are still closing does a new
+// one get 503 with Retry-After: streams never hold more than 1.5 x the cap of workers.
 
 #include <atomic>
 #include <chrono>
+#include <list>
 #include <memory>
+#include <mutex>
 #include <set>
 
 #include "server/http/api_json.h"
@@ -33,6 +38,38 @@ struct Stream {
   std::string run;
   bool hello_sent = false;
   std::chrono::steady_clock::time_point last_write = std::chrono::steady_clock::now();
+  std::atomic<bool> dropped{false};  ///< ended by a newer stream: close at the next frame
+};
+
+/// The open streams, oldest first, and the dropped ones not yet closed.
+class StreamRegistry {
+ public:
+  /// Registers `s`, dropping the oldest stream when `cap` are open. False (nothing registered) when
+  /// too many dropped ones are still closing.
+  bool open(const std::shared_ptr<Stream>& s, std::size_t cap) {
+    std::lock_guard lock(mutex_);
+    if (open_.size() >= cap) {
+      if (closing_ >= std::max<std::size_t>(1, cap / 2)) return false;
+      open_.front()->dropped = true;
+      open_.pop_front();
+      ++closing_;
+    }
+    open_.push_back(s);
+    return true;
+  }
+  void close(const std::shared_ptr<Stream>& s) {
+    std::lock_guard lock(mutex_);
+    if (s->dropped) {
+      --closing_;
+    } else {
+      open_.remove(s);
+    }
+  }
+
+ private:
+  std::mutex mutex_;
+  std::list<std::shared_ptr<Stream>> open_;
+  std::size_t closing_ = 0;
 };
 
 bool wanted(const Stream& s, const HubMessage& m) {
@@ -51,6 +88,7 @@ bool nextFrames(Stream& stream, const EventHub& hub, httplib::DataSink& sink) {
     stream.hello_sent = true;
     return write("retry: 2000\nevent: hello\ndata: " + jsonText(Json{{"seq", stream.after}}) + "\n\n");
   }
+  if (stream.dropped) return false;       // a newer stream took its place
   if (!sink.is_writable()) return false;  // the tab was closed: free the worker now
   const HubWait w = hub.waitAfter(stream.after, kWaitSlice);
   if (w.closed) {
@@ -73,17 +111,15 @@ bool nextFrames(Stream& stream, const EventHub& hub, httplib::DataSink& sink) {
 }  // namespace
 
 void registerEventRoutes(httplib::Server& server, ApiContext& ctx) {
-  auto open_streams = std::make_shared<std::atomic<int>>(0);
-  server.Get("/api/events", guarded([&ctx, open_streams](const httplib::Request& req, httplib::Response& res) {
-               if (open_streams->fetch_add(1) >= ctx.max_event_streams) {
-                 open_streams->fetch_sub(1);
-                 res.set_header("Retry-After", "5");
-                 throw HttpError(503, "too many open event streams (" + std::to_string(ctx.max_event_streams) +
-                                          "); close a dashboard tab or try again later");
-               }
-               // Counted from here; the releaser below uncounts it when the response is gone.
-               const std::shared_ptr<void> counted(nullptr, [open_streams](void*) { open_streams->fetch_sub(1); });
+  auto registry = std::make_shared<StreamRegistry>();
+  server.Get("/api/events", guarded([&ctx, registry](const httplib::Request& req, httplib::Response& res) {
                auto stream = std::make_shared<Stream>();
+               if (!registry->open(stream, static_cast<std::size_t>(ctx.max_event_streams))) {
+                 res.set_header("Retry-After", "1");
+                 throw HttpError(503, "too many event streams opened at once; try again in a moment");
+               }
+               // Registered from here; the releaser below unregisters it when the response is gone.
+               const std::shared_ptr<void> counted(nullptr, [registry, stream](void*) { registry->close(stream); });
                stream->after = ctx.hub->lastSeq();
                if (req.has_header("Last-Event-ID")) {
                  try {
