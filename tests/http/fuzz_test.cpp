@@ -280,5 +280,76 @@ TEST_F(FuzzTest, RandomAndMutatedRequestsOnEveryRoute) {
   sqlite3_close(db);
 }
 
+// Request heads a client library would not send, mutated at random from a few valid ones: header
+// names with blanks before the colon, missing or repeated Content-Length, odd methods and versions,
+// bare LF or CR, NUL and control bytes, huge header lines, blank lines before the request line.
+TEST_F(FuzzTest, MutatedRequestHeadsOnRawSockets) {
+  std::mt19937 rng(24);
+  auto pick = [&](const std::vector<std::string>& options) {
+    return options[std::uniform_int_distribution<std::size_t>(0, options.size() - 1)(rng)];
+  };
+  const std::vector<std::string> methods = {"GET", "POST", "PUT", "PATCH", "DELETE", "HEAD", "OPTIONS", "TRACE",
+                                            "CONNECT", "PRI", "get", "FOO", "G ET", std::string(300, 'G'), ""};
+  const std::vector<std::string> targets = {"/api/health", "/api/query", "/api/runs", "/api/batches/validate",
+                                            "/index.html", "*", "http://127.0.0.1/api/health", "/%00", "//"};
+  const std::vector<std::string> versions = {"HTTP/1.1", "HTTP/1.0", "HTTP/2.0", "HTTP/0.9", "HTTP/1.1 x", ""};
+  const std::string body = R"({"sql": "SELECT 1"})";
+  const std::string length = std::to_string(body.size());
+  const std::vector<std::string> extras = {
+      "",
+      "Content-Length: " + length + "\r\n",
+      "Content-Length : " + length + "\r\n",
+      "Content-Length\t: " + length + "\r\n",
+      " Content-Length: " + length + "\r\n",
+      "Content-Length: " + length + "\r\nContent-Length: " + length + "\r\n",
+      "Content-Length: " + length + "\r\nContent-Length: 1\r\n",
+      "Content-Length: +" + length + "\r\n",
+      "Content-Length: " + length + ", " + length + "\r\n",
+      "Transfer-Encoding : chunked\r\n",
+      "Transfer-Encoding: chunked\r\n",
+      "No colon here\r\n",
+      "X-A: b\nContent-Length: 5\r\n",
+      "X-A: b\rX-B: c\r\n",
+      std::string("X-Nul: a") + '\0' + "b\r\n",
+      "X-Ctl: \x01\x7f\r\n",
+      "X-Fold: a\r\n  folded\r\n",
+      "X-Huge: " + std::string(70000, 'h') + "\r\n",
+      "X-Long: " + std::string(8000, 'l') + "\r\n",
+      ": empty-name\r\n",
+      "Expect: 100-continue\r\nContent-Length: " + length + "\r\n",
+      "Content-Type: application/json\r\n",
+  };
+  int answered = 0;
+  constexpr int kHeads = 300;
+  for (int i = 0; i < kHeads; ++i) {
+    std::string head = (i % 17 == 0 ? "\r\n\r\n" : "") + pick(methods) + " " + pick(targets) + " " + pick(versions) +
+                       "\r\nHost: 127.0.0.1\r\n";
+    for (int k = std::uniform_int_distribution<int>(0, 3)(rng); k > 0; --k) head += pick(extras);
+    head += "Connection: close\r\n\r\n";
+    if (i % 5 == 0) {  // bare LF line ends throughout
+      std::string lf;
+      for (std::size_t j = 0; j < head.size(); ++j) {
+        if (head.compare(j, 2, "\r\n") != 0) lf += head[j];
+      }
+      head = lf;
+    }
+    RawConnection c(server->port());
+    ASSERT_TRUE(c.connected());
+    c.send(head + body);
+    std::string answer = c.readUntil("\r\n\r\n", 3);
+    if (RawConnection::statusOf(answer) == 100) {  // Expect: 100-continue; the final answer follows
+      answer = c.readAll(3).substr(answer.find("\r\n\r\n") + 4);
+    }
+    const int status = RawConnection::statusOf(answer);
+    const bool allowed = (status >= 200 && status < 500) || status == 503;
+    EXPECT_TRUE(allowed) << status << " for " << head.substr(0, 200);
+    answered += allowed;
+  }
+  EXPECT_EQ(answered, kHeads);
+  RawConnection c(server->port());
+  c.send("GET /api/health HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
+  EXPECT_EQ(RawConnection::statusOf(c.readUntil("\r\n\r\n", 1.0)), 200) << "no answer within 1 s afterwards";
+}
+
 }  // namespace
 }  // namespace dash::http::testing
