@@ -1,10 +1,7 @@
 // BatchRunner end to end: runs in child processes (the dashbench binary's run-one), a crash, a
 // hang past the time limit, cancel, and a runner killed with SIGKILL then resumed.
-#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <map>
@@ -22,6 +19,7 @@
 #include "server/batch/batch_store.h"
 #include "server/batch/progress_printer.h"
 #include "tests/batch/batch_test_util.h"
+#include "tests/common/child_process.h"
 
 namespace dash::batch {
 namespace {
@@ -335,39 +333,15 @@ TEST(BatchRunner, ResumeReplacesAStaleRunningRowAndItsPartialEvents) {
   EXPECT_EQ(listBatchInfo(db_path, id)[0].status, "finished");
 }
 
-/// Starts `dashbench ARGS...` with stdout and stderr to `log_path`; returns its pid.
-pid_t spawnCli(const std::vector<std::string>& args, const std::string& log_path) {
-  std::vector<std::string> words = {binary()};
-  words.insert(words.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& w : words) argv.push_back(w.data());
-  argv.push_back(nullptr);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(fd, 1);
-    dup2(fd, 2);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-int waitExit(pid_t pid) {
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
 TEST(BatchRunner, RunnerKilledWithSigkillThenResumedLosesAndDuplicatesNothing) {
   TempDir dir;
   const std::string db_path = dir.file("results.db");
   const std::string spec_path =
       dir.write("spec.json", sortingSpec("[4, 6, 8, 10, 12, 14]", "[1, 2]", std::string("[") + kTaskOnly + "]"));
   const std::string id = "killed-batch";
-  const pid_t cli =
-      spawnCli({"batch", "run", spec_path, "--db", db_path, "--workers", "2", "--id", id}, dir.file("run.log"));
-  ASSERT_GT(cli, 0);
+  test::ChildProcess cli(test::dashbenchCommand({"batch", "run", spec_path, "--db", db_path, "--workers", "2", "--id", id}),
+                         {.output = dir.file("run.log")});
+  ASSERT_GT(cli.pid(), 0);
 
   // Kill it once a few runs are finished.
   std::int64_t finished_at_kill = 0, running_at_kill = 0;
@@ -383,8 +357,8 @@ TEST(BatchRunner, RunnerKilledWithSigkillThenResumedLosesAndDuplicatesNothing) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  ASSERT_EQ(kill(cli, SIGKILL), 0);
-  EXPECT_EQ(waitExit(cli), 128 + SIGKILL);
+  ASSERT_TRUE(cli.kill(SIGKILL));
+  EXPECT_EQ(cli.wait(), 128 + SIGKILL);
   ASSERT_GE(finished_at_kill, 3);
   ASSERT_LT(finished_at_kill, 12) << "the batch ended before the kill; the test needs longer runs";
 
@@ -402,8 +376,9 @@ TEST(BatchRunner, RunnerKilledWithSigkillThenResumedLosesAndDuplicatesNothing) {
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(200));  // children die with their parent (PDEATHSIG)
 
-  const pid_t resume = spawnCli({"batch", "resume", "--db", db_path, id, "--workers", "2"}, dir.file("resume.log"));
-  EXPECT_EQ(waitExit(resume), 0) << std::ifstream(dir.file("resume.log")).rdbuf();
+  test::ChildProcess resume(test::dashbenchCommand({"batch", "resume", "--db", db_path, id, "--workers", "2"}),
+                            {.output = dir.file("resume.log")});
+  EXPECT_EQ(resume.wait(), 0) << resume.log();
 
   const log::ResultsDb db(db_path, log::OpenMode::ReadOnly);
   EXPECT_EQ(scalar(db, "SELECT COUNT(*) FROM dash_runs WHERE batch_id = ?", {id}), 12);  // one row per key

@@ -87,9 +87,9 @@ TEST_F(ControllerCli, StopInjectedOnTheCommandLineAbortsBothArms) {
 
 TEST(ControllerCliArgs, BadArgumentsExitWithTwo) {
   const std::string token = test::writeTokenFile("dispatch_cli_args_token.txt");
-  test::ChildProcess bad({"controller", "--server", "http://127.0.0.1:9", "--robot", "r", "--token-file", token,
-                          "--driver", "teleport"},
-                         ::testing::TempDir() + "dispatch_cli_bad.log");
+  test::ChildProcess bad(test::dashbenchCommand({"controller", "--server", "http://127.0.0.1:9", "--robot", "r",
+                                                "--token-file", token, "--driver", "teleport"}),
+                         {.output = ::testing::TempDir() + "dispatch_cli_bad.log"});
   const std::optional<int> status = bad.wait(10.0);
   EXPECT_EQ(status, std::optional<int>(2)) << bad.log();
   EXPECT_NE(bad.log().find("--driver"), std::string::npos) << bad.log();

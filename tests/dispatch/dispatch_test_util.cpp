@@ -1,10 +1,5 @@
 #include "dispatch_test_util.h"
 
-#include <fcntl.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -193,65 +188,6 @@ std::vector<int> freePorts(int count) {
   return ports;
 }
 
-ChildProcess::ChildProcess(const std::vector<std::string>& args, const std::string& log_path) : log_path_(log_path) {
-  pid_ = ::fork();
-  if (pid_ == 0) {
-    const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) {
-      ::dup2(fd, 1);
-      ::dup2(fd, 2);
-    }
-    std::vector<char*> argv;
-    std::string binary = DASHBENCH_BINARY;
-    argv.push_back(binary.data());
-    std::vector<std::string> copy = args;
-    for (std::string& a : copy) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(binary.c_str(), argv.data());
-    ::_exit(127);
-  }
-}
-
-ChildProcess::~ChildProcess() { stop(); }
-
-int ChildProcess::stop() {
-  if (pid_ <= 0) return -1;
-  ::kill(pid_, SIGTERM);
-  int status = 0;
-  for (int i = 0; i < 500; ++i) {
-    if (::waitpid(pid_, &status, WNOHANG) == pid_) {
-      pid_ = -1;
-      return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  ::kill(pid_, SIGKILL);
-  ::waitpid(pid_, &status, 0);
-  pid_ = -1;
-  return -1;
-}
-
-std::optional<int> ChildProcess::wait(double timeout_s) {
-  if (pid_ <= 0) return std::nullopt;
-  const int rounds = static_cast<int>(timeout_s * 100);
-  for (int i = 0; i <= rounds; ++i) {
-    int status = 0;
-    if (::waitpid(pid_, &status, WNOHANG) == pid_) {
-      pid_ = -1;  // reaped: never signal this pid again
-      return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return std::nullopt;
-}
-
-std::string ChildProcess::log() const {
-  std::ifstream in(log_path_);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 std::vector<std::pair<std::string, std::string>> readEvents(
     const std::string& url, const std::string& path,
     const std::function<bool(const std::vector<std::pair<std::string, std::string>>&)>& enough, double timeout_s) {
@@ -312,7 +248,7 @@ CliUrArm startCliUrArm(const std::string& url, const std::string& robot, const J
                                          "--gripper-port", std::to_string(arm.gripper->port()),
                                          "--read-timeout-ms", std::to_string(kLoadProofReadTimeoutMs),
                                          "--stale-ms", std::to_string(kLoadProofStaleMs)};
-  arm.agent = std::make_unique<ChildProcess>(args, ::testing::TempDir() + log_name);
+  arm.agent = std::make_unique<ChildProcess>(dashbenchCommand(args), ChildProcess::Options{.output = ::testing::TempDir() + log_name});
   return arm;
 }
 
@@ -322,7 +258,7 @@ std::unique_ptr<ChildProcess> startCliSimArm(const std::string& url, const std::
   std::vector<std::string> args = {"controller", "--server",   url,   "--token-file", token_file, "--robot",
                                    robot,        "--driver",   "sim", "--sim-start",  csv(initial)};
   args.insert(args.end(), extra.begin(), extra.end());
-  return std::make_unique<ChildProcess>(args, ::testing::TempDir() + log_name);
+  return std::make_unique<ChildProcess>(dashbenchCommand(args), ChildProcess::Options{.output = ::testing::TempDir() + log_name});
 }
 
 }  // namespace dash::dispatch::test

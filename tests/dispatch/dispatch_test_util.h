@@ -3,8 +3,6 @@
 // pick-and-place arm plus UR5e arms far away moving between two configurations), a dispatch server on
 // loopback, in-process agents (simulated arms, a UR agent with the simulated UR robot and gripper), and
 // `dashbench controller` child processes.
-#include <sys/types.h>
-
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -22,6 +20,7 @@
 #include "server/dispatch/sim_driver.h"
 #include "server/dispatch/ur_driver.h"
 #include "sim_ur_robot.h"
+#include "tests/common/child_process.h"
 #include "tests/common/robot_library.h"
 
 namespace httplib {
@@ -159,23 +158,9 @@ const ArmDispatchStatus* armStatus(const DispatchStatus& status, const std::stri
 /// Free TCP ports on 127.0.0.1 (bound then released).
 std::vector<int> freePorts(int count);
 
-/// `dashbench ARGS...` as a child process, its stderr in a file; killed (SIGTERM, then SIGKILL) on
-/// destruction.
-class ChildProcess {
- public:
-  ChildProcess(const std::vector<std::string>& args, const std::string& log_path);
-  ~ChildProcess();
-  pid_t pid() const { return pid_; }
-  /// Sends SIGTERM and waits; returns the exit status (-1 if killed).
-  int stop();
-  /// Waits up to timeout_s for it to exit by itself; its exit status, or nullopt if still running.
-  std::optional<int> wait(double timeout_s);
-  std::string log() const;
-
- private:
-  pid_t pid_ = -1;
-  std::string log_path_;
-};
+/// `dashbench ARGS...` as child processes (tests/common/child_process.h).
+using dash::test::ChildProcess;
+using dash::test::dashbenchCommand;
 
 std::string writeTokenFile(const std::string& name, const std::string& token = kToken);
 
