@@ -1,6 +1,7 @@
 #include "engine/hypergraph/search_workspace.h"
 
 #include <algorithm>
+#include <string>
 #include <unordered_map>
 
 #include "engine/core/check.h"
@@ -20,6 +21,17 @@ std::uint64_t mix(std::uint64_t x) {
 }
 
 bool notComputed(double x) { return std::isnan(x); }
+
+/// A cost cached per element: `callback(id)` on first use (`fallback` without a callback), which must
+/// be >= 0 and not NaN (`name` says which callback broke that).
+template <class Callback, class Id>
+double cachedCost(double& cached, const Callback& callback, Id id, double fallback, const char* name) {
+  if (notComputed(cached)) {
+    cached = callback ? callback(id) : fallback;
+    DASH_THROW_UNLESS(cached >= 0.0, std::string("hyperpath search: ") + name + " must be >= 0 (and not NaN)");
+  }
+  return cached;
+}
 
 }  // namespace
 
@@ -296,21 +308,11 @@ void SearchWorkspace::setApplicable(HyperarcId a, bool on) {
 }
 
 double SearchWorkspace::arcCost(HyperarcId a) {
-  double& cached = arcCost_[a.value()];
-  if (notComputed(cached)) {
-    cached = params_.arcCost ? params_.arcCost(a) : 1.0;
-    DASH_THROW_UNLESS(cached >= 0.0, "hyperpath search: arcCost must be >= 0 (and not NaN)");
-  }
-  return cached;
+  return cachedCost(arcCost_[a.value()], params_.arcCost, a, 1.0, "arcCost");
 }
 
 double SearchWorkspace::costToGo(VertexId v) {
-  double& cached = costToGo_[v.value()];
-  if (notComputed(cached)) {
-    cached = params_.costToGo ? params_.costToGo(v) : 0.0;
-    DASH_THROW_UNLESS(cached >= 0.0, "hyperpath search: costToGo must be >= 0 (and not NaN)");
-  }
-  return cached;
+  return cachedCost(costToGo_[v.value()], params_.costToGo, v, 0.0, "costToGo");
 }
 
 double SearchWorkspace::defaultPriority(HyperarcId a) {
