@@ -18,7 +18,7 @@ namespace dash::cli {
 extern const char* const kServeHelp;
 const char* const kServeHelp =
     "usage: dashbench serve [--host 127.0.0.1] [--port 8080] [--db data/results.db] [--token-file FILE]\n"
-    "                       [--web DIR] [--max-workers N]\n"
+    "                       [--web DIR] [--max-workers N] [--dispatch-state-timeout S]\n"
     "Serve the web dashboard and the JSON API (http://HOST:PORT/, API under /api/).\n"
     "  --host H         address to listen on (default 127.0.0.1: this machine only). Another address\n"
     "                   lets others read every result; changes still need the token.\n"
@@ -30,6 +30,9 @@ const char* const kServeHelp =
     "                   start, mode 0600, and printed once)\n"
     "  --web DIR        the dashboard's files (default: the source tree's web/, or $DASHBENCH_WEB)\n"
     "  --max-workers N  runs at once per batch, at most (default: the number of cores)\n"
+    "  --dispatch-state-timeout S\n"
+    "                   seconds a dispatched arm may go without reporting its state before every\n"
+    "                   arm is stopped (default 0.5; between 0.05 and 10)\n"
     "Batches launched from the dashboard run each run in its own process; Ctrl-C stops the server and\n"
     "cancels them cleanly (resume them from the Launch page after the next start).\n";
 
@@ -54,7 +57,7 @@ void seedDefaultDb(const std::string& db_path) {
 }  // namespace
 
 int runServe(const std::vector<std::string>& words) {
-  Args args(words, {.options = {"host", "port", "db", "token-file", "web", "max-workers"}, .flags = {}});
+  Args args(words, {.options = {"host", "port", "db", "token-file", "web", "max-workers", "dispatch-state-timeout"}, .flags = {}});
   DASH_THROW_UNLESS(args.positional().empty(), "serve takes no positional arguments (see --help)");
   http::ServerOptions options;
   options.host = args.get("host", "127.0.0.1");
@@ -66,6 +69,9 @@ int runServe(const std::vector<std::string>& words) {
   options.max_batch_workers = static_cast<int>(args.integer("max-workers", 0));  // 0: the number of cores
   DASH_THROW_UNLESS(!args.has("max-workers") || (options.max_batch_workers >= 1 && options.max_batch_workers <= 1024),
                     "--max-workers must be between 1 and 1024");
+  options.dispatch_state_timeout_seconds = args.number("dispatch-state-timeout", 0.5);
+  DASH_THROW_UNLESS(options.dispatch_state_timeout_seconds >= 0.05 && options.dispatch_state_timeout_seconds <= 10,
+                    "--dispatch-state-timeout must be between 0.05 and 10 seconds");
   if (!args.has("db")) seedDefaultDb(options.db_path);
 
   const std::string token_path = args.get("token-file", kDefaultTokenFile);

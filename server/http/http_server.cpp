@@ -22,9 +22,7 @@
 #include "server/http/routes.h"
 #include "server/http/scene_cache.h"
 #include "server/http/static_files.h"
-#if DASH_HTTP_WITH_DISPATCH
 #include "server/dispatch/dispatch_routes.h"
-#endif
 
 // clang-format off
 #include "server/http/gated_server.h"  // includes httplib.h
@@ -92,10 +90,8 @@ struct HttpServer::Impl {
   std::unique_ptr<BatchManager> batches;
   std::unique_ptr<DbWatcher> watcher;
   ApiContext ctx;
-#if DASH_HTTP_WITH_DISPATCH
   std::unique_ptr<dispatch::DispatchService> dispatch;
   std::shared_ptr<dispatch::DispatchRecorder> dispatch_recorder;  ///< every dispatch, into the results database
-#endif
   GatedServer server;
   std::thread thread;
   int port = 0;
@@ -193,10 +189,10 @@ void HttpServer::Impl::configure() {
   registerRunRoutes(server, ctx);
   registerDataRoutes(server, ctx);
   registerEventRoutes(server, ctx);
-#if DASH_HTTP_WITH_DISPATCH
   if (options.dispatch) {
     dispatch::DispatchConfig config;
     config.library = robots;
+    config.state_timeout = config.sample_timeout = options.dispatch_state_timeout_seconds;
     config.resolve_run = [this](const std::string& run_id) -> std::optional<dispatch::PlanSource> {
       try {
         const std::optional<std::string> plan = ctx.detail.planText(run_id);
@@ -216,7 +212,6 @@ void HttpServer::Impl::configure() {
         dispatch_recorder.get());
     ctx.dispatch_mounted = true;
   }
-#endif
   registerStaticRoutes(server, ctx);
 }
 
@@ -253,9 +248,7 @@ void HttpServer::stop() {
   m.hub.close();
   m.batches->shutdown();
   if (m.watcher) m.watcher->stop();
-#if DASH_HTTP_WITH_DISPATCH
   if (m.dispatch) m.dispatch->shutdown();
-#endif
   m.server.stop();
   if (m.thread.joinable()) m.thread.join();
   m.server.stopGate();

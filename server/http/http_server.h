@@ -33,7 +33,9 @@ struct ServerOptions {
   double poll_seconds = 0.5;                ///< database watcher period
   int max_batch_workers = 0;                ///< runs at once per batch, at most; 0: the number of cores
   int max_running_batches = 1;              ///< more wait queued
-  bool dispatch = true;                     ///< mount the dispatch API if the build has it
+  bool dispatch = true;                     ///< mount the dispatch API
+  /// s without a state report (or a joint state) from a dispatched arm before every arm is stopped
+  double dispatch_state_timeout_seconds = 0.5;
 };
 
 class HttpServer {

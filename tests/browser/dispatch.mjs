@@ -82,7 +82,7 @@ async function startServer(tmp) {
   const demo = path.join(ROOT, 'data', 'demo.db');
   if (!fs.existsSync(demo)) throw new Error(`${demo} is missing (see the README's Dashboard section)`);
   fs.copyFileSync(demo, db);
-  const proc = startChild(['serve', '--port', '0', '--db', db, '--token-file', path.join(tmp, 'token'), '--web', path.join(ROOT, 'web'), '--max-workers', '1'], 'server');
+  const proc = startChild(['serve', '--port', '0', '--db', db, '--token-file', path.join(tmp, 'token'), '--web', path.join(ROOT, 'web'), '--max-workers', '1', '--dispatch-state-timeout', '1.5'], 'server');
   for (let i = 0; i < 600; i++) {
     const m = proc.log.match(/open (http:\/\/127\.0\.0\.1:\d+)/);
     if (m) return { ...proc, url: m[1] };
