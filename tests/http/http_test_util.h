@@ -12,6 +12,7 @@
 #include <string>
 
 #include "server/http/http_server.h"
+#include "tests/common/temp_dir.h"
 
 namespace dash::http::testing {
 
@@ -19,18 +20,8 @@ using Json = nlohmann::json;
 
 inline constexpr const char* kToken = "test-token-0123456789abcdef";
 
-class TempDir {
- public:
-  TempDir();
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+/// The test's own temporary folder (tests/common/temp_dir.h).
+using TempDir = dash::test::TempDir;
 
 /// The recorded runs of fixtureDb(): uuids by role.
 struct Fixture {
