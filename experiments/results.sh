@@ -12,10 +12,13 @@
 #   task-layer experiments/task_layer/run.sh                                  (under a minute)
 #   compare    experiments/compare/run.sh --workers 1 --time-limit 120        (about 1 hour)
 #   dispatch-load tests/dispatch/under_load.sh --runs 20 --sorting            (about 12 minutes)
+#   validation experiments/validation/largest.sh                             (20-40 minutes)
 #
 # DASHBENCH names the dashbench to use (default: the repository's ./dashbench, which builds first).
 # dispatch-load runs the dispatch tests DISPATCH_LOAD_RUNS times (default 20) while busy loops saturate
 # every core; it uses build/'s test_dispatch, test_dispatch_sorting and dashbench (build them first).
+# validation plans the largest instances first; VALIDATION_PLANS=DIR takes the plans from DIR instead
+# (see experiments/validation/largest.sh).
 set -euo pipefail
 
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -28,15 +31,16 @@ declare -A COMMANDS=(
   [task-layer]="experiments/task_layer/run.sh"
   [compare]="experiments/compare/run.sh --workers 1 --time-limit 120"
   [dispatch-load]="tests/dispatch/under_load.sh --runs ${DISPATCH_LOAD_RUNS:-20} --sorting"
+  [validation]="experiments/validation/largest.sh${VALIDATION_PLANS:+ --plans $VALIDATION_PLANS}"
 )
-ORDER=(small large task-layer compare dispatch-load)
+ORDER=(small large task-layer compare dispatch-load validation)
 
 if [ "${1:-}" = "--list" ]; then
   for s in "${ORDER[@]}"; do printf '%-13s %s\n' "$s" "${COMMANDS[$s]}"; done
   exit 0
 fi
 if [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then
-  sed -n '2,18p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+  sed -n '2,21p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
   exit 0
 fi
 SECTIONS=("$@")
