@@ -249,9 +249,23 @@ void StretchChecker::collectRobotPairs(int r, int s) {
                           (held_b && world_.robot(r).bodies[at(pa)].is_gripper))) {
         continue;
       }
-      addPair(r, pa, element(s, pb), b.swept[at(pb)], s, pb, false);
+      // A gripper about to take an object over from another robot, or that just handed it over,
+      // touches it: contact meant, as with a resting object.
+      const bool taking_over = (held_b && world_.robot(r).bodies[at(pa)].is_gripper && holdsAdjacent(r, b.held.object)) ||
+                               (held_a && world_.robot(s).bodies[at(pb)].is_gripper && holdsAdjacent(s, a.held.object));
+      addPair(r, pa, element(s, pb), b.swept[at(pb)], s, pb, taking_over);
     }
   }
+}
+
+bool StretchChecker::holdsAdjacent(int r, int object) const {
+  const auto& epochs = timeline_.epochs;
+  auto holds = [&](std::size_t e) {
+    const auto& holders = epochs[e].objects[at(object)].holders;
+    return std::any_of(holders.begin(), holders.end(), [&](const Holder& h) { return h.robot == r; });
+  };
+  const auto e = at(stretch_.epoch);
+  return (e > 0 && holds(e - 1)) || (e + 1 < epochs.size() && holds(e + 1));
 }
 
 double StretchChecker::distance(const Pair& pair, double u, double enough, bool& exact) {
@@ -293,7 +307,7 @@ double StretchChecker::distance(const Pair& pair, double u, double enough, bool&
   if (!exact) return lower;
   ++evaluations_;
   if (!held_a) return signedDistance(context_, *ga.bodies[at(pair.pa)].shape, pa.X_WG[at(pair.pa)], *shape_b, X_b);
-  if (pair.contact_meant) {
+  if (pair.contact_meant && pair.rb < 0) {  // on what it rests (a gripper taking it over: exact)
     const PosedShape held = heldStaticShape(world_, held_object, pa.X_WO);
     return signedDistance(context_, *held.shape, held.X_WS, *shape_b, X_b);
   }
@@ -308,7 +322,28 @@ void StretchChecker::advance(const Pair& pair, std::vector<PairContact>& contact
                                             PairMinimum{element(pair.ra, pair.pa), pair.b, pair.contact_meant,
                                                         std::numeric_limits<double>::infinity(), 0.0})
                              .first->second;
-  PairContact* open = nullptr;
+  PairContact* open = nullptr;  // only this pair appends to `contacts` while it is open
+  // Extends the open contact to [.., t_to], or opens one at t_from.
+  auto note = [&](double u_from, double t_from, double t_to, double d, double t_d, bool possible, double bound) {
+    if (open == nullptr) {
+      contacts.push_back({element(pair.ra, pair.pa), pair.b, t_from, t_to, d, t_d, u_from == 0.0, false, possible, bound});
+      open = &contacts.back();
+      return;
+    }
+    open->t_last = std::max(open->t_last, t_to);
+    if (d < open->distance) {
+      open->distance = d;
+      open->t_closest = t_d;
+    }
+    open->possible = open->possible && possible;
+    open->bound = std::min(open->bound, bound);
+  };
+  // The previous instant, when its distance alone did not prove the step from it clear (a step at the
+  // floor, or one from a contact): the step is then bounded from both ends.
+  bool pending = false;
+  double u_prev = 0.0;
+  double t_prev = 0.0;
+  double d_prev = 0.0;
   double u = 0.0;
   for (;;) {
     // Past `enough`, the rest of the stretch is certified clear: no need for the exact distance.
@@ -318,31 +353,38 @@ void StretchChecker::advance(const Pair& pair, std::vector<PairContact>& contact
     const double t = stretch_.t0 + u * span;
     if (exact && d < minimum.distance) minimum = {minimum.a, minimum.b, pair.contact_meant, d, t};
     const bool in_contact = d < c - kTouchTolerance;
-    if (in_contact) {
-      if (open == nullptr) {
-        contacts.push_back({element(pair.ra, pair.pa), pair.b, t, t, d, t, u == 0.0, false});
-        open = &contacts.back();
+    if (pending) {
+      // Over [u_prev, u] the distance at s is at least d_prev - rate (s - u_prev) and d - rate (u - s).
+      const double lower = 0.5 * (d_prev + d - pair.rate * (u - u_prev));
+      if (lower < c - kTouchTolerance) {
+        note(u_prev, t_prev, t, std::min(d_prev, d), d < d_prev ? t : t_prev, true, lower);
+      } else {
+        open = nullptr;  // certified apart over the whole step
       }
-      open->t_last = t;
-      if (d < open->distance) {
-        open->distance = d;
-        open->t_closest = t;
-      }
-    } else {
-      open = nullptr;
+      pending = false;
+    }
+    if (in_contact) note(u, t, t, d, t, false, d);
+    if (u >= 1.0) {
+      if (open != nullptr) open->to_end = true;
+      break;
     }
     if (d > enough || pair.rate <= 0.0) break;
     // Clear: certified until the bound reaches the clearance. In contact: certified in contact until
     // the bound could lift it, but stepped 4 times finer so that the deepest point is found closely.
+    // Never finer than the floor.
     const double step = std::max(in_contact ? (c - d) / (kContactRefinement * pair.rate) : (d - c) / pair.rate, floor_u);
-    if (u + step >= 1.0) {
-      if (open != nullptr) {
-        open->t_last = stretch_.t1;
-        open->to_end = true;
-      }
-      break;
-    }
-    u = nextOnGrid(u, step);
+    const double next = u + step >= 1.0 ? 1.0 : nextOnGrid(u, step);
+    // A pair not in contact by design that its distance here does not keep apart over the step (the
+    // floor): the next instant bounds the step from its end too, and what is still not certified is a
+    // possible contact. Pairs in contact by design keep the floor's resolution.
+    const bool certified = d - pair.rate * (next - u) >= c - kTouchTolerance;
+    pending = in_contact || (!certified && !pair.contact_meant);
+    if (!pending) open = nullptr;
+    if (next >= 1.0 && !pending) break;
+    u_prev = u;
+    t_prev = t;
+    d_prev = d;
+    u = next;
   }
 }
 

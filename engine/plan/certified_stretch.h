@@ -27,6 +27,10 @@ struct PairContact {
   double t_closest = 0.0;
   bool from_start = false;  ///< already in contact at the stretch's start
   bool to_end = false;      ///< still in contact at its end
+  /// No measured instant was in contact: conservative advancement reached its floor without proving
+  /// the pair apart (a possible contact). `bound` is the smallest distance the motion bound allows.
+  bool possible = false;
+  double bound = 0.0;
 };
 
 /// The smallest distance measured for one pair over the plan.
@@ -99,6 +103,8 @@ class StretchChecker {
   void collectRobotPairs(int r, int s);
   void addPair(int ra, int pa, const CollisionElement& b, const Aabb& b_box, int rb, int pb, bool contact_meant);
   bool isSupport(int object, const CollisionElement& thing) const;
+  /// Robot r holds `object` in the epoch before the stretch's or the one after (a handover).
+  bool holdsAdjacent(int r, int object) const;
   /// Signed distance of the pair at u (exact = true), or a lower bound above `enough` from the boxes.
   double distance(const Pair& pair, double u, double enough, bool& exact);
   void advance(const Pair& pair, std::vector<PairContact>& contacts, PairMinima& minima);

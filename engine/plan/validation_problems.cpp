@@ -69,7 +69,14 @@ ValidationProblem contactProblem(const Scene& scene, const ValidationOptions& op
   } else {
     p.other = shortName(c.b, scene);
   }
-  if (c.distance < 0.0) {
+  if (c.possible) {
+    // Conservative advancement reached its floor without proving the pair apart: no measured instant
+    // was in contact, but the motion bound allows one between two of them.
+    p.message = describe(c.a, scene) + " may touch " + describe(c.b, scene) + " " + when(p.t, p.t_end) +
+                ": not certified at the " + mm(options.certify_floor) + " floor (closest measured " + mm(c.distance) +
+                " at t=" + formatNumber(c.t_closest, 6) + "; the motion bound allows " + mm(c.bound) +
+                "; clearance " + mm(options.clearance) + ")";
+  } else if (c.distance < 0.0) {
     p.message = describe(c.a, scene) + " overlaps " + describe(c.b, scene) + " " + when(p.t, p.t_end) + ", " +
                 mm(-c.distance) + " deep at t=" + formatNumber(c.t_closest, 6);
   } else {
@@ -141,6 +148,8 @@ void appendContactProblems(const Scene& scene, const ValidationOptions& options,
     for (; k < contacts.size() && contactKey(contacts[k]) == contactKey(contacts[i]); ++k) {
       if (contacts[k].t_first > merged.t_last + join) break;
       merged.t_last = std::max(merged.t_last, contacts[k].t_last);
+      merged.possible = merged.possible && contacts[k].possible;
+      merged.bound = std::min(merged.bound, contacts[k].bound);
       if (contacts[k].distance < merged.distance) {
         merged.distance = contacts[k].distance;
         merged.t_closest = contacts[k].t_closest;

@@ -145,3 +145,42 @@ TEST(CertifiedValidator, ForearmPassingAWallPasses) {
 
 }  // namespace
 }  // namespace dash
+namespace dash {
+namespace {
+
+TEST(CertifiedValidator, APairNotCertifiedAtTheFloorIsAPossibleContact) {
+  // The cube's corner passes the shelf's edge 2.8 um away: every measured instant is clear, but no
+  // step of 0.05 mm of motion proves the pair apart around the closest instant.
+  const Scene scene = test::shelfEdgeScene(-2e-6);
+  const Plan plan = test::shelfEdgePlan(scene);
+  const ValidationReport report = validatePlan(scene, plan);
+  ASSERT_EQ(report.problems.size(), 1u) << report.summary();
+  const ValidationProblem& p = report.problems[0];
+  EXPECT_EQ(p.kind, ProblemKind::kHeldObjectCollision);
+  EXPECT_EQ(p.object, "cube_0");
+  EXPECT_EQ(p.other, "shelf");
+  EXPECT_NE(p.message.find("may touch"), std::string::npos) << p.message;
+  EXPECT_NE(p.message.find("not certified at the 0.05 mm floor"), std::string::npos) << p.message;
+  EXPECT_GE(p.distance, 0.0) << p.message;  // the closest measured
+  EXPECT_LT(p.distance, kFloor) << p.message;
+  EXPECT_NEAR(p.t_closest, 6.0 + 0.1525 / 0.3, 1e-3);
+  // A finer floor proves it apart.
+  const ValidationReport finer = validatePlan(scene, plan, {.certify_floor = 1e-6});
+  EXPECT_TRUE(finer.valid()) << finer.summary();
+  EXPECT_NEAR(finer.closest.distance, 2e-6 * std::sqrt(2.0), 1e-6);
+}
+
+TEST(CertifiedValidator, AGripperTakingAnObjectOverMayTouchIt) {
+  // The taker's fingers pass 0.8 mm from the plate the giver holds on their way to grasp it: contact
+  // by design (as a gripper about to grasp a resting object), so neither the clearance nor the floor
+  // rule applies to the pair (Handover.* in plan_validator_scenes_test.cpp: tools touching at 0).
+  const test::HandoverCase handover = test::urHandover(-0.0003);
+  const ValidationReport report = validatePlan(handover.scene, handover.plan);
+  EXPECT_TRUE(report.valid()) << report.summary();
+  bool meant = false;
+  for (const PairClearance& p : report.pairs) meant = meant || (p.contact_allowed && p.a.find("held by") != std::string::npos);
+  EXPECT_TRUE(meant);
+}
+
+}  // namespace
+}  // namespace dash
