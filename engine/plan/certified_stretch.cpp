@@ -192,7 +192,9 @@ bool StretchChecker::isSupport(int object, const CollisionElement& thing) const 
 
 void StretchChecker::addPair(int ra, int pa, const CollisionElement& b, const Aabb& b_box, int rb, int pb,
                              bool contact_meant) {
-  const double margin = contact_meant ? 0.0 : options_.clearance;
+  // Pairs whose swept boxes come within kBoxStepMargin of the clearance are measured, so that the
+  // report's smallest clearance is true up to that margin ("over 10 mm" otherwise).
+  const double margin = (contact_meant ? 0.0 : options_.clearance) + kBoxStepMargin;
   if (!grown(robots_[at(ra)].swept[at(pa)], margin).intersects(b_box)) return;
   Pair pair{.ra = ra, .pa = pa, .b = b, .rb = rb, .pb = pb, .contact_meant = contact_meant};
   pair.rate = robots_[at(ra)].rate[at(pa)] + (rb >= 0 ? robots_[at(rb)].rate[at(pb)] : 0.0);
@@ -203,7 +205,7 @@ void StretchChecker::collectPairs(int r) {
   const Robot& robot = robots_[at(r)];
   const RobotGeometry& rg = world_.robot(r);
   const int bodies = static_cast<int>(rg.bodies.size());
-  const double c = options_.clearance;
+  const double c = options_.clearance + kBoxStepMargin;  // the widest margin addPair uses
   const Epoch& epoch = timeline_.epochs[at(stretch_.epoch)];
   const ObjectLayout& layout = epoch.layout;
   for (const int i : rg.nearby_obstacles) {
@@ -235,7 +237,7 @@ void StretchChecker::collectPairs(int r) {
 void StretchChecker::collectRobotPairs(int r, int s) {
   const Robot& a = robots_[at(r)];
   const Robot& b = robots_[at(s)];
-  if (!grown(a.swept_all, options_.clearance).intersects(b.swept_all)) return;
+  if (!grown(a.swept_all, options_.clearance + kBoxStepMargin).intersects(b.swept_all)) return;
   const int bodies_a = static_cast<int>(world_.robot(r).bodies.size());
   const int bodies_b = static_cast<int>(world_.robot(s).bodies.size());
   const bool same_object = a.held.holding() && a.held.object == b.held.object;  // a handover
@@ -268,7 +270,7 @@ bool StretchChecker::holdsAdjacent(int r, int object) const {
   return (e > 0 && holds(e - 1)) || (e + 1 < epochs.size() && holds(e + 1));
 }
 
-double StretchChecker::distance(const Pair& pair, double u, double enough, bool& exact) {
+double StretchChecker::distance(const Pair& pair, double u, bool& exact) {
   const Posed& pa = pose(pair.ra, u);
   const RobotGeometry& ga = world_.robot(pair.ra);
   const bool held_a = pair.pa == static_cast<int>(ga.bodies.size());
@@ -303,7 +305,8 @@ double StretchChecker::distance(const Pair& pair, double u, double enough, bool&
   const double lower = pa.boxes[at(pair.pa)].exteriorDistance(box_b);
   // The boxes' distance is a lower bound: enough to step on while it is well above the clearance.
   const double clearance = pair.contact_meant ? 0.0 : options_.clearance;
-  exact = lower <= std::min(enough, clearance + kBoxStepMargin);
+  // Measured whenever the boxes are within the margin, so that the report's minima are true to it.
+  exact = lower <= clearance + kBoxStepMargin;
   if (!exact) return lower;
   ++evaluations_;
   if (!held_a) return signedDistance(context_, *ga.bodies[at(pair.pa)].shape, pa.X_WG[at(pair.pa)], *shape_b, X_b);
@@ -349,7 +352,7 @@ void StretchChecker::advance(const Pair& pair, std::vector<PairContact>& contact
     // Past `enough`, the rest of the stretch is certified clear: no need for the exact distance.
     const double enough = c + pair.rate * (1.0 - u);
     bool exact = false;
-    const double d = distance(pair, u, enough, exact);
+    const double d = distance(pair, u, exact);
     const double t = stretch_.t0 + u * span;
     if (exact && d < minimum.distance) minimum = {minimum.a, minimum.b, pair.contact_meant, d, t};
     const bool in_contact = d < c - kTouchTolerance;
@@ -367,6 +370,10 @@ void StretchChecker::advance(const Pair& pair, std::vector<PairContact>& contact
     if (u >= 1.0) {
       if (open != nullptr) open->to_end = true;
       break;
+    }
+    if (pair.rate <= 0.0 && open != nullptr) {  // holding still: so for the whole stretch
+      open->t_last = stretch_.t1;
+      open->to_end = true;
     }
     if (d > enough || pair.rate <= 0.0) break;
     // Clear: certified until the bound reaches the clearance. In contact: certified in contact until

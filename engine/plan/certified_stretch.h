@@ -105,8 +105,9 @@ class StretchChecker {
   bool isSupport(int object, const CollisionElement& thing) const;
   /// Robot r holds `object` in the epoch before the stretch's or the one after (a handover).
   bool holdsAdjacent(int r, int object) const;
-  /// Signed distance of the pair at u (exact = true), or a lower bound above `enough` from the boxes.
-  double distance(const Pair& pair, double u, double enough, bool& exact);
+  /// Signed distance of the pair at u (exact = true), or, while the boxes are more than kBoxStepMargin
+  /// beyond the clearance apart, their distance (a lower bound).
+  double distance(const Pair& pair, double u, bool& exact);
   void advance(const Pair& pair, std::vector<PairContact>& contacts, PairMinima& minima);
   CollisionElement element(int r, int part) const;
 

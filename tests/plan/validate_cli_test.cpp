@@ -52,5 +52,50 @@ TEST(ValidateCli, BadInputExitsWithTwo) {
   EXPECT_EQ(runValidate(kScene + " --plan /nonexistent/plan.json").exit_code, 2);
 }
 
+// The example plan's closest pair is the arm's base and the table it stands on, 5 mm apart all along.
+TEST(ValidateCli, PrintsTheSmallestClearance) {
+  const CliRun run = runValidate(kScene + " --plan " + test::examplePlanPath());
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("smallest clearance: 5.0000 mm between ur5e_0.base and table at t=0 (required 0 mm)"),
+            std::string::npos)
+      << run.output;
+  EXPECT_EQ(run.output.find("pair ur5e_0.base"), std::string::npos) << run.output;  // per-pair minima: --verbose
+
+  const CliRun json = runValidate(kScene + " --plan " + test::examplePlanPath() + " --json");
+  EXPECT_EQ(json.exit_code, 0) << json.output;
+  EXPECT_NE(json.output.find("\"closest\""), std::string::npos) << json.output;
+  EXPECT_NE(json.output.find("\"a\": \"ur5e_0.base\""), std::string::npos) << json.output;
+}
+
+TEST(ValidateCli, ALargerClearanceRejectsWhatZeroPasses) {
+  const std::string plan = " --plan " + test::examplePlanPath();
+  const CliRun at_5mm = runValidate(kScene + plan + " --clearance 0.005");
+  EXPECT_EQ(at_5mm.exit_code, 0) << at_5mm.output;
+  EXPECT_NE(at_5mm.output.find("(required 5 mm)"), std::string::npos) << at_5mm.output;
+
+  const CliRun at_10mm = runValidate(kScene + plan + " --clearance 0.01");
+  EXPECT_EQ(at_10mm.exit_code, 1) << at_10mm.output;
+  EXPECT_NE(at_10mm.output.find("robot_obstacle_collision"), std::string::npos) << at_10mm.output;
+  EXPECT_NE(at_10mm.output.find("robot ur5e_0 body base comes within 5 mm of obstacle table"), std::string::npos)
+      << at_10mm.output;
+  EXPECT_NE(at_10mm.output.find("clearance 10 mm"), std::string::npos) << at_10mm.output;
+  EXPECT_NE(at_10mm.output.find("(required 10 mm)"), std::string::npos) << at_10mm.output;
+
+  EXPECT_EQ(runValidate(kScene + plan + " --clearance -0.001").exit_code, 2);
+}
+
+TEST(ValidateCli, VerbosePrintsEveryPairClosestFirst) {
+  const CliRun run = runValidate(kScene + " --plan " + test::examplePlanPath() + " --verbose");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  const std::size_t held = run.output.find("pair obj_0 (held by ur5e_0) - table: 1.0000 mm at t=1.39 (contact allowed)");
+  const std::size_t base = run.output.find("pair ur5e_0.base - table: 5.0000 mm at t=0\n");
+  const std::size_t summary = run.output.find("smallest clearance: 5.0000 mm");
+  ASSERT_NE(held, std::string::npos) << run.output;
+  ASSERT_NE(base, std::string::npos) << run.output;
+  ASSERT_NE(summary, std::string::npos) << run.output;
+  EXPECT_LT(held, base) << run.output;  // 1 mm before 5 mm; the held cube on its table is contact meant
+  EXPECT_LT(base, summary) << run.output;
+}
+
 }  // namespace
 }  // namespace dash
