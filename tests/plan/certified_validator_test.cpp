@@ -184,3 +184,48 @@ TEST(CertifiedValidator, AGripperTakingAnObjectOverMayTouchIt) {
 
 }  // namespace
 }  // namespace dash
+
+namespace dash {
+namespace {
+
+TEST(CertifiedValidator, FingertipsCutAtAHandoverBetweenPlanPointsAreRejected) {
+  // ur5e_1 comes in past the fingers that hold the plate; its fingertip cuts 0.3 mm into the corner
+  // of ur5e_0's for 0.85 mm of travel, halfway between two of the sampler's instants (both plan
+  // points and both those instants clear).
+  const test::FingertipCase clip = test::urFingertipClip(0.0003);
+  ASSERT_NEAR(clip.reached, -0.0003, 1e-6);
+  EXPECT_GT(clip.at_samples, 0.0) << clip.sampler_steps;  // about 0.07 mm apart there
+  const ValidationReport report = validatePlan(clip.scene, clip.plan);
+  ASSERT_EQ(report.problems.size(), 1u) << report.summary();
+  const ValidationProblem& p = report.problems[0];
+  EXPECT_EQ(p.kind, ProblemKind::kRobotRobotCollision);
+  EXPECT_EQ(p.robot, "ur5e_0");
+  EXPECT_EQ(p.other, "ur5e_1");
+  EXPECT_NE(p.message.find("robot ur5e_0 body finger_"), std::string::npos) << p.message;
+  EXPECT_NE(p.message.find("robot ur5e_1 body finger_"), std::string::npos) << p.message;
+  EXPECT_NEAR(p.distance, -0.0003, 0.0003 / 4.0) << p.message;
+  EXPECT_NEAR(p.t_closest, 1.0 + clip.u_deepest, 1e-3) << p.message;
+  EXPECT_GT(p.t, 1.0);
+  EXPECT_LT(p.t_end, 2.0);
+}
+
+TEST(CertifiedValidator, TheSampledCheckMissesTheFingertips) {
+  // Why the certificate: the sampler's 1 cm bound is about 1 mm of this fingertip's travel, and the
+  // cut is shorter, halfway between two instants.
+  const test::FingertipCase clip = test::urFingertipClip(0.0003);
+  ValidationOptions sampled;
+  sampled.geometry = ValidationOptions::GeometryCheck::kSampled;
+  const ValidationReport report = validatePlan(clip.scene, clip.plan, sampled);
+  EXPECT_TRUE(report.valid()) << report.summary();
+}
+
+TEST(CertifiedValidator, FingertipsPassingClearAtAHandoverPass) {
+  const test::FingertipCase clear = test::urFingertipClip(-0.0003);
+  ASSERT_NEAR(clear.reached, 0.0003, 1e-6);
+  const ValidationReport report = validatePlan(clear.scene, clear.plan);
+  EXPECT_TRUE(report.valid()) << report.summary();
+  EXPECT_NEAR(report.closest.distance, 0.0003, kFloor);
+}
+
+}  // namespace
+}  // namespace dash
