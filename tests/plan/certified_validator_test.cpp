@@ -128,7 +128,9 @@ TEST(CertifiedValidator, ForearmGrazingAWallIsRejected) {
 }
 
 TEST(CertifiedValidator, TheSampledCheckSeesTheForearmToo) {
-  // A capsule's curvature makes a 0.2 mm graze last about 9 mm of travel: the 1 cm sampler sees it.
+  // A capsule's curvature makes a 0.2 mm graze last about 9 mm of travel: the 1 cm sampler sees it,
+  // and would see any such forearm graze (docs/validation.md: its instants are at most 6.7 mm of a
+  // forearm point's travel apart). FingertipsCutAtAHandover... is a case the sampler misses.
   const test::ForearmCase graze = test::forearmWall(kDip);
   ValidationOptions sampled;
   sampled.geometry = ValidationOptions::GeometryCheck::kSampled;
