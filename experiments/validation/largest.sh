@@ -47,4 +47,4 @@ for spec in "${SCENES[@]}"; do
   fi
 done
 [ ${#pairs[@]} -gt 0 ] && "$HERE/run.sh" "${pairs[@]}"
-for name in "${unsolved[@]}"; do echo; echo "$name: not solved within 600 s, no plan to validate"; done
+for name in "${unsolved[@]}"; do echo; echo "$name: no plan to validate (the planner did not solve it within 600 s)"; done
