@@ -55,8 +55,9 @@ std::vector<ParamInfo> lazyDashParameters() {
             "transition configurations of one task hyperarc turned down before the hyperarc is banned"),
       count("validator_rechecks", 3, 0, 100,
             "schedule again, checking the instant the validator found a contact at (per round)"),
-      count("validation_feedbacks", 5, 0, 100,
-            "contacts the validator finds after the rechecks fed back as task constraints (per run)"),
+      count("validation_feedbacks", 100, 0, 10000,
+            "contacts the validator finds after the rechecks fed back as task constraints (per run; one more "
+            "ends the run as a planner defect)"),
       // Paper parameters (budgets): --profile paper leaves them alone.
       {"motion_budget", ParamType::kInt, "3", "", 1, 1000,
        "motion rounds on one task plan (motion constraints, resampling) before its failure becomes a task constraint"},
