@@ -220,6 +220,11 @@ std::string fit(std::string s) {
 
 }  // namespace
 
+QueryRefused timeLimitRefused(double seconds, const std::string& advice) {
+  return QueryRefused(QueryGuard::TimeLimit,
+                      "refused: the query ran past the time limit of " + numberText(seconds) + " s" + advice);
+}
+
 SqlRows runReadOnlyQuery(const std::string& path, const std::string& sql, const QueryLimits& limits) {
   DASH_THROW_UNLESS(std::filesystem::is_regular_file(path), "no database file at " + path);
   DASH_THROW_UNLESS(limits.max_rows >= 0, "the row limit must not be negative");
@@ -249,8 +254,7 @@ SqlRows runReadOnlyQuery(const std::string& path, const std::string& sql, const 
     sqlite3_finalize(raw);
     if (state.refused) throw *state.refused;
     if (state.timed_out) {
-      throw QueryRefused(QueryGuard::TimeLimit, "refused: the query ran past the time limit of " +
-                                                    numberText(limits.timeout_seconds) + " s");
+      throw timeLimitRefused(limits.timeout_seconds);
     }
     throw InputError(std::string("SQL error: ") + sqlite3_errmsg(db));
   }
@@ -272,9 +276,7 @@ SqlRows runReadOnlyQuery(const std::string& path, const std::string& sql, const 
     if (step == SQLITE_DONE) break;
     if (step != SQLITE_ROW) {
       if (state.timed_out) {
-        throw QueryRefused(QueryGuard::TimeLimit, "refused: the query ran past the time limit of " +
-                                                      numberText(limits.timeout_seconds) +
-                                                      " s; narrow it or raise the limit (--timeout)");
+        throw timeLimitRefused(limits.timeout_seconds, "; narrow it or raise the limit (--timeout)");
       }
       throw InputError(std::string("SQL error: ") + sqlite3_errmsg(db));
     }

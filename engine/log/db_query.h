@@ -34,6 +34,9 @@ class QueryRefused : public InputError {
   QueryGuard guard_;
 };
 
+/// The time-limit refusal: "refused: the query ran past the time limit of SECONDS s" then `advice`.
+QueryRefused timeLimitRefused(double seconds, const std::string& advice = "");
+
 struct QueryLimits {
   std::int64_t max_rows = 1000;
   double timeout_seconds = 10.0;

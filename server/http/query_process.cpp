@@ -24,13 +24,7 @@ using Json = nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kPollMs = 100;
-
-std::string numberText(double v) {
-  std::string s = std::to_string(v);
-  while (!s.empty() && s.back() == '0') s.pop_back();
-  if (!s.empty() && s.back() == '.') s.pop_back();
-  return s;
-}
+constexpr const char* kOneCallAdvice = " (one function call that long is stopped with its process); narrow it";
 
 // Cells: null, integers and strings as themselves; a double as [x] (or ["inf"], ["-inf"],
 // ["nan"]) so that 1.0 stays a double.
@@ -145,12 +139,6 @@ ssize_t writeNoSignal(int fd, const char* data, std::size_t size) {
   return n;
 }
 
-log::QueryRefused timeRefusal(double seconds) {
-  return log::QueryRefused(log::QueryGuard::TimeLimit,
-                           "refused: the query ran past the time limit of " + numberText(seconds) +
-                               " s (one function call that long is stopped with its process); narrow it");
-}
-
 }  // namespace
 
 log::SqlRows runQueryInChild(const std::string& executable, const std::string& db_path, const std::string& sql,
@@ -206,7 +194,7 @@ log::SqlRows runQueryInChild(const std::string& executable, const std::string& d
   }
   switch (stop) {
     case Stop::Time:
-      throw timeRefusal(limits.timeout_seconds);
+      throw log::timeLimitRefused(limits.timeout_seconds, kOneCallAdvice);
     case Stop::Cancelled:
       throw InputError("the query was stopped: the client went away");
     case Stop::TooBig:
@@ -215,7 +203,7 @@ log::SqlRows runQueryInChild(const std::string& executable, const std::string& d
       break;
   }
   if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGXCPU || WTERMSIG(status) == SIGKILL)) {
-    throw timeRefusal(limits.timeout_seconds);
+    throw log::timeLimitRefused(limits.timeout_seconds, kOneCallAdvice);
   }
   const Json j = Json::parse(answer, nullptr, false);
   if (j.is_discarded() || !j.is_object()) {
