@@ -11,6 +11,7 @@
 #   large      experiments/lazy_dash/run.sh --large --seeds 5                 (1-3 hours)
 #   task-layer experiments/task_layer/run.sh                                  (under a minute)
 #   compare    experiments/compare/run.sh --workers 1 --time-limit 120        (about 1 hour)
+#   ablation   experiments/ablation/run.sh --workers 1 --seeds 1 --time-limit 60 (15-45 min; 1.5 h at most)
 #   dispatch-load tests/dispatch/under_load.sh --runs 20 --sorting            (about 12 minutes)
 #   validation experiments/validation/largest.sh                             (20-40 minutes)
 #
@@ -30,17 +31,18 @@ declare -A COMMANDS=(
   [large]="experiments/lazy_dash/run.sh --large --seeds 5"
   [task-layer]="experiments/task_layer/run.sh"
   [compare]="experiments/compare/run.sh --workers 1 --time-limit 120"
+  [ablation]="experiments/ablation/run.sh --workers 1 --seeds 1 --time-limit 60"
   [dispatch-load]="tests/dispatch/under_load.sh --runs ${DISPATCH_LOAD_RUNS:-20} --sorting"
   [validation]="experiments/validation/largest.sh${VALIDATION_PLANS:+ --plans $VALIDATION_PLANS}"
 )
-ORDER=(small large task-layer compare dispatch-load validation)
+ORDER=(small large task-layer compare ablation dispatch-load validation)
 
 if [ "${1:-}" = "--list" ]; then
   for s in "${ORDER[@]}"; do printf '%-13s %s\n' "$s" "${COMMANDS[$s]}"; done
   exit 0
 fi
 if [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then
-  sed -n '2,21p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+  sed -n '2,22p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
   exit 0
 fi
 SECTIONS=("$@")
