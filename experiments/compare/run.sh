@@ -50,10 +50,21 @@ markdown() {
 
 query() { "$DASHBENCH" db query "$DB" "$1" --format csv --max-rows 100000; }
 
+# SQL that formats numbers as printf() did: `db query` refuses printf() and format() (commit 329325f).
+# int X: X as printf('%d') writes it: truncated to an integer, 0 for NULL.
+int() { echo "CAST(IFNULL($1, 0) AS INTEGER)"; }
+# fixed X N: X as printf('%.Nf') writes it (N >= 1 decimals), NULL for NULL.
+fixed() {
+  local scale=$((10 ** $2))
+  local n="CAST(ROUND(ROUND(ABS($1), $2) * $scale) AS INTEGER)"
+  echo "(CASE WHEN ($1) < 0 THEN '-' ELSE '' END || ($n / $scale) || '.' || SUBSTR('000000' || ($n % $scale), -$2))"
+}
+
 # The scene column of a batch's runs: "sorting r=4 o=8", "wall r=5 w=2 o=4".
-scene_sql="CASE family WHEN 'wall' THEN printf('wall r=%d w=%d o=%d', json_extract(params, '\$.robots'),
-                json_extract(params, '\$.walls'), json_extract(params, '\$.objects'))
-             ELSE printf('%s r=%d o=%d', family, json_extract(params, '\$.robots'), json_extract(params, '\$.objects'))
+scene_sql="CASE family WHEN 'wall' THEN 'wall r=' || $(int "json_extract(params, '\$.robots')")
+                || ' w=' || $(int "json_extract(params, '\$.walls')") || ' o=' || $(int "json_extract(params, '\$.objects')")
+             ELSE IFNULL(family, '') || ' r=' || $(int "json_extract(params, '\$.robots')")
+                || ' o=' || $(int "json_extract(params, '\$.objects')")
            END AS scene,"
 
 # CTEs "ranked" and "med": the median of each (scene, planner, m) of a long(scene, planner, m, v) table;
@@ -131,19 +142,20 @@ tables() {
                LEFT JOIN c dc ON dc.scene = s.scene AND dc.planner = 'dash'
                LEFT JOIN w l ON l.scene = s.scene AND l.planner = 'lazy-dash'
                LEFT JOIN w d ON d.scene = s.scene AND d.planner = 'dash')"
-  local f2="CASE WHEN %s IS NULL THEN '-' ELSE printf('%%.2f', %s) END"
-  # shellcheck disable=SC2059
-  num() { printf "$f2" "$1" "$1"; }
-  pair() { echo "CASE WHEN $1 IS NULL THEN '-' ELSE printf('%d/%d', $1, $2) END"; }
+  # A median with 2 decimals, '-' when there is none.
+  num() { echo "CASE WHEN $1 IS NULL THEN '-' ELSE $(fixed "$1" 2) END"; }
+  # "vertices/hyperarcs" (integers), '-' when there is no first one.
+  pair() { echo "CASE WHEN $1 IS NULL THEN '-' ELSE $(int "$1") || '/' || $(int "$2") END"; }
   # solved/runs and why the others failed, e.g. "3/5 (1 timeout; 1 infeasible)" (no commas: CSV).
   outcome() {
-    echo "printf('%d/%d', IFNULL(${1}_solved, 0), IFNULL(${1}_runs, 0)) ||
+    echo "$(int "${1}_solved") || '/' || $(int "${1}_runs") ||
       CASE WHEN IFNULL(${1}_runs, 0) > IFNULL(${1}_solved, 0) THEN ' (' || SUBSTR(
-        CASE WHEN ${1}_timeouts > 0 THEN printf('; %d timeout', ${1}_timeouts) ELSE '' END ||
-        CASE WHEN ${1}_infeasible > 0 THEN printf('; %d infeasible', ${1}_infeasible) ELSE '' END ||
-        CASE WHEN ${1}_crashed > 0 THEN printf('; %d crashed', ${1}_crashed) ELSE '' END, 3) || ')' ELSE '' END"
+        CASE WHEN ${1}_timeouts > 0 THEN '; ' || $(int "${1}_timeouts") || ' timeout' ELSE '' END ||
+        CASE WHEN ${1}_infeasible > 0 THEN '; ' || $(int "${1}_infeasible") || ' infeasible' ELSE '' END ||
+        CASE WHEN ${1}_crashed > 0 THEN '; ' || $(int "${1}_crashed") || ' crashed' ELSE '' END, 3) || ')' ELSE '' END"
   }
-  ratio() { echo "CASE WHEN $1 > 0 AND $2 IS NOT NULL THEN printf('%.1fx', 1.0 * $2 / $1) ELSE '-' END"; }
+  # $2 / $1 with one decimal and an x, '-' unless $1 > 0 and $2 is known.
+  ratio() { echo "CASE WHEN $1 > 0 AND $2 IS NOT NULL THEN $(fixed "1.0 * $2 / $1" 1) || 'x' ELSE '-' END"; }
 
   echo "Batch $id (medians over the solved runs; x = DaSH / Lazy-DaSH)"
   echo
@@ -207,24 +219,28 @@ tables() {
   c AS (SELECT scene, planner, MIN(family) AS family, MIN(objects) AS objects,
                group_concat(status, ' ') AS statuses FROM r GROUP BY scene, planner)
   SELECT c.scene AS Scene, CASE c.planner WHEN 'dash' THEN 'DaSH' ELSE 'Lazy-DaSH' END AS Planner,
-      (SELECT group_concat(k, '; ') FROM (SELECT printf('%d %s', COUNT(*), status) AS k FROM r
+      (SELECT group_concat(k, '; ') FROM (SELECT COUNT(*) || ' ' || IFNULL(status, '') AS k FROM r
          WHERE r.scene = c.scene AND r.planner = c.planner GROUP BY status)) AS runs,
       $(num tc) AS \"task constr\", $(num tq) AS \"task query\", $(num td) AS \"task conflicts\",
       $(num mc) AS \"motion constr\", $(num mq) AS \"motion query\", $(num cr) AS \"conflict res\",
-      $(num total) AS total, CASE WHEN it IS NULL THEN '-' ELSE printf('%d', it) END AS \"nodes/iterations\",
-      CASE WHEN mcn IS NULL THEN '-' ELSE printf('%d', mcn) END AS \"motion constraints\"
+      $(num total) AS total, CASE WHEN it IS NULL THEN '-' ELSE $(int it) END AS \"nodes/iterations\",
+      CASE WHEN mcn IS NULL THEN '-' ELSE $(int mcn) END AS \"motion constraints\"
     FROM c LEFT JOIN w ON w.scene = c.scene AND w.planner = c.planner
     ORDER BY c.family DESC, c.objects, c.planner DESC" | markdown
   echo
-  query "$with SELECT
-      CASE WHEN COUNT(*) = 0 THEN 'no scene solved by both planners' ELSE
-        printf('Over the %d scenes both planners solved: DaSH / Lazy-DaSH total time %.1fx to %.1fx (median %.1fx), motion hyperarcs %.1fx to %.1fx, motion vertices %.1fx to %.1fx.',
-               COUNT(*), MIN(1.0 * d_total / l_total), MAX(1.0 * d_total / l_total),
+  # A ratio in the summary: one decimal and an x ('-' when unknown: a median of 0 or none).
+  x1() { echo "IFNULL($(fixed "$1" 1) || 'x', '-')"; }
+  query "$with, summary AS (SELECT COUNT(*) AS k, MIN(1.0 * d_total / l_total) AS t0, MAX(1.0 * d_total / l_total) AS t1,
                (SELECT AVG(x) FROM (SELECT 1.0 * d_total / l_total AS x, ROW_NUMBER() OVER (ORDER BY 1.0 * d_total / l_total) AS i,
                                            COUNT(*) OVER () AS n FROM j WHERE d_total > 0 AND l_total > 0)
-                WHERE i IN ((n + 1) / 2, (n + 2) / 2)),
-               MIN(1.0 * d_ma / l_ma), MAX(1.0 * d_ma / l_ma), MIN(1.0 * d_mv / l_mv), MAX(1.0 * d_mv / l_mv)) END AS summary
-    FROM j WHERE d_total > 0 AND l_total > 0" | tail -n +2 | sed 's/^"//; s/"$//'
+                WHERE i IN ((n + 1) / 2, (n + 2) / 2)) AS tm,
+               MIN(1.0 * d_ma / l_ma) AS a0, MAX(1.0 * d_ma / l_ma) AS a1, MIN(1.0 * d_mv / l_mv) AS v0, MAX(1.0 * d_mv / l_mv) AS v1
+             FROM j WHERE d_total > 0 AND l_total > 0)
+    SELECT CASE WHEN k = 0 THEN 'no scene solved by both planners' ELSE
+        'Over the ' || k || ' scenes both planners solved: DaSH / Lazy-DaSH total time ' || $(x1 t0) || ' to ' || $(x1 t1)
+        || ' (median ' || $(x1 tm) || '), motion hyperarcs ' || $(x1 a0) || ' to ' || $(x1 a1)
+        || ', motion vertices ' || $(x1 v0) || ' to ' || $(x1 v1) || '.' END AS summary
+    FROM summary" | tail -n +2 | sed 's/^"//; s/"$//'
 }
 
 if [ -n "$TABLE_ONLY" ]; then
