@@ -26,6 +26,7 @@ class CollisionContext {
     std::vector<Aabb> body_aabb;   ///< world box of each body
     Aabb aabb;                     ///< union of body_aabb
     int held_object = -1;          ///< object index when holding
+    bool held_in_transit = false;  ///< HeldObject::in_transit
     Pose X_WO_held = Pose::Identity();
     Aabb held_aabb;
   };

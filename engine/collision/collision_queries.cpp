@@ -14,6 +14,23 @@ namespace {
 
 inline std::size_t at(int i) { return static_cast<std::size_t>(i); }
 
+/// The resting object (among `objects`) whose box is nearest the TCP at p_WT, if within kGraspReach of
+/// it: the one a gripper there grasps or has just let go. -1 if none.
+int graspedObject(const CollisionWorld& world, const std::vector<Pose>& object_pose, std::span<const int> objects,
+                  const Vec3& p_WT) {
+  int nearest = -1;
+  double best = kGraspReach;
+  for (const int j : objects) {
+    const Vec3 p_OT = object_pose[at(j)].inverse() * p_WT;
+    const double d = (p_OT.cwiseAbs() - world.object(j).half_extents).cwiseMax(0.0).norm();
+    if (d <= best) {
+      best = d;
+      nearest = j;
+    }
+  }
+  return nearest;
+}
+
 void setReport(CollisionReport* report, const CollisionElement& a, const CollisionElement& b) {
   if (report != nullptr) *report = CollisionReport{.a = a, .b = b};
 }
@@ -55,6 +72,7 @@ void poseRobot(const CollisionWorld& world, CollisionContext& context, int r, co
     posed.aabb.extend(box);
   }
   posed.held_object = held.object;
+  posed.held_in_transit = held.in_transit;
   if (held.holding()) {
     DASH_DEMAND(held.object < world.objectCount());
     posed.X_WO_held = forwardKinematics(*rg.model, rg.robot->X_WB, q).X_WT * held.X_TO;
@@ -121,15 +139,21 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
       return true;
     }
   }
+  constexpr int kUnknown = -2;
+  int grasped = kUnknown;  // the resting object the gripper may touch, found when first needed
   for (const int j : candidates.objects) {
     const Aabb& object_box = s.object_aabb[at(j)];
     if (!posed.aabb.intersects(object_box)) continue;
     for (int b = 0; b < bodies; ++b) {
       if (!posed.body_aabb[at(b)].intersects(object_box)) continue;
-      // A gripper may touch a resting object (it is about to grasp it, or has just let it go).
+      // A gripper may touch the resting object it grasps or has just let go: the one nearest its TCP.
+      // Every other resting object keeps the clearance from it.
       const BodyGeometry& body = rg.bodies[at(b)];
       const ObjectGeometry& object = world.object(j);
-      const bool contact = body.is_gripper;
+      if (body.is_gripper && grasped == kUnknown) {
+        grasped = graspedObject(world, s.object_pose, s.resting_list, posed.frames[at(b)] * body.X_FT.translation());
+      }
+      const bool contact = body.is_gripper && j == grasped;
       if (shapesCollide(context, contact ? *body.shape : *body.shape_vs_static, bodyPose(world, posed, r, b),
                         contact ? *object.contact_shape : *object.shape, s.object_pose[at(j)])) {
         setReport(report, CollisionElement::robotBody(r, b), CollisionElement::object(j));
@@ -140,7 +164,9 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
   if (posed.held_object < 0) return false;
   const int held = posed.held_object;
   const auto& held_shape = *world.object(held).held_vs_robot;
-  const PosedShape held_static = heldStaticShape(world, held, posed.X_WO_held);
+  const PosedShape held_static = posed.held_in_transit
+                                     ? PosedShape{world.object(held).held_in_transit.get(), posed.X_WO_held}
+                                     : heldStaticShape(world, held, posed.X_WO_held);
   const CollisionElement held_element = CollisionElement::heldObject(r, held);
   for (const int i : candidates.held_obstacles) {
     const ObstacleGeometry& obstacle = world.obstacles()[at(i)];

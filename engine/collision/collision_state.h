@@ -11,8 +11,18 @@ namespace dash {
 struct HeldObject {
   int object = -1;                ///< index into Scene::objects; -1 = empty hand
   Pose X_TO = Pose::Identity();   ///< object in the TCP frame
+  /// Carried between the approach lines of its pick and its place (roadmap transit), far from what it
+  /// rests on: its lowest face keeps the clearance too. Otherwise (on an approach line, at a grasp or
+  /// release) that face may touch what the object rests on (collision_world.h).
+  bool in_transit = false;
   bool holding() const { return object >= 0; }
 };
+
+/// `held` as carried in transit (see HeldObject::in_transit); an empty hand stays empty.
+inline HeldObject inTransit(HeldObject held) {
+  held.in_transit = held.holding();
+  return held;
+}
 
 /// One robot's part of a query.
 struct RobotState {

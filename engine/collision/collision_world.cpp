@@ -7,6 +7,7 @@
 #include <fcl/geometry/shape/sphere.h>
 
 #include "engine/core/check.h"
+#include "engine/robots/kinematics.h"
 
 namespace dash {
 
@@ -115,6 +116,25 @@ void gantryBounds(const RobotModel& model, RobotGeometry& rg) {
   }
 }
 
+/// The TCP in each gripper body's frame, from two configurations (it must not depend on q).
+void setGripperTcp(const RobotModel& model, RobotGeometry& rg) {
+  const JointVector lo = model.limits.position_min;
+  const JointVector hi = model.limits.position_max;
+  const JointVector q1 = 0.5 * (lo + hi);
+  const JointVector q2 = lo + 0.3 * (hi - lo);
+  std::vector<Pose> f1(rg.bodies.size()), f2(rg.bodies.size());
+  bodyFrames(model, rg.robot->X_WB, q1, f1);
+  bodyFrames(model, rg.robot->X_WB, q2, f2);
+  const Pose X_WT1 = forwardKinematics(model, rg.robot->X_WB, q1).X_WT;
+  const Pose X_WT2 = forwardKinematics(model, rg.robot->X_WB, q2).X_WT;
+  for (std::size_t b = 0; b < rg.bodies.size(); ++b) {
+    BodyGeometry& g = rg.bodies[b];
+    if (!g.is_gripper) continue;
+    g.X_FT = f1[b].inverse() * X_WT1;
+    DASH_DEMAND_MSG((f2[b] * g.X_FT).isApprox(X_WT2, 1e-9), "a gripper body does not move with the tool");
+  }
+}
+
 }  // namespace
 
 Aabb boxAabb(const Pose& X, const Vec3& half) {
@@ -149,6 +169,7 @@ ObjectGeometry makeObjectGeometry(const Vec3& size, double clearance) {
     held[k] = size[k] + clearance - g.bottom_tolerance;
     g.held_vs_static[static_cast<std::size_t>(k)] = std::make_shared<const fcl::Boxd>(held);
   }
+  g.held_in_transit = clearance > 0.0 ? std::make_shared<const fcl::Boxd>(size + Vec3::Constant(2.0 * clearance)) : g.shape;
   g.held_vs_robot = clearance > 0.0 ? std::make_shared<const fcl::Boxd>(size + Vec3::Constant(clearance)) : g.shape;
   return g;
 }
@@ -177,6 +198,7 @@ CollisionWorld::CollisionWorld(const Scene& scene, CollisionWorldOptions options
       rg.bodies.push_back(makeBodyGeometry(body, options.clearance));
       frames.push_back(body.frame);
     }
+    setGripperTcp(model, rg);
     if (model.kinematics == KinematicsKind::kUrDh) {
       urBounds(model, rg, frames);
     } else {

@@ -48,6 +48,9 @@ namespace dash {
 using Aabb = Eigen::AlignedBox3d;
 
 inline constexpr double kObjectContactTolerance = 1e-3;
+/// Planners: a gripper body may touch the resting object nearest its TCP, if the TCP is within this of
+/// its box (a gripper on its approach line, at a grasp or just after a release); no other one.
+inline constexpr double kGraspReach = 0.1;
 
 /// The planners' default clearance (LazyDashParams, DashParams): a few millimetres, so that what they
 /// check at discrete configurations passes the certified validator at zero clearance.
@@ -74,6 +77,8 @@ struct BodyGeometry {
   Vec3 center = Vec3::Zero();     ///< box centre in F
   Vec3 half_extents = Vec3::Zero();
   bool is_gripper = false;
+  /// Gripper bodies: the TCP in F (rigid: a gripper body moves with the tool). Identity otherwise.
+  Pose X_FT = Pose::Identity();
   double extent = 0.0;            ///< farthest point of the body from the origin of F
 };
 
@@ -109,6 +114,9 @@ struct ObjectGeometry {
   /// down: the exact box grown by the clearance except along that axis, where it spans from the lowest
   /// face raised by the tolerance to the highest face raised by the clearance (heldStaticShape).
   std::array<ShapePtr, 3> held_vs_static;
+  /// Held in transit (HeldObject::in_transit), against obstacles and resting objects: the exact box
+  /// grown by the clearance on every face.
+  ShapePtr held_in_transit;
   ShapePtr held_vs_robot;             ///< held, against robot parts: grown by half the clearance
   double bottom_tolerance = 0.0;      ///< the tolerance at the lowest face (less for tiny objects)
 };

@@ -63,6 +63,8 @@ std::vector<ParamInfo> lazyDashParameters() {
        "motion rounds on one task plan (motion constraints, resampling) before its failure becomes a task constraint"},
       {"roadmap_query_samples", ParamType::kInt, "5000", "", 10, 10000000,
        "Lazy-PRM samples one roadmap query may add"},
+      {"roadmap_max_vertices", ParamType::kInt, "100000", "", 1000, 100000000,
+       "a Lazy-PRM roadmap this large stops growing: queries answer from what it has"},
   };
   for (ParamInfo& s : schedulerParameters()) p.push_back(std::move(s));
   return p;

@@ -153,7 +153,7 @@ int ValidatedRoadmap::space(const HeldObject& held) {
   for (std::size_t i = 0; i < spaces_.size(); ++i)
     if (sameGrasp(spaces_[i]->held, held, *world_)) return static_cast<int>(i);
   auto s = std::make_unique<Space>();
-  s->held = held;
+  s->held = inTransit(held);  // roadmap paths run between approach lines
   sync(*s);
   spaces_.push_back(std::move(s));
   return static_cast<int>(spaces_.size()) - 1;
@@ -231,8 +231,10 @@ std::optional<std::vector<JointVector>> ValidatedRoadmap::plan(const JointVector
                                                                const MotionContext& context,
                                                                const Deadline& deadline) {
   if ((a - b).cwiseAbs().maxCoeff() < kSameConfig) return std::vector<JointVector>{a};
+  // Roadmap paths run between approach lines: a held object keeps the clearance on every face.
+  const HeldObject held = inTransit(context.held);
   auto stateOk = [&](const JointVector& q, CheckScope scope) {
-    const RobotState self{robot_, q, context.held};
+    const RobotState self{robot_, q, held};
     if (context.parked.empty()) return !robotInCollision(*world_, *context_, self, context.layout, nullptr, scope);
     std::vector<RobotState> states{self};
     states.insert(states.end(), context.parked.begin(), context.parked.end());
@@ -240,9 +242,9 @@ std::optional<std::vector<JointVector>> ValidatedRoadmap::plan(const JointVector
   };
   auto motionOk = [&](const JointVector& p, const JointVector& r, CheckScope scope) {
     if (context.parked.empty())
-      return !segmentInCollision(*world_, *context_, RobotState{robot_, p, context.held}, r, context.layout, nullptr,
+      return !segmentInCollision(*world_, *context_, RobotState{robot_, p, held}, r, context.layout, nullptr,
                                  SegmentOptions{.scope = scope});
-    std::vector<RobotMotion> motions{{RobotState{robot_, p, context.held}, r}};
+    std::vector<RobotMotion> motions{{RobotState{robot_, p, held}, r}};
     for (const RobotState& parked : context.parked) motions.push_back({parked, parked.q});
     return !motionsInCollision(*world_, *context_, motions, context.layout);
   };

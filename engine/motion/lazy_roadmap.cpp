@@ -51,6 +51,12 @@ struct LazyRoadmap::Checker {
   }
 };
 
+std::size_t querySampleBudget(const RoadmapParams& params, std::size_t vertices) {
+  if (vertices >= params.max_vertices) return 1;  // the one sample Lazy-PRM draws before it searches
+  if (vertices >= params.dense_vertices) return std::min(params.query_samples, params.dense_query_samples);
+  return params.query_samples;
+}
+
 LazyRoadmap::LazyRoadmap(const CollisionWorld& world, CollisionContext& context, int robot, RoadmapParams params)
     : world_(&world), context_(&context), robot_(robot), params_(params) {
   const RobotModel& model = *world.scene().robots[robot].model;
@@ -85,6 +91,8 @@ LazyRoadmap::~LazyRoadmap() = default;
 bool LazyRoadmap::prepare(const JointVector& q_start, const JointVector& q_goal, const MotionContext& motion) {
   if (!last_context_ || !last_context_->sameAs(motion)) {
     checker_->motion = motion;
+    // Roadmap paths run between approach lines: a held object keeps the clearance on every face.
+    checker_->motion.held = inTransit(motion.held);
     planner_->clearValidity();
     last_context_ = motion;
   }
@@ -141,10 +149,7 @@ std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_
                                                            const MotionContext& motion, const Deadline& deadline) {
   if (!prepare(q_start, q_goal, motion)) return std::nullopt;
   planner_->clearQuery();
-  const std::size_t samples = vertexCount() >= params_.dense_vertices
-                                  ? std::min(params_.query_samples, params_.dense_query_samples)
-                                  : params_.query_samples;
-  return solve(*planner_, q_start, q_goal, samples, deadline);
+  return solve(*planner_, q_start, q_goal, querySampleBudget(params_, vertexCount()), deadline);
 }
 
 std::optional<std::vector<JointVector>> LazyRoadmap::queryTrees(const JointVector& q_start, const JointVector& q_goal,

@@ -36,6 +36,11 @@ struct RoadmapParams {
   /// every sample makes the next query slower (thousands of replans in conflict resolution).
   std::size_t dense_vertices = 50000;
   std::size_t dense_query_samples = 1000;
+  /// A roadmap this large stops growing: a query draws the one sample OMPL's Lazy-PRM needs before it
+  /// searches, and answers from the roadmap. Past the dense size every sample of a failing query costs
+  /// a search of the whole roadmap, so growth without a bound makes each failure slower than the last
+  /// (stocking 3/18: 486k vertices after ~440 failing queries of one conflict-resolution round).
+  std::size_t max_vertices = 100000;
   bool simplify = true;                 ///< shortcut the found path
   /// Work budget of one global-sampling query (queryTrees): RRT-Connect iterations.
   std::size_t tree_iterations = 20000;
@@ -47,6 +52,9 @@ struct RoadmapParams {
     query_seconds *= factor;
   }
 };
+
+/// Samples one roadmap query may add to a roadmap of `vertices` vertices (its work budget).
+std::size_t querySampleBudget(const RoadmapParams& params, std::size_t vertices);
 
 class LazyRoadmap {
  public:

@@ -217,7 +217,11 @@ void StretchChecker::collectPairs(int r) {
     if (!layout.isPresent(j)) continue;
     const Aabb box = boxAabb(layout.X_WO[at(j)], world_.object(j).half_extents);
     if (!grown(robot.swept_all, c).intersects(box)) continue;
-    for (int b = 0; b < bodies; ++b) addPair(r, b, CollisionElement::object(j), box, -1, -1, rg.bodies[at(b)].is_gripper);
+    // A gripper touches a resting object only as it is about to grasp it or has just let it go.
+    const bool target = holdsAdjacent(r, j);
+    for (int b = 0; b < bodies; ++b) {
+      addPair(r, b, CollisionElement::object(j), box, -1, -1, target && rg.bodies[at(b)].is_gripper);
+    }
     if (robot.held.holding()) {
       const CollisionElement thing = CollisionElement::object(j);
       addPair(r, bodies, thing, box, -1, -1, isSupport(robot.held.object, thing));

@@ -102,6 +102,7 @@ void applyParameters(LazyDashParams& p, const ParamValues& v) {
   set("global_sampling", p.motion.global_sampling);
   set("path_simplification", p.motion.roadmap.simplify);
   set("roadmap_query_samples", p.motion.roadmap.query_samples);
+  set("roadmap_max_vertices", p.motion.roadmap.max_vertices);
   if (v.contains("deep_backoffs") && !paramBool(v, "deep_backoffs")) p.motion.deep_approach_distances.clear();
   set("round_trip_removal", p.task.query.remove_round_trips);
   set("approach_line_preference", p.task.conflicts.prefer_free_approach);
@@ -173,6 +174,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   TaskLayer task(scene, world, context, emitter, settings.seed, params.task);
   MotionLayer motion(world, context, emitter, params.motion);
   Scheduler scheduler(world, context, params.scheduler);
+  scheduler.reportProgress(&emitter);  // steps scheduled, for people watching (reporting only)
   setup.stop();
   MotionConstraintSet motion_constraints;
   PlanResult result;

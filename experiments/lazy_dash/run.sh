@@ -11,7 +11,9 @@
 # Default: the small cases (sorting 4x8, wall 8/2/16, shelf-wall 2/8, stocking 2/8, lab 2);
 # --large: the paper's largest instances (600 s each by default); --scene (repeatable): these scenes
 # instead (e.g. to run the large ones in two halves side by side). Seeds are 1..N. Plans are validated
-# by `dashbench validate` again here, outside the planner. DASHBENCH names the dashbench to use.
+# by `dashbench validate` again here, outside the planner. DASHBENCH names the dashbench to use;
+# KEEP_PLANS=DIR keeps every scene and plan there (FAMILY-PARAMS-sSEED.scene.json / .plan.json), e.g.
+# for experiments/validation/run.sh.
 set -euo pipefail
 
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -43,7 +45,7 @@ while [ $# -gt 0 ]; do
     --seeds) SEEDS="$2"; shift 2 ;;
     --time-limit) TIME_LIMIT="$2"; shift 2 ;;
     --plan-args) PLAN_ARGS="$2"; shift 2 ;;
-    -h|--help) sed -n '2,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,16p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -64,6 +66,7 @@ for spec in "${SCENES[@]}"; do
   for seed in $(seq 1 "$SEEDS"); do
     # shellcheck disable=SC2086
     "$DASHBENCH" scenario "$family" $params --seed "$seed" -o "$WORK/scene.json" >/dev/null 2>&1
+    rm -f "$WORK/plan.json"
     set +e
     # shellcheck disable=SC2086
     "$DASHBENCH" plan --scene "$WORK/scene.json" --seed "$seed" --time-limit "$TIME_LIMIT" $PLAN_ARGS \
@@ -78,6 +81,13 @@ for spec in "${SCENES[@]}"; do
       rc=1
     fi
     statuses="$statuses ${status:-crashed}"
+    if [ -n "${KEEP_PLANS:-}" ]; then
+      mkdir -p "$KEEP_PLANS"
+      name="$family-$(echo "$params" | tr ' =' '-')-s$seed"
+      cp "$WORK/scene.json" "$KEEP_PLANS/$name.scene.json"
+      [ -f "$WORK/plan.json" ] && cp "$WORK/plan.json" "$KEEP_PLANS/$name.plan.json"
+      cp "$WORK/err" "$KEEP_PLANS/$name.log"
+    fi
     [ "$rc" -eq 0 ] && per_seed="$per_seed, $(grep '^time:' "$WORK/err" | grep -o ' total [0-9.]*' | awk '{printf "%.0f", $2}')" \
       || per_seed="$per_seed, ${status:-crashed}"
     phase() { grep '^time:' "$WORK/err" | grep -o "$1 [0-9.]*" | awk '{print $2}' | head -1; }

@@ -158,6 +158,52 @@ TEST(RobotQueries, GripperBodiesNeverCountAgainstTheHeldObject) {
   EXPECT_EQ(report.b, CollisionElement::object(0));
 }
 
+/// A top grasp at a cube at (0.5, 0, 0.2) with a neighbour `gap` beyond the +x finger's outer face
+/// (world x 0.536), planned with a 2 mm clearance.
+struct NeighbourSetup {
+  Scene scene = test::emptyScene();
+  std::unique_ptr<CollisionWorld> world;
+  std::unique_ptr<CollisionContext> context;
+  RobotState state;
+
+  NeighbourSetup(double target_edge, double gap) {
+    test::addTable(scene);
+    test::addUr(scene, "ur", Pose::Identity());
+    test::addCube(scene, "target", target_edge, makePose(Vec3(0.5, 0.0, 0.2)));
+    test::addCube(scene, "neighbour", 0.04, makePose(Vec3(0.536 + gap + 0.02, 0.0, 0.2)));
+    world = std::make_unique<CollisionWorld>(scene, CollisionWorldOptions{.clearance = 0.002});
+    context = std::make_unique<CollisionContext>(*world);
+    const Pose X_WT = test::toolDown(Vec3(0.5, 0.0, 0.2));
+    for (const JointVector& q : inverseKinematics(*scene.robots[0].model, scene.robots[0].X_WB, X_WT)) {
+      if (!robotInCollision(*world, *context, {.robot = 0, .q = q}, ObjectLayout::empty(scene), nullptr,
+                            CheckScope::kStaticOnly)) {
+        state = {.robot = 0, .q = q};
+        break;
+      }
+    }
+  }
+};
+
+TEST(RobotQueries, GripperTouchesOnlyTheObjectItGrasps) {
+  // The fingers pass 0.25 mm from a 49.5 mm cube: the one nearest the TCP, so contact is meant.
+  NeighbourSetup close_target(0.0495, 0.01);
+  ASSERT_EQ(close_target.state.q.size(), 6);
+  const ObjectLayout layout = ObjectLayout::atStart(close_target.scene);
+  CollisionReport report;
+  EXPECT_FALSE(robotInCollision(*close_target.world, *close_target.context, close_target.state, layout, &report))
+      << describe(report, close_target.scene);
+  // A neighbour 1 mm from a finger is not being grasped: it must keep the 2 mm clearance.
+  NeighbourSetup near(0.04, 0.001);
+  ASSERT_EQ(near.state.q.size(), 6);
+  ASSERT_TRUE(robotInCollision(*near.world, *near.context, near.state, ObjectLayout::atStart(near.scene), &report));
+  EXPECT_EQ(report.b, CollisionElement::object(1));
+  EXPECT_TRUE(near.scene.robots[0].model->bodies[static_cast<std::size_t>(report.a.body)].is_gripper);
+  // 3 mm away it keeps the clearance.
+  NeighbourSetup far(0.04, 0.003);
+  EXPECT_FALSE(robotInCollision(*far.world, *far.context, far.state, ObjectLayout::atStart(far.scene), &report))
+      << describe(report, far.scene);
+}
+
 TEST(RobotQueries, HeldCubeAgainstAWall) {
   HeldCubeSetup setup(0.04, true);
   ASSERT_EQ(setup.state.q.size(), 6);

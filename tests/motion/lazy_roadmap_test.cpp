@@ -61,5 +61,37 @@ TEST_F(OneArm, RoadmapQueryFindsAValidPath) {
   expectValidPath(*path, home(), turned());
 }
 
+TEST(RoadmapBudget, GrowthSlowsWhenDenseAndStopsAtTheMaximum) {
+  RoadmapParams params;
+  params.query_samples = 5000;
+  params.dense_vertices = 50000;
+  params.dense_query_samples = 1000;
+  params.max_vertices = 100000;
+  EXPECT_EQ(querySampleBudget(params, 0), 5000u);
+  EXPECT_EQ(querySampleBudget(params, 49999), 5000u);
+  EXPECT_EQ(querySampleBudget(params, 50000), 1000u);
+  EXPECT_EQ(querySampleBudget(params, 99999), 1000u);
+  EXPECT_EQ(querySampleBudget(params, 100000), 1u);
+  EXPECT_EQ(querySampleBudget(params, 486000), 1u);
+  params.query_samples = 10;  // a smaller query budget is never raised
+  EXPECT_EQ(querySampleBudget(params, 60000), 10u);
+}
+
+TEST_F(OneArm, ARoadmapAtItsMaximumStopsGrowingAndAnswersFromWhatItHas) {
+  RoadmapParams params;
+  params.max_vertices = 10;  // reached by the first query, which grows the roadmap until it answers
+  LazyRoadmap roadmap(world, context, 0, params);
+  ASSERT_TRUE(roadmap.query(home(), turned(), context_at_start(), Deadline()).has_value());
+  const std::size_t grown = roadmap.vertexCount();
+  ASSERT_GE(grown, params.max_vertices);
+  for (int i = 0; i < 5; ++i) {
+    const auto path = roadmap.query(turned(), home(), context_at_start(), Deadline());
+    ASSERT_TRUE(path.has_value()) << "query " << i;
+    expectValidPath(*path, turned(), home());
+  }
+  // Each query adds at most its two ends and the one sample drawn before the search.
+  EXPECT_LE(roadmap.vertexCount(), grown + 5 * 3);
+}
+
 }  // namespace
 }  // namespace dash

@@ -63,6 +63,48 @@ inline Plan shelfEdgePlan(const Scene& scene) {
   return plan;
 }
 
+/// A gantry, a deck, the cube it picks up at (0.3, 0.2) and a second cube at (0.5, 0.2) that it only
+/// passes over (neighbourCubePlan).
+inline Scene neighbourCubeScene() {
+  const std::string text = R"({
+    "format": "dashbench.scene/1", "name": "neighbour-cube", "end_at_home": false,
+    "robots": [{"id": "gantry_0", "model": "gantry3", "base": {"p": [0, 0, 0], "q": [0, 0, 0, 1]},
+                "home": [0.1, 0.1, 0.0], "capabilities": ["grasp"]}],
+    "obstacles": [
+      {"id": "deck", "shape": {"type": "box", "size": [2.0, 2.0, 0.05]}, "pose": {"p": [0.5, 0.3, 0.075], "q": [0, 0, 0, 1]}}],
+    "surfaces": [{"id": "deck_top", "z": 0.1, "polygon": [[-0.5, -0.7], [1.5, -0.7], [1.5, 1.3], [-0.5, 1.3]]}],
+    "objects": [{"id": "cube_0", "shape": {"type": "box", "size": [0.04, 0.04, 0.04]},
+                 "start": {"p": [0.3, 0.2, 0.12], "q": [0, 0, 0, 1]}, "fixed": false},
+                {"id": "cube_1", "shape": {"type": "box", "size": [0.04, 0.04, 0.04]},
+                 "start": {"p": [0.5, 0.2, 0.12], "q": [0, 0, 0, 1]}, "fixed": false}],
+    "tasks": []
+  })";
+  return parseScene(text, library(), "neighbour-cube");
+}
+
+/// The tool comes down onto cube_1's top face `dip` deep (negative: stops that far above) and goes back
+/// up, then grasps cube_0 (the tool touches its top face), lifts it and puts it back.
+inline Plan neighbourCubePlan(const Scene& scene, double dip) {
+  Plan plan;
+  plan.scene = scene.name;
+  plan.planner = "test";
+  const Pose X_TO = makePose(Vec3(0.0, 0.0, 0.02), Quat(0.0, 1.0, 0.0, 0.0));  // cube top at the TCP
+  RobotTrajectory traj{"gantry_0", scene.robots[0].model->joint_names, {point(0.0, scene.robots[0].home)}};
+  traj.points.push_back(point(1.0, joints({0.5, 0.2, 0.0})));
+  traj.points.push_back(point(4.0, joints({0.5, 0.2, 0.26 + dip})));  // TCP z = 0.4 - q_z; top at 0.14
+  traj.points.push_back(point(7.0, joints({0.5, 0.2, 0.0})));
+  traj.points.push_back(point(8.0, joints({0.3, 0.2, 0.0})));
+  traj.points.push_back(point(11.0, joints({0.3, 0.2, 0.26})));
+  plan.events.push_back({PlanEvent::Type::kGrasp, 11.0, "gantry_0", "cube_0", X_TO, -1});
+  traj.points.push_back(point(13.0, joints({0.3, 0.2, 0.1})));
+  traj.points.push_back(point(15.0, joints({0.3, 0.2, 0.26})));
+  plan.events.push_back({PlanEvent::Type::kRelease, 15.0, "gantry_0", "cube_0", Pose::Identity(), -1});
+  traj.points.push_back(point(18.0, joints({0.3, 0.2, 0.0})));
+  plan.robots.push_back(std::move(traj));
+  plan.makespan = 18.0;
+  return plan;
+}
+
 /// Two gantries hand a 12 x 4 x 2 cm bar over on a stand: gantry_0 grasps its top left of centre,
 /// gantry_1 (mounted 15 cm higher, turned by pi) comes down right of centre and takes it over. Their
 /// 6 cm tools end `overlap` deep into each other along x (negative: that far apart).

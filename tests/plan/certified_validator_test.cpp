@@ -67,6 +67,27 @@ TEST(CertifiedValidator, Resting_and_grasping_contacts_are_not_problems) {
   EXPECT_TRUE(allowed);
 }
 
+TEST(CertifiedValidator, AGripperTouchingAnObjectItDoesNotGraspIsRejected) {
+  // The tool may touch cube_0, which it grasps and releases, but not cube_1, which it only passes.
+  const Scene scene = test::neighbourCubeScene();
+  const ValidationReport report = validatePlan(scene, test::neighbourCubePlan(scene, kDip));
+  ASSERT_EQ(report.problems.size(), 1u) << report.summary();
+  const ValidationProblem& p = report.problems[0];
+  EXPECT_EQ(p.kind, ProblemKind::kRobotObjectCollision) << p.message;
+  EXPECT_EQ(p.robot, "gantry_0");
+  EXPECT_EQ(p.other, "cube_1") << p.message;
+  EXPECT_NEAR(p.distance, -kDip, kDip / 4.0) << p.message;
+  EXPECT_NEAR(p.t_closest, 4.0, 1e-3);
+}
+
+TEST(CertifiedValidator, AGripperStoppingAboveAnObjectItDoesNotGraspPasses) {
+  const Scene scene = test::neighbourCubeScene();
+  const ValidationReport report = validatePlan(scene, test::neighbourCubePlan(scene, -kDip));
+  EXPECT_TRUE(report.valid()) << report.summary();
+  EXPECT_NEAR(report.closest.distance, kDip, kFloor);
+  EXPECT_EQ(report.closest.b, "cube_1");
+}
+
 TEST(CertifiedValidator, HeldCubePushedIntoItsTableFromAboveIsRejected) {
   // Lowering the cube 2 mm below the deck top at the release: the bottom face's tolerance is 1 mm.
   const Scene scene = test::shelfEdgeScene(-0.05);
