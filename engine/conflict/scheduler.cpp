@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/conflict/step_scheduler.h"
+#include "engine/core/stopwatch.h"
 
 namespace dash {
 
@@ -14,6 +15,57 @@ ObjectLayout startLayout(const TaskSpace& space) {
   for (int o = 0; o < space.objectCount(); ++o) layout.place(o, space.location(o, space.startLocation(o)).X_WO);
   return layout;
 }
+
+/// One build's progress for people (events.h ProgressEvent), rate-limited by wall time. It reads the
+/// clock and emits; it never changes what the build does.
+class BuildProgress {
+ public:
+  BuildProgress(log::EventEmitter* emitter, double interval, const TaskPlan& plan, const Scene& scene)
+      : emitter_(emitter != nullptr && emitter->enabled() ? emitter : nullptr), interval_(interval), plan_(plan),
+        scene_(scene) {}
+
+  /// The build starts at step `first` (the steps before it taken from the last schedule).
+  void start(int first) {
+    first_ = first;
+    if (emitter_ != nullptr) emit(first, robotsOf(first));
+  }
+  /// Step k is about to be scheduled.
+  void before(int k) {
+    if (emitter_ != nullptr && watch_.seconds() - last_ >= interval_) emit(k, robotsOf(k));
+  }
+  /// Every step scheduled; the robots go home.
+  void home() {
+    if (emitter_ != nullptr && watch_.seconds() - last_ >= interval_) emit(total(), "robots home");
+  }
+  /// The build ended with `done` steps scheduled.
+  void end(int done) {
+    if (emitter_ != nullptr) emit(done, "");
+  }
+
+ private:
+  int total() const { return static_cast<int>(plan_.steps.size()); }
+  std::string robotsOf(int k) const {
+    if (k < 0 || k >= total()) return "robots home";
+    const TaskArc& a = plan_.steps[static_cast<std::size_t>(k)].action;
+    std::string out = scene_.robots[static_cast<std::size_t>(a.robot)].id;
+    if (a.type == TaskArcType::kHandover) out += ", " + scene_.robots[static_cast<std::size_t>(a.robot2)].id;
+    return out;
+  }
+  void emit(int done, std::string current) {
+    const double seconds = watch_.seconds();
+    last_ = seconds;
+    const double rate = seconds > 0.0 ? std::max(0, done - first_) / seconds : 0.0;
+    emitter_->progress(log::Phase::ConflictResolution, done, total(), rate, std::move(current));
+  }
+
+  log::EventEmitter* emitter_;
+  double interval_;
+  const TaskPlan& plan_;
+  const Scene& scene_;
+  Stopwatch watch_;
+  double last_ = 0.0;
+  int first_ = 0;
+};
 
 }  // namespace
 
@@ -73,7 +125,9 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
   ScheduleBuild b{*this, checker_, params_, scene, state, motion, std::vector<std::size_t>(static_cast<std::size_t>(robots), 0),
                   replan, deadline, result.stats};
   const std::uint64_t checks_before = context_->counters().configuration_checks;
+  BuildProgress progress(progress_emitter_, progress_interval_, plan, scene);
   auto fail = [&](int step, std::string why) {
+    progress.end(step >= 0 ? step : static_cast<int>(plan.steps.size()));
     memo_.recordEnd(state);
     result.ok = false;
     result.failed_step = step;
@@ -86,6 +140,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
   const int shared = params_.schedule_memo ? memo_.resume(plan, transitions, state) : 0;
   memo_.restart(shared);
   result.stats.reused_steps = shared;
+  progress.start(shared);
   for (int k = 0; k < shared; ++k) {
     const TaskArc& a = plan.steps[k].action;
     ++b.next_visit[a.robot];
@@ -96,14 +151,17 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
 
   // Each step in the task plan's order: placed at the earliest time its dependencies and robots allow.
   for (int k = shared; k < static_cast<int>(plan.steps.size()); ++k) {
+    progress.before(k);
     StepScheduler step(b, plan, k, transitions[k], space);
     if (auto why = step.place()) return fail(k, std::move(*why));
     std::string why;
     if (!step.finish(why)) return fail(k, std::move(why));
     memo_.recordStep(plan.steps[k], transitions[k], state);
   }
+  progress.home();
   if (auto why = bringHome(b)) return fail(-1, std::move(*why));
 
+  progress.end(static_cast<int>(plan.steps.size()));
   memo_.recordEnd(state);
   result.plan = toPlan(scene, state);
   result.ok = true;

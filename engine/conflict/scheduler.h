@@ -22,6 +22,7 @@
 #include "engine/conflict/schedule_memo.h"
 #include "engine/core/deadline.h"
 #include "engine/core/planner_params.h"
+#include "engine/events/event_emitter.h"
 #include "engine/motion/motion_layer.h"
 #include "engine/plan/plan.h"
 
@@ -81,6 +82,15 @@ class Scheduler {
   void forgetFrom(double t) { memo_.forgetFrom(t); }
   /// Every later build also checks the robots' configurations at exactly t (ScheduleChecker::alsoCheckAt).
   void alsoCheckAt(double t) { checker_.alsoCheckAt(t); }
+  /// Every later build reports its progress through `emitter` (nullptr: none) as ProgressEvents of
+  /// conflict resolution (events.h): steps scheduled of the plan's, the robots of the step being
+  /// scheduled, steps per second; one when the build starts, then before a step when `interval`
+  /// seconds of wall time passed since the last one (0: before every step), one before the robots go
+  /// home, and one when it ends (current empty). Reporting only: the schedule does not depend on it.
+  void reportProgress(log::EventEmitter* emitter, double interval = 0.5) {
+    progress_emitter_ = emitter;
+    progress_interval_ = interval;
+  }
 
  private:
   friend struct ScheduleBuild;  // step_scheduler.h: the timing helpers below
@@ -100,6 +110,8 @@ class Scheduler {
   SchedulerParams params_;
   ScheduleChecker checker_;
   ScheduleMemo memo_;  ///< the last schedule built, for the next build of a plan that starts the same
+  log::EventEmitter* progress_emitter_ = nullptr;
+  double progress_interval_ = 0.5;
 };
 
 }  // namespace dash

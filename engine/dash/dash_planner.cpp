@@ -222,6 +222,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   // One scheduler for the whole run, as Lazy-DaSH's: its memo carries the steps a new hyperpath
   // shares with the last one scheduled, and the instants the validator found contacts at.
   Scheduler scheduler(world, context, scheduler_params);
+  scheduler.reportProgress(&emitter);  // steps scheduled, for people watching (reporting only)
   std::int64_t rechecks = 0, validation_feedbacks = 0, reused_steps = 0, restarts = 0;
   std::function<void(const ExtendedVertex&)> on_vertex = [&](const ExtendedVertex& v) {
     emitter.vertex(log::Layer::MotionExtended, static_cast<std::uint32_t>(extended_vertices++),

@@ -72,6 +72,11 @@ void EventBatch::append(const Event& event) {
     Cursor c(grow(n));
     c.put(static_cast<std::uint8_t>(3)).put(event.t).put(static_cast<std::int32_t>(event.iteration));
     c.put(static_cast<std::uint8_t>(ph->phase)).put(static_cast<std::uint8_t>(ph->boundary)).put(ph->duration);
+  } else if (const auto* g = std::get_if<ProgressEvent>(&p)) {
+    n += 1 + 8 + 8 + 8 + textBytes(g->current);
+    Cursor c(grow(n));
+    c.put(static_cast<std::uint8_t>(5)).put(event.t).put(static_cast<std::int32_t>(event.iteration));
+    c.put(static_cast<std::uint8_t>(g->phase)).put(g->done).put(g->total).put(g->rate).text(g->current);
   } else {
     const auto& counter = std::get<CounterEvent>(p);
     n += textBytes(counter.name) + 8;
@@ -130,6 +135,13 @@ bool EventBatch::Reader::next(EventView& e) {
       e.phase = static_cast<Phase>(read<std::uint8_t>());
       e.boundary = static_cast<PhaseBoundary>(read<std::uint8_t>());
       e.duration = read<double>();
+      break;
+    case 5:
+      e.phase = static_cast<Phase>(read<std::uint8_t>());
+      e.done = read<std::int64_t>();
+      e.total = read<std::int64_t>();
+      e.rate = read<double>();
+      e.current = text();
       break;
     default:
       e.name = text();

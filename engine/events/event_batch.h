@@ -42,7 +42,8 @@ class IdView {
 struct EventView {
   double t = 0.0;
   int iteration = 0;
-  std::size_t type = 0;  ///< EventPayload's index: 0 representation, 1 constraint, 2 task space expansion, 3 phase, 4 counter
+  std::size_t type = 0;  ///< EventPayload's index: 0 representation, 1 constraint, 2 task space expansion, 3 phase,
+                         ///< 4 counter, 5 progress
 
   // Representation (type 0).
   Layer layer = Layer::Task;
@@ -61,7 +62,7 @@ struct EventView {
   // Task space expansion (type 2): id is the object's.
   std::string_view object_label, added, reason;
 
-  // Phase (type 3).
+  // Phase (type 3), and progress's phase (type 5).
   Phase phase = Phase::Other;
   PhaseBoundary boundary = PhaseBoundary::Start;
   double duration = 0.0;
@@ -69,6 +70,11 @@ struct EventView {
   // Counter (type 4).
   std::string_view name;
   std::int64_t value = 0;
+
+  // Progress (type 5), with `phase`.
+  std::int64_t done = 0, total = 0;
+  double rate = 0.0;
+  std::string_view current;
 };
 
 class EventBatch {

@@ -77,6 +77,10 @@ class EventEmitter {
     if (sink_ == nullptr) return;
     emit(CounterEvent{std::move(name), value});
   }
+  void progress(Phase phase, std::int64_t done, std::int64_t total, double rate, std::string current) {
+    if (sink_ == nullptr) return;
+    emit(ProgressEvent{phase, done, total, rate, std::move(current)});
+  }
 
   /// Low-level phase boundaries (PhaseTimer is the usual way). Phases are exclusive: a phase begun
   /// while another is open pauses it (its interval so far is ended and booked) and the enclosing

@@ -89,8 +89,22 @@ struct CounterEvent {
   std::int64_t value = 0;
 };
 
+/// How far a long phase has got, for people watching a run: `done` of `total` units of work, what
+/// is being worked on now, and the rate. Conflict resolution: task steps scheduled of the task plan's
+/// steps (those taken from the last schedule count as done), the robots of the step being scheduled
+/// ("ur5e_0, ur5e_3"), steps per second of this build. A producer emits one when its work starts,
+/// then at most every so often of wall time, and one when it ends, with `current` empty. Progress
+/// events report; nothing the planner computes depends on them (or on when they are emitted).
+struct ProgressEvent {
+  Phase phase = Phase::ConflictResolution;
+  std::int64_t done = 0;
+  std::int64_t total = 0;
+  double rate = 0.0;    ///< units per second since the work started
+  std::string current;  ///< what is worked on now, for people; empty: the work ended
+};
+
 using EventPayload = std::variant<RepresentationEvent, ConstraintEvent, TaskSpaceExpansionEvent,
-                                  PhaseEvent, CounterEvent>;
+                                  PhaseEvent, CounterEvent, ProgressEvent>;
 
 struct Event {
   double t = 0.0;     ///< seconds since the run started (monotonic clock)
@@ -141,10 +155,11 @@ inline const char* toString(ElementChange v) { return v == ElementChange::Added 
 inline const char* toString(ConstraintAction v) { return v == ConstraintAction::Created ? "created" : "lifted"; }
 inline const char* toString(PhaseBoundary v) { return v == PhaseBoundary::Start ? "start" : "end"; }
 
-/// The payload's type name: "representation", "constraint", "task_space_expansion", "phase", "counter".
+/// The payload's type name: "representation", "constraint", "task_space_expansion", "phase", "counter",
+/// "progress".
 inline const char* typeName(const EventPayload& p) {
-  static constexpr std::array<const char*, 5> kNames = {"representation", "constraint", "task_space_expansion",
-                                                        "phase", "counter"};
+  static constexpr std::array<const char*, 6> kNames = {"representation", "constraint", "task_space_expansion",
+                                                        "phase", "counter", "progress"};
   return kNames[p.index()];
 }
 

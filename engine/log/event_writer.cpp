@@ -166,7 +166,17 @@ void ResultsDb::Impl::writeEventLocked(std::int64_t run_id, RunState& s, const E
       if (e.t - s.last_progress_t >= s.progress_interval) writeProgressLocked(run_id, s, e.t, e.iteration);
       break;
     }
-    default: {
+    case 5: {  // progress: no table of its own, the next snapshots carry it
+      s.work_phase = static_cast<int>(e.phase);
+      s.work_done = e.done;
+      s.work_total = e.total;
+      s.work_rate = e.rate;
+      s.work_current.assign(e.current);
+      // Every one (their producers emit them seldom), so that a phase's last one is always stored.
+      writeProgressLocked(run_id, s, e.t, e.iteration);
+      break;
+    }
+    default: {  // 4, counter
       if (e.name == "roadmap_vertices") s.roadmap_vertices = e.value;
       if (e.name == "roadmap_edges") s.roadmap_edges = e.value;
       if (e.name == "collision_checks_eager") s.checks_eager = e.value;
@@ -206,6 +216,12 @@ void ResultsDb::Impl::writeProgressLocked(std::int64_t run_id, RunState& s, doub
   for (int l = 0; l < kLayerCount; ++l) st.bind(4 + 2 * l, sizes.vertices[l]).bind(5 + 2 * l, sizes.hyperarcs[l]);
   st.bind(12, s.roadmap_vertices).bind(13, s.roadmap_edges).bind(14, s.figures.active_constraints);
   st.bind(15, s.checks_total >= 0 ? s.checks_total : s.checks_eager + s.checks_lazy);
+  if (s.work_phase >= 0) {
+    st.bindStatic(16, toString(static_cast<Phase>(s.work_phase))).bind(17, s.work_done).bind(18, s.work_total);
+    st.bind(19, s.work_rate).bindOrNull(20, s.work_current);
+  } else {
+    for (int i = 16; i <= 20; ++i) st.bindNull(i);
+  }
   st.run();
 }
 

@@ -188,8 +188,9 @@ ResultsDb::ResultsDb(const std::string& path, OpenMode mode, DbOptions options) 
   m.insert_progress = sql::Statement(
       db, "INSERT OR REPLACE INTO dash_progress (run_id, t, iteration, task_vertices, task_hyperarcs, "
           "task_extended_vertices, task_extended_hyperarcs, motion_vertices, motion_hyperarcs, motion_extended_vertices, "
-          "motion_extended_hyperarcs, roadmap_vertices, roadmap_edges, constraints, collision_checks) "
-          "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+          "motion_extended_hyperarcs, roadmap_vertices, roadmap_edges, constraints, collision_checks, progress_phase, "
+          "progress_done, progress_total, progress_rate, progress_current) "
+          "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
 }
 
 ResultsDb::~ResultsDb() {

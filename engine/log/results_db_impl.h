@@ -72,6 +72,11 @@ struct ResultsDb::Impl {
     std::int64_t checks_eager = 0, checks_lazy = 0, checks_total = -1;
     double progress_interval = 0.05;
     double last_progress_t = -1e300;
+    /// The latest ProgressEvent (phase -1: none yet), in every progress snapshot from then on.
+    int work_phase = -1;
+    std::int64_t work_done = 0, work_total = 0;
+    double work_rate = 0.0;
+    std::string work_current;
     std::string error;  ///< the first write failure; events after it are dropped (figures no longer match)
     std::string ids_buffer;
   };

@@ -276,6 +276,22 @@ void migrateToV5(sqlite3* db) {
     sql::exec(db, kSchemaV5);
 }
 
+// The latest progress of a long phase in every progress snapshot (events.h ProgressEvent): conflict
+// resolution's task steps scheduled of the plan's, the step's robots, steps per second. NULL in the
+// snapshots of older runs and before a run's first progress event. Only the columns missing: a file
+// made to look older keeps its columns.
+constexpr std::array<const char*, 5> kSchemaV6Columns = {"progress_phase TEXT", "progress_done INTEGER",
+                                                         "progress_total INTEGER", "progress_rate REAL",
+                                                         "progress_current TEXT"};
+
+void migrateToV6(sqlite3* db) {
+  for (const std::string column : kSchemaV6Columns) {
+    const std::string name = column.substr(0, column.find(' '));
+    if (sql::selectInt(db, "SELECT COUNT(*) FROM pragma_table_info('dash_progress') WHERE name = '" + name + "'") == 0)
+      sql::exec(db, "ALTER TABLE dash_progress ADD COLUMN " + column);
+  }
+}
+
 struct Migration {
   int to;  ///< the version after it
   void (*apply)(sqlite3* db);
@@ -288,6 +304,7 @@ constexpr std::array<Migration, kSchemaVersion> kMigrations = {{
     {3, [](sqlite3* db) { sql::exec(db, kSchemaV3); }},
     {4, migrateToV4},
     {5, migrateToV5},
+    {6, migrateToV6},
 }};
 
 std::string newerMessage(int version) {

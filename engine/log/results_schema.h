@@ -12,6 +12,9 @@
 //   2  dash_runs.exit_signal, dash_runs.note, dash_run_tags (tags and notes per run)
 //   3  dash_dispatches, dash_dispatch_arms (plans dispatched to arm controllers: dispatch_store.h)
 //   4  dash_events becomes a view over dash_repr_events (layer, kind and change as integer codes)
+//   5  dash_runs.time_validation
+//   6  dash_progress.progress_phase, progress_done, progress_total, progress_rate, progress_current (how
+//      far a long phase has got: conflict resolution's steps scheduled of the plan's)
 #include <string>
 
 #include "engine/core/check.h"
@@ -20,7 +23,7 @@ struct sqlite3;
 
 namespace dash::log {
 
-inline constexpr int kSchemaVersion = 5;
+inline constexpr int kSchemaVersion = 6;
 /// PRAGMA application_id of a dashbench results file ("DaSH").
 inline constexpr int kApplicationId = 0x44615348;
 

@@ -120,6 +120,16 @@ void finishRunLocked(ResultsDb::Impl& m, std::int64_t run_id, const RunSummary& 
   for (int l = 0; l < kLayerCount; ++l) pr.bind(4 + 2 * l, sizes.vertices[l]).bind(5 + 2 * l, sizes.hyperarcs[l]);
   pr.bind(12, roadmap_vertices.value_or(0)).bind(13, roadmap_edges.value_or(0)).bind(14, d.active_constraints);
   pr.bind(15, checks.value_or(0));
+  // A long phase's progress as the run's last snapshot before this one left it (NULL: none).
+  for (int i = 16; i <= 20; ++i) pr.bindNull(i);
+  sql::Statement last(m.db.get(), "SELECT progress_phase, progress_done, progress_total, progress_rate, progress_current "
+                                  "FROM dash_progress WHERE run_id = ? AND progress_phase IS NOT NULL ORDER BY t DESC LIMIT 1");
+  last.bind(1, run_id);
+  if (last.step()) {
+    pr.bind(16, last.columnText(0)).bind(17, last.columnInt(1)).bind(18, last.columnInt(2));
+    pr.bind(19, last.columnDouble(3));
+    if (!std::holds_alternative<std::monostate>(last.columnValue(4))) pr.bind(20, last.columnText(4));
+  }
   pr.run();
   m.commitLocked();
 }

@@ -109,6 +109,7 @@ struct Child {
   std::optional<proto::ChildError> error;
   std::string protocol_error;
   std::string spawn_error;
+  std::optional<log::ProgressEvent> work;  ///< its planner's latest progress event
 };
 
 }  // namespace
@@ -202,6 +203,10 @@ struct BatchRunner::Impl {
                                static_cast<double>(std::max<std::int64_t>(0, to_run - finished_here))
                          : -1.0;
       progress.finished = std::move(finished_run);
+      progress.active.clear();
+      const Clock::time_point now = Clock::now();
+      for (const Child& c : children)
+        progress.active.push_back({c.run.key, c.uuid, Seconds(now - c.spawned).count(), c.work});
       copy = progress;
       progress.finished.reset();
     }
@@ -494,9 +499,12 @@ struct BatchRunner::Impl {
         storeForWrite().setScene(c.uuid, scene);
         break;
       }
-      case proto::MessageType::kEvent:
-        if (c.recorder) c.recorder->onEvent(proto::decodeEvent(frame.payload));
+      case proto::MessageType::kEvent: {
+        const log::Event event = proto::decodeEvent(frame.payload);
+        if (const auto* w = std::get_if<log::ProgressEvent>(&event.payload)) c.work = *w;
+        if (c.recorder) c.recorder->onEvent(event);
         break;
+      }
       case proto::MessageType::kResult:
         c.result = proto::decodeResult(frame.payload);
         break;

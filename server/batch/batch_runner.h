@@ -25,6 +25,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "engine/log/results_db.h"
 #include "server/batch/batch_spec.h"
@@ -52,6 +53,16 @@ struct FinishedRun {
   int exit_signal = 0;
 };
 
+/// A run in progress (in the progress callback).
+struct ActiveRun {
+  std::string key;
+  std::string uuid;
+  double seconds = 0.0;  ///< since its process started
+  /// The latest progress a long phase of its planner reported (conflict resolution: steps scheduled
+  /// of the plan's, the step's robots, steps per second); none before the first.
+  std::optional<log::ProgressEvent> work;
+};
+
 struct BatchProgress {
   std::string batch_id;
   std::string name;
@@ -70,6 +81,7 @@ struct BatchProgress {
   double eta = -1.0;           ///< seconds; < 0 while unknown
   bool cancelling = false;
   std::optional<FinishedRun> finished;  ///< set when the callback reports a run that just ended
+  std::vector<ActiveRun> active;        ///< the runs running now, oldest first
 };
 
 using ProgressCallback = std::function<void(const BatchProgress&)>;

@@ -42,7 +42,31 @@ std::string ProgressPrinter::formatBar(const BatchProgress& p, int width) {
   } else {
     bar += "  ETA " + (p.eta >= 0 ? formatDuration(p.eta) : std::string("?"));
   }
-  return bar;
+  // The running runs that are scheduling: how far each has got (steps scheduled of the plan's).
+  std::string work;
+  for (const ActiveRun& a : p.active) {
+    if (!a.work || a.work->current.empty()) continue;
+    work += (work.empty() ? "  | steps " : ", ") + std::to_string(a.work->done) + "/" + std::to_string(a.work->total);
+  }
+  return bar + work;
+}
+
+std::string ProgressPrinter::formatWork(const ActiveRun& run) {
+  if (!run.work || run.work->current.empty()) return "";
+  const log::ProgressEvent& w = *run.work;
+  char buf[160];
+  if (w.phase == log::Phase::ConflictResolution) {
+    std::snprintf(buf, sizeof buf, "steps %lld/%lld (%s) %.1f steps/s", static_cast<long long>(w.done),
+                  static_cast<long long>(w.total), w.current.c_str(), w.rate);
+  } else {
+    std::snprintf(buf, sizeof buf, "%s %lld/%lld (%s)", log::toString(w.phase), static_cast<long long>(w.done),
+                  static_cast<long long>(w.total), w.current.c_str());
+  }
+  return buf;
+}
+
+std::string ProgressPrinter::formatActiveLine(const ActiveRun& run) {
+  return "[running]  " + run.key + "  " + formatWork(run) + "  " + formatDuration(run.seconds);
 }
 
 std::string ProgressPrinter::formatLine(const BatchProgress& p, const FinishedRun& run) {
@@ -65,10 +89,22 @@ void ProgressPrinter::operator()(const BatchProgress& p) {
   switch (mode_) {
     case Mode::kQuiet:
       return;
-    case Mode::kLines:
+    case Mode::kLines: {
       if (p.finished) std::fprintf(out_, "%s\n", formatLine(p, *p.finished).c_str());
+      std::map<std::string, double> printed;
+      for (const ActiveRun& a : p.active) {
+        const auto last = active_printed_.find(a.uuid);
+        double at = last == active_printed_.end() ? -1e9 : last->second;
+        if (!formatWork(a).empty() && p.elapsed - at >= 2.0) {
+          std::fprintf(out_, "%s\n", formatActiveLine(a).c_str());
+          at = p.elapsed;
+        }
+        printed[a.uuid] = at;
+      }
+      active_printed_ = std::move(printed);
       std::fflush(out_);
       return;
+    }
     case Mode::kBar:
       if (p.finished && p.finished->status == log::RunStatus::Crashed) {
         std::fprintf(out_, "\r\033[K%s\n", formatLine(p, *p.finished).c_str());

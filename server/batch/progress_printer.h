@@ -1,10 +1,13 @@
 #pragma once
 // The terminal side of a batch's progress callback (`dashbench batch run|resume`):
 //   bar   : one line redrawn in place on a terminal: a bar, runs done, failed, running and left,
-//           and an ETA; crashed runs also get a line of their own above it;
-//   lines : a line per finished run (stderr is not a terminal: logs, CI);
+//           an ETA, and the conflict-resolution steps of the running runs that are scheduling;
+//           crashed runs also get a line of their own above it;
+//   lines : a line per finished run (stderr is not a terminal: logs, CI), and every 2 s a line per
+//           running run whose planner reports a long phase's progress (conflict resolution's steps);
 //   quiet : nothing.
 #include <cstdio>
+#include <map>
 #include <string>
 
 #include "server/batch/batch_runner.h"
@@ -28,11 +31,17 @@ class ProgressPrinter {
   static std::string formatLine(const BatchProgress& p, const FinishedRun& run);
   /// "1h02m", "3m05s", "12s".
   static std::string formatDuration(double seconds);
+  /// A running run's long-phase progress: "steps 37/146 (ur5e_3, ur5e_7) 4.2 steps/s"; empty when
+  /// it reports none now (never yet, or its last one ended).
+  static std::string formatWork(const ActiveRun& run);
+  /// "[running]  sorting/robots=4,objects=8/seed=1/lazy-dash  steps 37/146 (ur5e_3) 4.2 steps/s  12 s".
+  static std::string formatActiveLine(const ActiveRun& run);
 
  private:
   std::FILE* out_;
   Mode mode_;
   bool bar_drawn_ = false;
+  std::map<std::string, double> active_printed_;  ///< lines mode: uuid -> batch time of its last line
 };
 
 }  // namespace dash::batch

@@ -144,6 +144,8 @@ void appendEvent(std::string& out, const log::Event& event) {
           w.u32(p.object_id).str(p.object_label).str(p.added).str(p.reason);
         } else if constexpr (std::is_same_v<T, log::PhaseEvent>) {
           w.u8(static_cast<std::uint8_t>(p.phase)).u8(static_cast<std::uint8_t>(p.boundary)).f64(p.duration);
+        } else if constexpr (std::is_same_v<T, log::ProgressEvent>) {
+          w.u8(static_cast<std::uint8_t>(p.phase)).i64(p.done).i64(p.total).f64(p.rate).str(p.current);
         } else {
           static_assert(std::is_same_v<T, log::CounterEvent>);
           w.str(p.name).i64(p.value);
@@ -263,6 +265,16 @@ log::Event decodeEvent(const std::string& payload) {
       log::CounterEvent p;
       p.name = r.str();
       p.value = r.i64();
+      e.payload = std::move(p);
+      break;
+    }
+    case 5: {
+      log::ProgressEvent p;
+      p.phase = r.enumeration<log::Phase>(log::kPhaseCount);
+      p.done = r.i64();
+      p.total = r.i64();
+      p.rate = r.f64();
+      p.current = r.str();
       e.payload = std::move(p);
       break;
     }

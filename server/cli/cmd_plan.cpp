@@ -6,6 +6,7 @@
 #include "engine/collision/collision_world.h"
 #include "engine/core/check.h"
 #include "engine/core/planner_params.h"
+#include "engine/log/results_db.h"
 #include "engine/plan/plan_json.h"
 #include "engine/planners/planner.h"
 #include "engine/planners/progress_sink.h"
@@ -43,6 +44,7 @@ void printRunSummary(const PlanStats& stats) {
                static_cast<long long>(stats.collision_checks_eager), static_cast<long long>(stats.collision_checks_lazy),
                static_cast<long long>(stats.task_constraints), static_cast<long long>(stats.motion_constraints),
                static_cast<long long>(stats.task_space_expansions));
+  std::fprintf(stderr, "peak memory: %.1f MB\n", log::processPeakMemoryMb());
 }
 
 }  // namespace
@@ -52,8 +54,10 @@ const char* const kPlanHelp =
     "usage: dashbench plan --scene FILE [--planner lazy-dash|dash] [--seed S] [--time-limit SEC]\n"
     "                      [--clearance M]\n"
     "                      [--out PLAN.json] [--task-only] [--json] [--quiet]\n"
-    "                      [--set NAME=VALUE]... [--profile paper|default] [--params]\n"
-    "Plan for a scene. Progress (phase, iteration, representation sizes, elapsed time) goes to stderr;\n"
+    "                      [--set NAME=VALUE]... [--profile paper|default] [--params] [--progress-every SEC]\n"
+    "Plan for a scene. Progress (phase, iteration, representation sizes, elapsed time; in conflict\n"
+    "resolution the steps scheduled of the plan's, the step's robots and steps per second) goes to\n"
+    "stderr, a line at least every second; the summary at the end ends with the peak memory.\n"
     "Ctrl-C stops the planner cleanly.\n"
     "  --planner NAME   lazy-dash (default) or dash (the DaSH baseline: exhaustive, validated)\n"
     "  --seed S         the run's seed (roadmaps, samplers); default 1\n"
@@ -63,6 +67,8 @@ const char* const kPlanHelp =
     "  --task-only      stop after the task layer and print the unvalidated schedule\n"
     "  --json           with --task-only: print the schedule as JSON\n"
     "  --verbose        also print every constraint and task space expansion as it is learned\n"
+    "  --progress-every SEC  at most one progress line per SEC while events come (default 0.5;\n"
+    "                   0: one per event); a quiet second still gets one\n"
     "  --set NAME=VALUE set a named planner parameter (repeatable; see --params)\n"
     "  --profile NAME   paper: every extension beyond the published algorithm off; default: none\n"
     "                   (--set applies after the profile)\n"
@@ -75,7 +81,8 @@ void onPlanInterrupt(int) { g_stop.store(true); }
 }  // namespace
 
 int runPlan(const std::vector<std::string>& words) {
-  Args args(words, {.options = {"scene", "planner", "seed", "time-limit", "out", "test-fault", "profile", "clearance"},
+  Args args(words, {.options = {"scene", "planner", "seed", "time-limit", "out", "test-fault", "profile", "clearance",
+                                "progress-every"},
                     .flags = {"task-only", "json", "quiet", "verbose", "params"},
                     .repeated = {"set"}});
   if (args.has("params")) {
@@ -93,6 +100,8 @@ int runPlan(const std::vector<std::string>& words) {
   }
   if (const auto clearance = args.get("clearance")) params["clearance"] = *clearance;  // = --set clearance=M
   resolveParameters(planner_name, params);  // every name and value checked before the scene is read
+  const double progress_every = args.number("progress-every", 0.5);
+  DASH_THROW_UNLESS(progress_every >= 0.0, "--progress-every must be 0 or more");
   const Scene scene = loadScene(args.require("scene"), RobotLibrary::loadDefault());
   PlannerSettings settings;
   settings.seed = static_cast<std::uint64_t>(args.integer("seed", 1));
@@ -105,9 +114,12 @@ int runPlan(const std::vector<std::string>& words) {
 
   std::signal(SIGINT, onPlanInterrupt);
   std::signal(SIGTERM, onPlanInterrupt);
-  ProgressSink progress(stderr, args.has("verbose"));
+  ProgressSink progress(stderr, args.has("verbose"), progress_every);
+  // A line at least every second even while one step takes long (it prints, never steers the planner).
+  if (!args.has("quiet")) progress.startTicker(1.0);
   const Deadline deadline(settings.time_limit, &g_stop);
   const PlanResult result = planner->solve(scene, settings, deadline, args.has("quiet") ? nullptr : &progress);
+  progress.stopTicker();
   if (!args.has("quiet")) {
     progress.flush();
     printRunSummary(result.stats);

@@ -26,6 +26,18 @@ Json progressJson(const batch::BatchProgress& p) {
             {"cancelled", p.cancelled},  {"running", p.running},   {"remaining", p.remaining},
             {"skipped", p.skipped},      {"elapsed", p.elapsed},   {"eta", p.eta < 0 ? Json(nullptr) : Json(p.eta)},
             {"cancelling", p.cancelling}};
+  // The running runs, each with its planner's latest long-phase progress (conflict resolution: steps
+  // scheduled of the plan's, the step's robots, steps per second), null before the first.
+  Json active = Json::array();
+  for (const batch::ActiveRun& a : p.active) {
+    Json work = nullptr;
+    if (a.work) {
+      work = {{"phase", log::toString(a.work->phase)}, {"done", a.work->done},     {"total", a.work->total},
+              {"rate", a.work->rate},                  {"current", a.work->current}};
+    }
+    active.push_back({{"key", a.key}, {"uuid", a.uuid}, {"seconds", a.seconds}, {"work", work}});
+  }
+  j["active"] = std::move(active);
   if (p.finished) {
     j["finished"] = {{"key", p.finished->key},
                      {"uuid", p.finished->uuid},

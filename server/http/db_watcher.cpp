@@ -93,14 +93,16 @@ void DbWatcher::poll(const log::ResultsDb& db) {
   }
   watched_ = still_running;
 
-  // Live sizes of the running runs: their latest progress snapshot and event count.
+  // Live sizes of the running runs: their latest progress snapshot (with a long phase's progress:
+  // conflict resolution's steps scheduled of the plan's) and event count.
   std::map<std::string, std::string> sizes;
   for (const auto& [uuid, status] : watched_) {
     const log::SqlRows p = db.select(
         "SELECT p.t, p.iteration, p.task_vertices, p.task_hyperarcs, p.task_extended_vertices, "
         "p.task_extended_hyperarcs,"
         " p.motion_vertices, p.motion_hyperarcs, p.motion_extended_vertices, p.motion_extended_hyperarcs,"
-        " p.roadmap_vertices, p.roadmap_edges, p.constraints, p.collision_checks,"
+        " p.roadmap_vertices, p.roadmap_edges, p.constraints, p.collision_checks, p.progress_phase, p.progress_done,"
+        " p.progress_total, p.progress_rate, p.progress_current,"
         " (SELECT count(*) FROM dash_events e WHERE e.run_id = r.id) + (SELECT count(*) FROM dash_constraints k WHERE"
         " k.run_id = r.id) AS events"
         " FROM dash_runs r LEFT JOIN dash_progress p ON p.run_id = r.id WHERE r.uuid = ? ORDER BY p.t DESC LIMIT 1",

@@ -146,7 +146,8 @@ std::string RunDetail::timelineJson(const std::string& uuid, std::int64_t max_it
   log::SqlRows progress = db.select(
       "SELECT t, iteration, task_vertices, task_hyperarcs, task_extended_vertices, task_extended_hyperarcs,"
       " motion_vertices, motion_hyperarcs, motion_extended_vertices, motion_extended_hyperarcs, roadmap_vertices,"
-      " roadmap_edges, constraints, collision_checks FROM dash_progress WHERE run_id = ? ORDER BY t",
+      " roadmap_edges, constraints, collision_checks, progress_phase, progress_done, progress_total, progress_rate,"
+      " progress_current FROM dash_progress WHERE run_id = ? ORDER BY t",
       key);
   const std::size_t n = progress.rows.size();
   const bool thinned = static_cast<std::int64_t>(n) > max_items;

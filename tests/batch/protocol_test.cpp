@@ -28,6 +28,7 @@ std::vector<log::Event> sampleEvents() {
   events.push_back({1.0, 2, log::TaskSpaceExpansionEvent{3, "obj_3", "pose 4", "history constraints"}});
   events.push_back({1.25, 3, log::PhaseEvent{log::Phase::ConflictResolution, log::PhaseBoundary::End, 0.125}});
   events.push_back({1.5, 3, log::CounterEvent{"collision_checks_lazy", 123456789012LL}});
+  events.push_back({1.75, 3, log::ProgressEvent{log::Phase::ConflictResolution, 37, 146, 4.25, "ur5e_3, ur5e_7"}});
   events.push_back({2.0, 4, log::RepresentationEvent{}});  // empty strings and lists
   return events;
 }
@@ -74,6 +75,13 @@ TEST(RunProtocol, EveryEventPayloadRoundTrips) {
       EXPECT_EQ(g.phase, p->phase);
       EXPECT_EQ(g.boundary, p->boundary);
       EXPECT_DOUBLE_EQ(g.duration, p->duration);
+    } else if (const auto* w = std::get_if<log::ProgressEvent>(&expected.payload)) {
+      const auto& g = std::get<log::ProgressEvent>(got.payload);
+      EXPECT_EQ(g.phase, w->phase);
+      EXPECT_EQ(g.done, w->done);
+      EXPECT_EQ(g.total, w->total);
+      EXPECT_DOUBLE_EQ(g.rate, w->rate);
+      EXPECT_EQ(g.current, w->current);
     } else {
       const auto& k = std::get<log::CounterEvent>(expected.payload);
       const auto& g = std::get<log::CounterEvent>(got.payload);

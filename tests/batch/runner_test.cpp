@@ -4,6 +4,8 @@
 #include <signal.h>
 
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -432,6 +434,44 @@ TEST(ProgressPrinter, FormatsTheBarAndLines) {
   EXPECT_NE(line.find("SIGABRT"), std::string::npos) << line;
   EXPECT_EQ(ProgressPrinter::formatDuration(3725), "1h02m");
   EXPECT_EQ(ProgressPrinter::formatDuration(12), "12s");
+}
+
+TEST(ProgressPrinter, ShowsTheStepsOfTheRunsThatAreScheduling) {
+  BatchProgress p;
+  p.total = 4;
+  p.running = 2;
+  p.remaining = 4;
+  const std::string key = "sorting/robots=32,objects=128/seed=9/lazy-dash";
+  p.active.push_back({key, "u1", 75.0, log::ProgressEvent{log::Phase::ConflictResolution, 37, 146, 4.25, "ur5e_3, ur5e_7"}});
+  p.active.push_back({"other", "u2", 3.0, std::nullopt});  // no progress reported yet
+  EXPECT_NE(ProgressPrinter::formatBar(p).find("| steps 37/146"), std::string::npos) << ProgressPrinter::formatBar(p);
+  EXPECT_EQ(ProgressPrinter::formatWork(p.active[0]), "steps 37/146 (ur5e_3, ur5e_7) 4.2 steps/s");
+  EXPECT_EQ(ProgressPrinter::formatWork(p.active[1]), "");
+  EXPECT_EQ(ProgressPrinter::formatActiveLine(p.active[0]),
+            "[running]  " + key + "  steps 37/146 (ur5e_3, ur5e_7) 4.2 steps/s  1m15s");
+
+  // Lines mode: a line per scheduling run, again once 2 s of the batch passed; none once its work ended.
+  char* text = nullptr;
+  std::size_t size = 0;
+  std::FILE* out = open_memstream(&text, &size);
+  ASSERT_NE(out, nullptr);
+  ProgressPrinter printer(out, ProgressPrinter::Mode::kLines);
+  for (double elapsed : {10.0, 11.0, 12.5}) {
+    p.elapsed = elapsed;
+    printer(p);
+  }
+  p.active[0].work->current.clear();
+  p.elapsed = 20.0;
+  printer(p);
+  std::fclose(out);
+  const std::string lines(text, size);
+  std::free(text);
+  std::size_t count = 0;
+  for (std::size_t at = lines.find("[running]"); at != std::string::npos; at = lines.find("[running]", at + 1)) ++count;
+  EXPECT_EQ(count, 2u) << lines;
+  EXPECT_EQ(lines.find("other"), std::string::npos) << lines;
+  // The bar leaves out a run whose work ended.
+  EXPECT_EQ(ProgressPrinter::formatBar(p).find("steps"), std::string::npos);
 }
 
 }  // namespace

@@ -171,5 +171,15 @@ test('URL state: a page\u2019s settings round-trip through the hash, defaults an
   assert.deepEqual(url.parseHash().args, ['%E0%A4%A'], 'a malformed escape does not throw');
 });
 
+
+test('a long phase\'s progress reads as steps scheduled of the plan\'s', () => {
+  const w = { phase: 'conflict_resolution', done: 37, total: 146, rate: 4.23, current: 'ur5e_3, ur5e_7' };
+  assert.equal(dom.fmtWork(w), 'conflict resolution: steps 37/146 (ur5e_3, ur5e_7) · 4.2 steps/s');
+  assert.equal(dom.fmtWork({ ...w, current: '' }), '');
+  assert.equal(dom.fmtWork({ ...w, done: 146, current: null }, { ended: true }), 'conflict resolution: steps 146/146 · 4.2 steps/s');
+  assert.equal(dom.fmtWork({ phase: null, done: null, total: null }), '');
+  assert.equal(dom.fmtWork(null), '');
+});
+
 console.log(failed ? `${failed} failed` : 'all passed');
 process.exit(failed ? 1 : 0);

@@ -117,6 +117,20 @@ TEST_P(PlannerDatabase, EventCountsEqualTheReportedRepresentationSizes) {
   EXPECT_EQ(integer(arena.rows[0][1]), reported[0].second);
   EXPECT_EQ(integer(arena.rows[0][2]), reported[2].first);
   EXPECT_EQ(integer(arena.rows[0][3]), reported[2].second);
+
+  // Conflict resolution's progress: its snapshots count steps of one plan's total, and the last build
+  // (the solved plan's) ended with every step scheduled.
+  const SqlRows work = db.select("SELECT progress_done, progress_total, progress_current FROM dash_progress WHERE "
+                                 "run_id = ? AND progress_phase = 'conflict_resolution' ORDER BY t",
+                                 {run->id});
+  ASSERT_FALSE(work.rows.empty());
+  for (const auto& row : work.rows) {
+    EXPECT_GT(integer(row[1]), 0);
+    EXPECT_GE(integer(row[0]), 0);
+    EXPECT_LE(integer(row[0]), integer(row[1]));
+  }
+  EXPECT_EQ(integer(work.rows.back()[0]), integer(work.rows.back()[1]));
+  EXPECT_EQ(work.rows.back()[2], SqlValue());
 }
 
 INSTANTIATE_TEST_SUITE_P(

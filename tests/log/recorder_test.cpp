@@ -92,6 +92,48 @@ TEST(Recorder, ProgressSnapshotsGrowAndEndAtTheFinalSizes) {
   EXPECT_EQ(std::get<std::int64_t>(rows.rows.back()[1]), mirror.count(Layer::Motion, ElementKind::Vertex));
 }
 
+TEST(Recorder, ConflictResolutionProgressGoesIntoTheSnapshots) {
+  // A build of 5 steps reported step by step (closer together than the snapshot interval), then its
+  // end: every report is a snapshot, the sizes beside it, and the run's last snapshot keeps the last.
+  testing::TempDir dir;
+  ResultsDb db(dir.file("r.db"));
+  const std::string uuid = db.beginRun(testing::sampleMeta());
+  {
+    auto recorder = db.recorder(uuid, RecorderOptions{.progress_interval = 0.05});
+    recorder->onEvent(Event{0.5, 3, RepresentationEvent{.layer = Layer::Motion, .kind = ElementKind::Vertex, .id = 1}});
+    for (int k = 0; k < 5; ++k) {
+      recorder->onEvent(Event{1.0 + 0.001 * k, 3,
+                              ProgressEvent{Phase::ConflictResolution, k, 5, 2.0 * k, "ur5e_" + std::to_string(k)}});
+    }
+    recorder->onEvent(Event{1.01, 3, ProgressEvent{Phase::ConflictResolution, 5, 5, 10.0, ""}});
+    db.finishRun(uuid, RunSummary{.status = RunStatus::Solved, .total_time = 2.0});
+  }
+  const std::int64_t id = db.getRun(uuid)->id;
+  const SqlRows rows = db.select("SELECT t, progress_phase, progress_done, progress_total, progress_current, "
+                                 "motion_vertices, iteration FROM dash_progress WHERE run_id = ? AND progress_phase IS "
+                                 "NOT NULL ORDER BY t",
+                                 {id});
+  ASSERT_EQ(rows.rows.size(), 7u);  // 5 steps, the end, the run's last snapshot
+  for (int k = 0; k < 5; ++k) {
+    const auto& row = rows.rows[static_cast<std::size_t>(k)];
+    EXPECT_EQ(row[1], SqlValue(std::string("conflict_resolution")));
+    EXPECT_EQ(row[2], SqlValue(std::int64_t{k}));
+    EXPECT_EQ(row[3], SqlValue(std::int64_t{5}));
+    EXPECT_EQ(row[4], SqlValue("ur5e_" + std::to_string(k)));
+    EXPECT_EQ(row[5], SqlValue(std::int64_t{1}));
+    EXPECT_EQ(row[6], SqlValue(std::int64_t{3}));
+  }
+  for (const std::size_t i : {5u, 6u}) {
+    EXPECT_EQ(rows.rows[i][2], SqlValue(std::int64_t{5}));
+    EXPECT_EQ(rows.rows[i][3], SqlValue(std::int64_t{5}));
+    EXPECT_EQ(rows.rows[i][4], SqlValue());  // ended: no current step
+  }
+  EXPECT_EQ(rows.rows[6][0], SqlValue(2.0));
+  // Before the first progress event a snapshot has none.
+  EXPECT_EQ(db.select("SELECT COUNT(*) FROM dash_progress WHERE run_id = ? AND progress_phase IS NULL", {id}).rows[0][0],
+            SqlValue(std::int64_t{1}));
+}
+
 TEST(Recorder, ProgressSnapshotsFollowALongPhase) {
   // One 2 s phase that adds a vertex every 10 ms (DaSH's motion construction): the snapshots must
   // show the growth during the phase, not only its end.

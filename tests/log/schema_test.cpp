@@ -341,6 +341,45 @@ TEST(Schema, AVersion2FileGetsTheDispatchHistory) {
   EXPECT_EQ(testing::integrityCheck(path), "ok");
 }
 
+// Version 6 added a long phase's progress to the progress snapshots. A version-5 file (those columns
+// dropped) migrates: its snapshots keep their sizes with NULL progress, and new runs record progress.
+TEST(Schema, AVersion5FileGetsProgressColumnsInItsSnapshots) {
+  testing::TempDir dir;
+  const std::string path = dir.file("v5.db");
+  std::string old_uuid;
+  {
+    ResultsDb db(path);
+    old_uuid = db.beginRun(testing::sampleMeta());
+    db.finishRun(old_uuid, RunSummary{.status = RunStatus::Solved});
+  }
+  setUserVersion(path, 5,
+                 "ALTER TABLE dash_progress DROP COLUMN progress_phase; ALTER TABLE dash_progress DROP COLUMN "
+                 "progress_done; ALTER TABLE dash_progress DROP COLUMN progress_total; ALTER TABLE dash_progress DROP "
+                 "COLUMN progress_rate; ALTER TABLE dash_progress DROP COLUMN progress_current;");
+  EXPECT_THROW(ResultsDb(path, OpenMode::ReadOnly), SchemaError);  // read-only cannot migrate
+
+  ResultsDb db(path);
+  EXPECT_EQ(db.schemaVersion(), kSchemaVersion);
+  const SqlRows old = db.select("SELECT progress_phase, progress_done FROM dash_progress WHERE run_id = ?",
+                                {db.getRun(old_uuid)->id});
+  ASSERT_EQ(old.rows.size(), 1u);
+  EXPECT_EQ(old.rows[0][0], SqlValue());
+  EXPECT_EQ(old.rows[0][1], SqlValue());
+  const std::string uuid = db.beginRun(testing::sampleMeta());
+  {
+    auto recorder = db.recorder(uuid);
+    recorder->onEvent(Event{0.5, 1, ProgressEvent{Phase::ConflictResolution, 2, 9, 4.0, "ur5e_1"}});
+  }
+  db.finishRun(uuid, RunSummary{.status = RunStatus::Timeout});
+  const SqlRows now = db.select("SELECT progress_phase, progress_done, progress_total, progress_current FROM "
+                                "dash_progress WHERE run_id = ? ORDER BY t",
+                                {db.getRun(uuid)->id});
+  ASSERT_FALSE(now.rows.empty());
+  EXPECT_EQ(now.rows.back(), (std::vector<SqlValue>{std::string("conflict_resolution"), std::int64_t{2},
+                                                     std::int64_t{9}, std::string("ur5e_1")}));
+  EXPECT_EQ(testing::integrityCheck(path), "ok");
+}
+
 TEST(Schema, ANewerVersionGivesAClearError) {
   testing::TempDir dir;
   const std::string path = dir.file("future.db");

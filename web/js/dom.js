@@ -50,6 +50,19 @@ export function fmtSeconds(s) {
   return `${m} min ${Math.round(s - 60 * m)} s`;
 }
 
+/// A long phase's progress as the planner reported it (dash_progress's progress_* columns, or a
+/// batch's running run): "conflict resolution: steps 37/146 (ur5e_3, ur5e_7) · 4.2 steps/s"; '' when
+/// there is none, or its work ended (`current` empty) and `ended` is not asked for.
+export function fmtWork(w, { ended = false } = {}) {
+  if (!w || w.phase === null || w.phase === undefined || w.total === null || w.total === undefined) return '';
+  const running = typeof w.current === 'string' && w.current !== '';
+  if (!running && !ended) return '';
+  const name = String(w.phase).replace(/_/g, ' ');
+  const unit = w.phase === 'conflict_resolution' ? 'steps ' : '';
+  const rate = typeof w.rate === 'number' && w.phase === 'conflict_resolution' ? ` · ${w.rate.toFixed(1)} steps/s` : '';
+  return `${name}: ${unit}${w.done}/${w.total}${running ? ` (${w.current})` : ''}${rate}`;
+}
+
 export function badge(status) {
   return el('span', { class: `badge ${status}`, text: status });
 }

@@ -3,7 +3,7 @@
 // progress live (cancel, resume).
 import { api, ApiError, getToken } from '../api.js';
 import { on, debounce } from '../events.js';
-import { el, clear, badge, fmtSeconds, errorBox } from '../dom.js';
+import { el, clear, badge, fmtSeconds, fmtWork, errorBox } from '../dom.js';
 import { writeState } from '../url_state.js';
 
 const MAX_SPEC_URL_CHARS = 4000;
@@ -45,7 +45,11 @@ function progressBar(p) {
   if (p.cancelled) parts.push(`${p.cancelled} cancelled`);
   if (p.running) parts.push(`${p.running} running`);
   if (p.eta !== null && p.eta !== undefined && p.eta >= 0 && p.remaining > 0) parts.push(`about ${fmtSeconds(p.eta)} left`);
-  return [bar, el('div', { class: 'progress-label', text: parts.join(' · ') })];
+  // The running runs whose planner reports a long phase's progress (conflict resolution's steps).
+  const work = (p.active || [])
+    .filter((a) => fmtWork(a.work))
+    .map((a) => el('div', { class: 'progress-label muted', 'data-testid': 'run-work', text: `${a.key}: ${fmtWork(a.work)}` }));
+  return [bar, el('div', { class: 'progress-label', text: parts.join(' · ') }), ...work];
 }
 
 /// The spec from the URL (#/launch?spec=JSON), or null.

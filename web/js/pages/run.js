@@ -7,7 +7,7 @@
 // pauses, arrows step 1 % (Shift: to the next plan point), Enter in the tag box adds the tag.
 import { api, query } from '../api.js';
 import { on } from '../events.js';
-import { el, clear, badge, fmtNumber, fmtSeconds, paramsText, plannerLine, errorBox, table } from '../dom.js';
+import { el, clear, badge, fmtNumber, fmtSeconds, fmtWork, paramsText, plannerLine, errorBox, table } from '../dom.js';
 import { destroyCharts, chartPanel } from '../charts.js';
 import { LAYER_STYLES } from '../palette.js';
 import { drawSizesOverTime, drawMarks, LAYERS } from '../run_timeline.js';
@@ -46,6 +46,11 @@ export function mount(root, args, params = new URLSearchParams()) {
   let progress = null; // the timeline's size series, extended live
   let timeline = null;
   let detail = null;
+  // A long phase's latest progress (conflict resolution: steps scheduled of the plan's), live.
+  const workLine = el('span', { 'data-testid': 'run-work', text: '—' });
+  const showWork = (w) => {
+    workLine.textContent = fmtWork(w, { ended: true }) || '—';
+  };
   const others = new Map(); // overlaid uuid -> {progress, timeline, end}
   // The URL keeps the overlays, the plan time and the events shown (#/run/UUID?overlay=A&t=12.5&events=constraint).
   const view = { t: Math.max(0, readNumber(params, 't', 0)), events: readString(params, 'events', 'all'), offset: Math.max(0, Math.floor(readNumber(params, 'offset', 0))) };
@@ -148,6 +153,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       ['scene', r.scene || '—'],
       ['total time', r.total_time === null ? '—' : fmtSeconds(r.total_time)],
       ['makespan', r.makespan === null ? '—' : `${fmtNumber(r.makespan)} s`],
+      ['scheduling', workLine],
       ['sizes', LAYERS.map((l) => `${LAYER_STYLES[l].label} ${fmtNumber(r[`${l}_vertices`])}/${fmtNumber(r[`${l}_hyperarcs`])}`).join('  ')],
       ['events', Object.entries(d.event_counts).map(([k, v]) => `${k} ${v}`).join(', ')],
       ['download', downloads],
@@ -185,6 +191,11 @@ export function mount(root, args, params = new URLSearchParams()) {
   function renderTimeline(tl) {
     timeline = tl;
     progress = tl.progress;
+    const last = progress.rows[progress.rows.length - 1];
+    if (last) {
+      const col = (c) => last[progress.columns.indexOf(c)];
+      showWork({ phase: col('progress_phase'), done: col('progress_done'), total: col('progress_total'), rate: col('progress_rate'), current: col('progress_current') });
+    }
     drawTimelines();
     clear(constraintsBox);
     if (tl.constraints.length) {
@@ -318,6 +329,7 @@ export function mount(root, args, params = new URLSearchParams()) {
   const offs = [
     on('sizes', (m) => {
       if (m.uuid !== uuid || !progress || m.t === null || m.t === undefined) return;
+      showWork({ phase: m.progress_phase, done: m.progress_done, total: m.progress_total, rate: m.progress_rate, current: m.progress_current });
       const ti = progress.columns.indexOf('t');
       const last = progress.rows[progress.rows.length - 1];
       if (last && last[ti] >= m.t) return; // the same snapshot again (its event count changed)
