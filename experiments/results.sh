@@ -14,6 +14,9 @@
 #   ablation   experiments/ablation/run.sh --workers 1 --seeds 1 --time-limit 60 (15-45 min; 1.5 h at most)
 #   dispatch-load tests/dispatch/under_load.sh --runs 20 --sorting            (about 12 minutes)
 #   validation experiments/validation/largest.sh                             (20-40 minutes)
+#   scaling    experiments/scaling/run.sh                                     (1-3 hours: sorting 4..32 robots x
+#              4 objects each, 3 seeds, 600 s per run; up to 3 hours when 32/128 times out; writes the plot
+#              and raw data under experiments/scaling/results/)
 #
 # DASHBENCH names the dashbench to use (default: the repository's ./dashbench, which builds first).
 # dispatch-load runs the dispatch tests DISPATCH_LOAD_RUNS times (default 20) while busy loops saturate
@@ -34,15 +37,16 @@ declare -A COMMANDS=(
   [ablation]="experiments/ablation/run.sh --workers 1 --seeds 1 --time-limit 60"
   [dispatch-load]="tests/dispatch/under_load.sh --runs ${DISPATCH_LOAD_RUNS:-20} --sorting"
   [validation]="experiments/validation/largest.sh${VALIDATION_PLANS:+ --plans $VALIDATION_PLANS}"
+  [scaling]="experiments/scaling/run.sh"
 )
-ORDER=(small large task-layer compare ablation dispatch-load validation)
+ORDER=(small large task-layer compare ablation dispatch-load validation scaling)
 
 if [ "${1:-}" = "--list" ]; then
   for s in "${ORDER[@]}"; do printf '%-13s %s\n' "$s" "${COMMANDS[$s]}"; done
   exit 0
 fi
 if [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then
-  sed -n '2,22p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+  sed -n '2,25p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
   exit 0
 fi
 SECTIONS=("$@")
