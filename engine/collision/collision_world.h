@@ -50,7 +50,7 @@ using Aabb = Eigen::AlignedBox3d;
 inline constexpr double kObjectContactTolerance = 1e-3;
 /// Planners: a gripper body may touch the resting object nearest its TCP, if the TCP is within this of
 /// its box (a gripper on its approach line, at a grasp or just after a release); no other one.
-inline constexpr double kGraspReach = 0.1;
+inline constexpr double kGraspReach = 0.02;
 
 /// The planners' default clearance (LazyDashParams, DashParams): a few millimetres, so that what they
 /// check at discrete configurations passes the certified validator at zero clearance.

@@ -114,6 +114,35 @@ StretchChecker::StretchChecker(const CollisionWorld& world, const PlanMotion& mo
     : world_(world), motion_(motion), timeline_(timeline), supports_(supports), options_(options), context_(world) {
   robots_.resize(at(world.robotCount()));
   poses_.resize(at(world.robotCount()));
+  findGraspTargets();
+}
+
+void StretchChecker::findGraspTargets() {
+  const auto& epochs = timeline_.epochs;
+  const std::size_t robots = robots_.size();
+  // What each robot holds in each epoch (-1: nothing; the first object found when it holds two).
+  std::vector<std::vector<int>> held(epochs.size(), std::vector<int>(robots, -1));
+  for (std::size_t e = 0; e < epochs.size(); ++e) {
+    for (std::size_t j = 0; j < epochs[e].objects.size(); ++j) {
+      for (const Holder& h : epochs[e].objects[j].holders) {
+        if (held[e][at(h.robot)] < 0) held[e][at(h.robot)] = static_cast<int>(j);
+      }
+    }
+  }
+  grasp_targets_.assign(epochs.size(), std::vector<GraspTarget>(robots));
+  for (std::size_t r = 0; r < robots; ++r) {
+    // Only an empty hand has a target: a hand that holds something touches nothing else by design.
+    int last = -1;
+    for (std::size_t e = 0; e < epochs.size(); ++e) {
+      if (held[e][r] < 0) grasp_targets_[e][r].last = last;
+      if (held[e][r] >= 0) last = held[e][r];
+    }
+    int next = -1;
+    for (std::size_t e = epochs.size(); e-- > 0;) {
+      if (held[e][r] < 0) grasp_targets_[e][r].next = next;
+      if (held[e][r] >= 0) next = held[e][r];
+    }
+  }
 }
 
 CollisionElement StretchChecker::element(int r, int part) const {
@@ -265,13 +294,8 @@ void StretchChecker::collectRobotPairs(int r, int s) {
 }
 
 bool StretchChecker::holdsAdjacent(int r, int object) const {
-  const auto& epochs = timeline_.epochs;
-  auto holds = [&](std::size_t e) {
-    const auto& holders = epochs[e].objects[at(object)].holders;
-    return std::any_of(holders.begin(), holders.end(), [&](const Holder& h) { return h.robot == r; });
-  };
-  const auto e = at(stretch_.epoch);
-  return (e > 0 && holds(e - 1)) || (e + 1 < epochs.size() && holds(e + 1));
+  const GraspTarget& g = grasp_targets_[at(stretch_.epoch)][at(r)];
+  return g.last == object || g.next == object;
 }
 
 double StretchChecker::distance(const Pair& pair, double u, bool& exact) {

@@ -103,8 +103,16 @@ class StretchChecker {
   void collectRobotPairs(int r, int s);
   void addPair(int ra, int pa, const CollisionElement& b, const Aabb& b_box, int rb, int pb, bool contact_meant);
   bool isSupport(int object, const CollisionElement& thing) const;
-  /// Robot r holds `object` in the epoch before the stretch's or the one after (a handover).
+  /// `object` is the last one robot r held before the stretch's epoch or the next one it holds after
+  /// it: r is about to grasp it (or take it over), or has let it go and not held anything since. Per
+  /// robot, not per epoch: with many robots, other robots' events cut a back-off into many epochs.
   bool holdsAdjacent(int r, int object) const;
+  struct GraspTarget {
+    int last = -1;  ///< object the robot held most recently before the epoch
+    int next = -1;  ///< object it holds next after the epoch
+  };
+  void findGraspTargets();
+  std::vector<std::vector<GraspTarget>> grasp_targets_;  ///< per epoch, per robot
   /// Signed distance of the pair at u (exact = true), or, while the boxes are more than kBoxStepMargin
   /// beyond the clearance apart, their distance (a lower bound).
   double distance(const Pair& pair, double u, bool& exact);

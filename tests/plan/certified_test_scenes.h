@@ -105,6 +105,59 @@ inline Plan neighbourCubePlan(const Scene& scene, double dip) {
   return plan;
 }
 
+/// Two gantries 0.6 m apart, each over its own cube (cube_0 at x 0.3, cube_1 at x 0.9).
+inline Scene twoGantriesScene() {
+  const std::string text = R"({
+    "format": "dashbench.scene/1", "name": "two-gantries", "end_at_home": false,
+    "robots": [{"id": "gantry_0", "model": "gantry3", "base": {"p": [0, 0, 0], "q": [0, 0, 0, 1]},
+                "home": [0.1, 0.1, 0.0], "capabilities": ["grasp"]},
+               {"id": "gantry_1", "model": "gantry3", "base": {"p": [0.6, 0, 0], "q": [0, 0, 0, 1]},
+                "home": [0.1, 0.1, 0.0], "capabilities": ["grasp"]}],
+    "obstacles": [
+      {"id": "deck", "shape": {"type": "box", "size": [2.0, 2.0, 0.05]}, "pose": {"p": [0.5, 0.3, 0.075], "q": [0, 0, 0, 1]}}],
+    "surfaces": [{"id": "deck_top", "z": 0.1, "polygon": [[-0.5, -0.7], [1.5, -0.7], [1.5, 1.3], [-0.5, 1.3]]}],
+    "objects": [{"id": "cube_0", "shape": {"type": "box", "size": [0.04, 0.04, 0.04]},
+                 "start": {"p": [0.3, 0.2, 0.12], "q": [0, 0, 0, 1]}, "fixed": false},
+                {"id": "cube_1", "shape": {"type": "box", "size": [0.04, 0.04, 0.04]},
+                 "start": {"p": [0.9, 0.2, 0.12], "q": [0, 0, 0, 1]}, "fixed": false}],
+    "tasks": []
+  })";
+  return parseScene(text, library(), "two-gantries");
+}
+
+/// gantry_0 lifts cube_0 and puts it back (release at t=6), then presses its tool `press` deep into the
+/// cube's top from t=7 to t=10 before it rises; meanwhile gantry_1 grasps cube_1 at t=7.5 and releases it
+/// at t=8.5, so gantry_0's press spans epochs that neither follow nor precede its own release directly.
+inline Plan pressAfterReleasePlan(const Scene& scene, double press) {
+  Plan plan;
+  plan.scene = scene.name;
+  plan.planner = "test";
+  const Pose X_TO = makePose(Vec3(0.0, 0.0, 0.02), Quat(0.0, 1.0, 0.0, 0.0));  // cube top at the TCP
+  const auto& names = scene.robots[0].model->joint_names;
+  RobotTrajectory a{"gantry_0", names, {point(0.0, scene.robots[0].home)}};
+  a.points.push_back(point(1.0, joints({0.3, 0.2, 0.0})));
+  a.points.push_back(point(4.0, joints({0.3, 0.2, 0.26})));  // TCP z = 0.4 - q_z: cube_0's top
+  plan.events.push_back({PlanEvent::Type::kGrasp, 4.0, "gantry_0", "cube_0", X_TO, -1});
+  a.points.push_back(point(5.0, joints({0.3, 0.2, 0.2})));
+  a.points.push_back(point(6.0, joints({0.3, 0.2, 0.26})));
+  plan.events.push_back({PlanEvent::Type::kRelease, 6.0, "gantry_0", "cube_0", Pose::Identity(), -1});
+  a.points.push_back(point(7.0, joints({0.3, 0.2, 0.26 + press})));
+  a.points.push_back(point(10.0, joints({0.3, 0.2, 0.26 + press})));
+  a.points.push_back(point(13.0, joints({0.3, 0.2, 0.0})));
+  RobotTrajectory b{"gantry_1", names, {point(0.0, scene.robots[1].home)}};
+  b.points.push_back(point(1.0, joints({0.3, 0.2, 0.0})));
+  b.points.push_back(point(7.5, joints({0.3, 0.2, 0.26})));
+  plan.events.push_back({PlanEvent::Type::kGrasp, 7.5, "gantry_1", "cube_1", X_TO, -1});
+  b.points.push_back(point(8.0, joints({0.3, 0.2, 0.2})));
+  b.points.push_back(point(8.5, joints({0.3, 0.2, 0.26})));
+  plan.events.push_back({PlanEvent::Type::kRelease, 8.5, "gantry_1", "cube_1", Pose::Identity(), -1});
+  b.points.push_back(point(13.0, joints({0.3, 0.2, 0.0})));
+  plan.robots.push_back(std::move(a));
+  plan.robots.push_back(std::move(b));
+  plan.makespan = 13.0;
+  return plan;
+}
+
 /// Two gantries hand a 12 x 4 x 2 cm bar over on a stand: gantry_0 grasps its top left of centre,
 /// gantry_1 (mounted 15 cm higher, turned by pi) comes down right of centre and takes it over. Their
 /// 6 cm tools end `overlap` deep into each other along x (negative: that far apart).

@@ -88,6 +88,23 @@ TEST(CertifiedValidator, AGripperStoppingAboveAnObjectItDoesNotGraspPasses) {
   EXPECT_EQ(report.closest.b, "cube_1");
 }
 
+TEST(CertifiedValidator, AGripperMayTouchWhatItJustReleasedWhateverOtherRobotsDo) {
+  // gantry_0 presses 0.2 mm into the cube it has just put down while gantry_1's grasp and release cut
+  // that time into epochs of their own: still the object its hand last held, so contact is meant.
+  const Scene scene = test::twoGantriesScene();
+  const ValidationReport report = validatePlan(scene, test::pressAfterReleasePlan(scene, kDip));
+  EXPECT_TRUE(report.valid()) << report.summary();
+  // Without gantry_0's grasp and release the same press is a collision with cube_0: the allowance
+  // comes from the release, not from the geometry.
+  Plan never_held = test::pressAfterReleasePlan(scene, kDip);
+  std::erase_if(never_held.events, [](const PlanEvent& e) { return e.robot == "gantry_0"; });
+  const ValidationReport bad = validatePlan(scene, never_held);
+  ASSERT_FALSE(bad.valid());
+  EXPECT_EQ(bad.problems[0].kind, ProblemKind::kRobotObjectCollision) << bad.summary();
+  EXPECT_EQ(bad.problems[0].other, "cube_0") << bad.summary();
+  EXPECT_NEAR(bad.problems[0].distance, -kDip, kDip / 4.0) << bad.summary();
+}
+
 TEST(CertifiedValidator, HeldCubePushedIntoItsTableFromAboveIsRejected) {
   // Lowering the cube 2 mm below the deck top at the release: the bottom face's tolerance is 1 mm.
   const Scene scene = test::shelfEdgeScene(-0.05);
