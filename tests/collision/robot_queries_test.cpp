@@ -173,14 +173,8 @@ struct NeighbourSetup {
     test::addCube(scene, "neighbour", 0.04, makePose(Vec3(0.536 + gap + 0.02, 0.0, 0.2)));
     world = std::make_unique<CollisionWorld>(scene, CollisionWorldOptions{.clearance = 0.002});
     context = std::make_unique<CollisionContext>(*world);
-    const Pose X_WT = test::toolDown(Vec3(0.5, 0.0, 0.2));
-    for (const JointVector& q : inverseKinematics(*scene.robots[0].model, scene.robots[0].X_WB, X_WT)) {
-      if (!robotInCollision(*world, *context, {.robot = 0, .q = q}, ObjectLayout::empty(scene), nullptr,
-                            CheckScope::kStaticOnly)) {
-        state = {.robot = 0, .q = q};
-        break;
-      }
-    }
+    state = {.robot = 0};
+    state.q = freeIk(*world, *context, state, test::toolDown(Vec3(0.5, 0.0, 0.2)), ObjectLayout::empty(scene));
   }
 };
 
