@@ -11,6 +11,9 @@ namespace dash {
 
 namespace {
 
+/// More validator threads than this is a typing error, not a machine.
+constexpr int kMaxValidationThreads = 1024;
+
 ParamInfo flag(std::string name, bool value, std::string description) {
   return {std::move(name), ParamType::kBool, value ? "true" : "false", value ? "false" : "true", 0, 0,
           std::move(description)};
@@ -21,12 +24,14 @@ ParamInfo count(std::string name, int value, int paper, int max, std::string des
 }
 
 // What both planners share: the clearance of every check (engine/collision/collision_world.h, whose
-// kDefaultPlanningClearance is this default; a test checks they agree) and the conflict resolution
-// extensions (engine/conflict/scheduler.h).
+// kDefaultPlanningClearance is this default; a test checks they agree), the threads of the validator
+// they run on each schedule, and the conflict resolution extensions (engine/conflict/scheduler.h).
 std::vector<ParamInfo> schedulerParameters() {
   return {
       {"clearance", ParamType::kReal, "0.002", "", 0.0, 0.05,
        "metres every check of the planner keeps between parts not in contact by design (0: touching allowed)"},
+      {"validation_threads", ParamType::kInt, "0", "", 0, kMaxValidationThreads,
+       "threads of the plan validator run on each schedule (0: the hardware's); the plan is the same for any number"},
       flag("staggered_arrivals", true,
            "a handover whose two robots collide on the way also tries one robot in place first, then the other"),
       flag("idle_arms_home", true, "a robot standing idle in the way is sent home before a step is given up"),

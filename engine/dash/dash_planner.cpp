@@ -105,12 +105,14 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   // The named parameters DaSH has (the scheduler's, engine/core/planner_params.h), checked and applied.
   SchedulerParams scheduler_params = params_.scheduler;
   double clearance = params_.clearance;
+  int validation_threads = params_.validation_threads;
   {
     const ParamValues effective = resolveParameters(name(), settings.params);
     ParamValues overrides;
     for (const auto& entry : settings.params) overrides[entry.first] = effective.at(entry.first);
     applySchedulerParameters(scheduler_params, overrides);
     if (overrides.contains("clearance")) clearance = paramReal(overrides, "clearance");
+    if (overrides.contains("validation_threads")) validation_threads = paramInt(overrides, "validation_threads");
   }
   const OmplSeedScope ompl_seeds(settings.seed);
   log::EventEmitter emitter(sink);
@@ -329,7 +331,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
         }
         plan = std::move(schedule.plan);
         plan.planner = name();
-        const ValidationReport report = validatePlan(scene, plan);
+        const ValidationReport report = validatePlan(scene, plan, {.threads = validation_threads});
         if (report.valid()) break;
         const ValidationProblem& problem = report.problems.front();
         if (recheck < kMaxRechecksPerNode && isContact(problem)) {

@@ -56,6 +56,9 @@ struct DashParams {
   SchedulerParams scheduler;
   /// Metres every check of the planner keeps between parts not in contact by design (collision_world.h).
   double clearance = kDefaultPlanningClearance;
+  /// Threads of the validator run on each schedule (0: the hardware's); its report, hence the plan,
+  /// is the same for any number.
+  int validation_threads = 0;
 };
 
 class DashPlanner final : public Planner {

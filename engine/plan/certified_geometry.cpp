@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <tuple>
 
 #include "engine/collision/collision_context.h"
@@ -86,29 +87,48 @@ void checkGeometryCertified(const Plan& plan, const PlanMotion& motion, const Ti
   const Supports supports = findSupports(world, context, timeline);
 
   const std::size_t threads = workerCount(options.threads, stretches.size(), kMinStretchesPerThread);
+  // What one worker found, with where each of its stretches' findings end (its k-th stretch is
+  // stretches[w + k * threads]), so that the findings can be put back in stretch order.
   struct Found {
     std::vector<PairContact> contacts;
     std::vector<HandoverMismatch> handovers;
+    std::vector<std::size_t> contacts_end;
+    std::vector<std::size_t> handovers_end;
     PairMinima minima;
     std::size_t evaluations = 0;
   };
   std::vector<Found> found(threads);
   auto work = [&](std::size_t w) {
     StretchChecker checker(world, motion, timeline, supports, options);
+    Found& mine = found[w];
     // Interleaved, so that every thread gets its share of the busy parts of the plan.
     for (std::size_t i = w; i < stretches.size(); i += threads) {
-      checkHandovers(world, motion, timeline, options, stretches[i], found[w].handovers);
-      if (options.check_geometry) checker.check(stretches[i], found[w].contacts, found[w].minima);
+      checkHandovers(world, motion, timeline, options, stretches[i], mine.handovers);
+      if (options.check_geometry) checker.check(stretches[i], mine.contacts, mine.minima);
+      mine.contacts_end.push_back(mine.contacts.size());
+      mine.handovers_end.push_back(mine.handovers.size());
     }
-    found[w].evaluations = checker.evaluations();
+    mine.evaluations = checker.evaluations();
   };
   runWorkers(threads, work);
+  // The report must not depend on the number of threads (a planner feeds its first problem back): the
+  // findings go on in stretch order, exactly as one thread makes them; the minima and the count of
+  // distance evaluations do not depend on the order (mergeMinima keeps a total order; every stretch
+  // counts its own evaluations).
   std::vector<PairContact> contacts;
   std::vector<HandoverMismatch> handovers;
+  for (std::size_t i = 0; i < stretches.size(); ++i) {
+    const Found& part = found[i % threads];
+    const std::size_t k = i / threads;
+    const std::size_t c0 = k == 0 ? 0 : part.contacts_end[k - 1];
+    const std::size_t h0 = k == 0 ? 0 : part.handovers_end[k - 1];
+    contacts.insert(contacts.end(), part.contacts.begin() + static_cast<std::ptrdiff_t>(c0),
+                    part.contacts.begin() + static_cast<std::ptrdiff_t>(part.contacts_end[k]));
+    handovers.insert(handovers.end(), part.handovers.begin() + static_cast<std::ptrdiff_t>(h0),
+                     part.handovers.begin() + static_cast<std::ptrdiff_t>(part.handovers_end[k]));
+  }
   PairMinima minima;
-  for (Found& part : found) {
-    contacts.insert(contacts.end(), part.contacts.begin(), part.contacts.end());
-    handovers.insert(handovers.end(), part.handovers.begin(), part.handovers.end());
+  for (const Found& part : found) {
     mergeMinima(minima, part.minima);
     report.samples += part.evaluations;
   }

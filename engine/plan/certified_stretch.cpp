@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include "engine/collision/distance_queries.h"
 #include "engine/collision/segment_queries.h"
@@ -75,6 +76,12 @@ double nextOnGrid(double u, double step) {
   return next > u ? next : u + step;
 }
 
+/// One pair's minima in a total order (distance, then time, then a pair not in contact by design
+/// first): the one kept does not depend on the order stretches are checked in, nor on the threads.
+bool closer(const PairMinimum& x, const PairMinimum& y) {
+  return std::make_tuple(x.distance, x.t, x.contact_meant) < std::make_tuple(y.distance, y.t, y.contact_meant);
+}
+
 }  // namespace
 
 PairId pairId(const CollisionElement& a, const CollisionElement& b) {
@@ -84,7 +91,7 @@ PairId pairId(const CollisionElement& a, const CollisionElement& b) {
 void mergeMinima(PairMinima& into, const PairMinima& from) {
   for (const auto& [id, m] : from) {
     auto [it, inserted] = into.emplace(id, m);
-    if (!inserted && m.distance < it->second.distance) it->second = m;
+    if (!inserted && closer(m, it->second)) it->second = m;
   }
 }
 
@@ -382,7 +389,10 @@ void StretchChecker::advance(const Pair& pair, std::vector<PairContact>& contact
     bool exact = false;
     const double d = distance(pair, u, exact);
     const double t = stretch_.t0 + u * span;
-    if (exact && d < minimum.distance) minimum = {minimum.a, minimum.b, pair.contact_meant, d, t};
+    if (exact) {
+      const PairMinimum measured{minimum.a, minimum.b, pair.contact_meant, d, t};
+      if (closer(measured, minimum)) minimum = measured;
+    }
     const bool in_contact = d < c - kTouchTolerance;
     if (pending) {
       // Over [u_prev, u] the distance at s is at least d_prev - rate (s - u_prev) and d - rate (u - s).

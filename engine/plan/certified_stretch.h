@@ -44,7 +44,7 @@ struct PairMinimum {
 using PairId = std::tuple<int, int, int, int, int, int, int, int>;
 PairId pairId(const CollisionElement& a, const CollisionElement& b);
 using PairMinima = std::map<PairId, PairMinimum>;
-/// Keeps the smaller of each pair's minima.
+/// Keeps the smaller of each pair's minima (equal distances: the earlier), whatever the order of merging.
 void mergeMinima(PairMinima& into, const PairMinima& from);
 
 /// For each epoch and object held in it: the obstacles and objects it rests on where it is picked up

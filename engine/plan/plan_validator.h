@@ -144,7 +144,9 @@ struct ValidationOptions {
   double max_step = 0.01;  ///< m: sampled check: the most any body point moves between consecutive samples;
                            ///< certified check: handover attachment agreement is sampled this finely
   bool check_geometry = true;
-  int threads = 0;  ///< geometry sampling threads; 0 = the hardware's
+  /// Threads of the geometric check; 0 = the hardware's. The report (problems, their order, counts,
+  /// clearances) is the same for any number: planners feed its first problem back.
+  int threads = 0;
 };
 
 /// Checks `plan` against `scene`. Never throws for a bad plan: every violation is a problem.

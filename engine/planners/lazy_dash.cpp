@@ -111,6 +111,7 @@ void applyParameters(LazyDashParams& p, const ParamValues& v) {
   set("budget_growth", p.budget_growth);
   set("validator_rechecks", p.validator_rechecks);
   set("validation_feedbacks", p.validation_feedbacks);
+  set("validation_threads", p.validation_threads);
   set("motion_budget", p.motion_budget);
   if (v.contains("clearance")) p.clearance = paramReal(v, "clearance");
   applySchedulerParameters(p.scheduler, v);
@@ -269,7 +270,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
     ValidationReport report;
     {
       log::PhaseTimer timer(emitter, log::Phase::Validation);
-      report = validatePlan(scene, round.plan);
+      report = validatePlan(scene, round.plan, {.threads = params.validation_threads});
     }
     if (report.valid()) {
       round.kind = MotionRound::Kind::kSolved;

@@ -28,6 +28,9 @@ struct LazyDashParams {
   int max_transition_resamples = 2;
   /// Metres every check of the planner keeps between parts not in contact by design (collision_world.h).
   double clearance = kDefaultPlanningClearance;
+  /// Threads of the validator run on each schedule (0: the hardware's); its report, hence the plan,
+  /// is the same for any number.
+  int validation_threads = 0;
   bool budget_growth = true;     ///< roadmap budgets raised when a failure has no alternative
   int validator_rechecks = 3;    ///< per round: schedule again checking the validator's contact instant
   /// Per run: validator contacts fed back as task constraints; one more ends the run as a planner

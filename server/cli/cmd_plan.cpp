@@ -52,7 +52,7 @@ void printRunSummary(const PlanStats& stats) {
 extern const char* const kPlanHelp;
 const char* const kPlanHelp =
     "usage: dashbench plan --scene FILE [--planner lazy-dash|dash] [--seed S] [--time-limit SEC]\n"
-    "                      [--clearance M]\n"
+    "                      [--clearance M] [--threads N]\n"
     "                      [--out PLAN.json] [--task-only] [--json] [--quiet]\n"
     "                      [--set NAME=VALUE]... [--profile paper|default] [--params] [--progress-every SEC]\n"
     "Plan for a scene. Progress (phase, iteration, representation sizes, elapsed time; in conflict\n"
@@ -63,6 +63,8 @@ const char* const kPlanHelp =
     "  --seed S         the run's seed (roadmaps, samplers); default 1\n"
     "  --time-limit SEC default 600\n"
     "  --clearance M    metres every check keeps between parts not in contact by design (default 0.002)\n"
+    "  --threads N      threads of the plan validator the planner runs on each schedule (0: the\n"
+    "                   hardware's, default); the plan is the same for any number\n"
     "  --out FILE       write the dashbench.plan/1 file when solved\n"
     "  --task-only      stop after the task layer and print the unvalidated schedule\n"
     "  --json           with --task-only: print the schedule as JSON\n"
@@ -82,7 +84,7 @@ void onPlanInterrupt(int) { g_stop.store(true); }
 
 int runPlan(const std::vector<std::string>& words) {
   Args args(words, {.options = {"scene", "planner", "seed", "time-limit", "out", "test-fault", "profile", "clearance",
-                                "progress-every"},
+                                "threads", "progress-every"},
                     .flags = {"task-only", "json", "quiet", "verbose", "params"},
                     .repeated = {"set"}});
   if (args.has("params")) {
@@ -99,6 +101,7 @@ int runPlan(const std::vector<std::string>& words) {
     params[name] = value;
   }
   if (const auto clearance = args.get("clearance")) params["clearance"] = *clearance;  // = --set clearance=M
+  if (const auto threads = args.get("threads")) params["validation_threads"] = *threads;  // = --set validation_threads=N
   resolveParameters(planner_name, params);  // every name and value checked before the scene is read
   const double progress_every = args.number("progress-every", 0.5);
   DASH_THROW_UNLESS(progress_every >= 0.0, "--progress-every must be 0 or more");
