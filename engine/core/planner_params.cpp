@@ -67,8 +67,8 @@ std::vector<ParamInfo> lazyDashParameters() {
       {"motion_budget", ParamType::kInt, "3", "", 1, 1000,
        "motion rounds on one task plan (motion constraints, resampling) before its failure becomes a task constraint"},
       {"roadmap_query_samples", ParamType::kInt, "5000", "", 10, 10000000,
-       "Lazy-PRM samples one roadmap query may add"},
-      {"roadmap_max_vertices", ParamType::kInt, "100000", "", 1000, 100000000,
+       "Lazy-PRM samples one roadmap query may add (at most 1000 once a roadmap has 10000 vertices)"},
+      {"roadmap_max_vertices", ParamType::kInt, "30000", "", 1000, 100000000,
        "a Lazy-PRM roadmap this large stops growing: queries answer from what it has"},
   };
   for (ParamInfo& s : schedulerParameters()) p.push_back(std::move(s));

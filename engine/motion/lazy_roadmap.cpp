@@ -5,15 +5,16 @@
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/geometric/PathGeometric.h>
 #include <ompl/geometric/PathSimplifier.h>
-#include <ompl/geometric/planners/prm/LazyPRM.h>
 #include <ompl/geometric/planners/rrt/RRTConnect.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/segment_queries.h"
 #include "engine/core/stopwatch.h"
+#include "engine/motion/context_lazy_prm.h"
 #include "engine/motion/ompl_validity.h"
 #include "engine/motion/seeded_ompl.h"
 
@@ -26,15 +27,24 @@ namespace {
 constexpr double kSameState = 1e-6;  // radians (metres for the gantry), largest joint difference
 }  // namespace
 
-// Validity of states and straight motions for one robot in the current MotionContext.
+// Validity of states and straight motions for one robot: statically (with an empty hand, against what
+// never moves: the roadmap's own validity) and in the current MotionContext (everything).
 struct LazyRoadmap::Checker {
   const CollisionWorld* world;
   CollisionContext* context;
   int robot;
   int dof;
+  ObjectLayout none;
   MotionContext motion;
-  mutable double check_seconds = 0.0;  ///< spent in the two validity functions (lazy validation)
+  mutable double check_seconds = 0.0;  ///< spent in the validity functions (lazy validation)
 
+  bool staticStateValid(const JointVector& q) const {
+    return !robotInCollision(*world, *context, RobotState{robot, q, {}}, none, nullptr, CheckScope::kStaticOnly);
+  }
+  bool staticMotionValid(const JointVector& a, const JointVector& b) const {
+    return !segmentInCollision(*world, *context, RobotState{robot, a, {}}, b, none, nullptr,
+                               SegmentOptions{.scope = CheckScope::kStaticOnly});
+  }
   bool stateValid(const JointVector& q) const {
     const RobotState self{robot, q, motion.held};
     if (motion.parked.empty()) return !robotInCollision(*world, *context, self, motion.layout);
@@ -49,10 +59,18 @@ struct LazyRoadmap::Checker {
     for (const RobotState& p : motion.parked) motions.push_back({p, p.q});
     return !motionsInCollision(*world, *context, motions, motion.layout);
   }
+  /// `valid` timed into check_seconds.
+  template <class Check>
+  bool timed(Check&& valid) const {
+    const Stopwatch watch;
+    const bool ok = valid();
+    check_seconds += watch.seconds();
+    return ok;
+  }
 };
 
 std::size_t querySampleBudget(const RoadmapParams& params, std::size_t vertices) {
-  if (vertices >= params.max_vertices) return 1;  // the one sample Lazy-PRM draws before it searches
+  if (vertices >= params.max_vertices) return 0;
   if (vertices >= params.dense_vertices) return std::min(params.query_samples, params.dense_query_samples);
   return params.query_samples;
 }
@@ -61,25 +79,25 @@ LazyRoadmap::LazyRoadmap(const CollisionWorld& world, CollisionContext& context,
     : world_(&world), context_(&context), robot_(robot), params_(params) {
   const RobotModel& model = *world.scene().robots[robot].model;
   const int dof = model.dof();
-  checker_ = std::make_shared<Checker>(Checker{&world, &context, robot, dof, {}});
-  si_ = std::make_shared<ob::SpaceInformation>(jointSpace(model));
+  checker_ = std::make_shared<Checker>(Checker{&world, &context, robot, dof, ObjectLayout::empty(world.scene()), {}});
   const Checker* c = checker_.get();
+  const auto space = jointSpace(model);
+  static_si_ = std::make_shared<ob::SpaceInformation>(space);
   installValidity(
-      si_,
-      [c](const ob::State* s) {
-        const Stopwatch watch;
-        const bool valid = c->stateValid(jointsOf(s, c->dof));
-        c->check_seconds += watch.seconds();
-        return valid;
-      },
+      static_si_,
+      [c](const ob::State* s) { return c->timed([&] { return c->staticStateValid(jointsOf(s, c->dof)); }); },
       [c](const ob::State* a, const ob::State* b) {
-        const Stopwatch watch;
-        const bool valid = c->motionValid(jointsOf(a, c->dof), jointsOf(b, c->dof));
-        c->check_seconds += watch.seconds();
-        return valid;
+        return c->timed([&] { return c->staticMotionValid(jointsOf(a, c->dof), jointsOf(b, c->dof)); });
+      });
+  static_si_->setup();
+  si_ = std::make_shared<ob::SpaceInformation>(space);
+  installValidity(
+      si_, [c](const ob::State* s) { return c->timed([&] { return c->stateValid(jointsOf(s, c->dof)); }); },
+      [c](const ob::State* a, const ob::State* b) {
+        return c->timed([&] { return c->motionValid(jointsOf(a, c->dof), jointsOf(b, c->dof)); });
       });
   si_->setup();
-  planner_ = std::make_shared<og::LazyPRM>(si_, false);
+  planner_ = std::make_shared<ContextLazyPRM>(static_si_);
   const double range = model.kinematics == KinematicsKind::kUrDh ? params_.max_edge_length : 0.3;
   planner_->setRange(range);
   planner_->setMaxNearestNeighbors(params_.neighbours);
@@ -93,51 +111,26 @@ bool LazyRoadmap::prepare(const JointVector& q_start, const JointVector& q_goal,
     checker_->motion = motion;
     // Roadmap paths run between approach lines: a held object keeps the clearance on every face.
     checker_->motion.held = inTransit(motion.held);
-    planner_->clearValidity();
+    planner_->forgetContext();
     last_context_ = motion;
   }
-  // An invalid end is answered at once: given one, OMPL keeps resampling the goal (sleeping between
-  // tries) until the termination condition, which is the whole budget.
+  // An invalid end is answered at once: no path can start or end there.
   return checker_->stateValid(q_start) && checker_->stateValid(q_goal);
 }
 
-std::optional<std::vector<JointVector>> LazyRoadmap::solve(ob::Planner& planner, const JointVector& q_start,
-                                                           const JointVector& q_goal, std::size_t work,
-                                                           const Deadline& deadline) {
-  auto pdef = std::make_shared<ob::ProblemDefinition>(si_);
-  ob::ScopedState<> start(si_), goal(si_);
-  setJoints(q_start, start.get());
-  setJoints(q_goal, goal.get());
-  pdef->setStartAndGoalStates(start, goal);
-  planner.setProblemDefinition(pdef);
-  const double budget = std::min(params_.query_seconds, std::max(0.0, deadline.secondsLeft()));
-  // Lazy-PRM evaluates the condition once per sample it draws, RRT-Connect once per iteration.
-  std::size_t evaluations = 0;
-  const ob::PlannerTerminationCondition ptc(
-      [&, end = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget)] {
-        return ++evaluations > work || deadline.expired() || std::chrono::steady_clock::now() >= end;
-      });
-  // Phases (paper, "Planning Time"): the planner's own work (sampling, neighbours, graph search, the
-  // trees of global sampling) is roadmap construction and growth, booked as motion construction; its
-  // lazy collision checks stay with the phase that asked (motion query or conflict resolution).
-  const Stopwatch watch;
-  const double checks_before = checker_->check_seconds;
-  const ob::PlannerStatus status = planner.solve(ptc);
-  if (emitter_ != nullptr)
-    emitter_->rebook(log::Phase::MotionConstruction, watch.seconds() - (checker_->check_seconds - checks_before));
-  if (status != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
-  auto path = std::static_pointer_cast<og::PathGeometric>(pdef->getSolutionPath());
+std::vector<JointVector> LazyRoadmap::finish(og::PathGeometric& path, const JointVector& q_start,
+                                             const JointVector& q_goal) const {
   if (params_.simplify) {
     SeededPathSimplifier simplifier(si_);
-    simplifier.reduceVertices(*path);
-    simplifier.shortcutPath(*path);
+    simplifier.reduceVertices(path);
+    simplifier.shortcutPath(path);
   }
   // The end points are exactly the requested configurations (OMPL copies them). States closer than
   // kSameState to the one before are left out: RRT-Connect may join its trees at nearly the same state,
   // and a timed path cannot spend no time on a move.
   std::vector<JointVector> out{q_start};
-  for (std::size_t i = 1; i + 1 < path->getStateCount(); ++i) {
-    JointVector q = jointsOf(path->getState(i), checker_->dof);
+  for (std::size_t i = 1; i + 1 < path.getStateCount(); ++i) {
+    JointVector q = jointsOf(path.getState(i), checker_->dof);
     if ((q - out.back()).cwiseAbs().maxCoeff() >= kSameState) out.push_back(std::move(q));
   }
   if (out.size() > 1 && (q_goal - out.back()).cwiseAbs().maxCoeff() < kSameState) out.pop_back();
@@ -145,11 +138,37 @@ std::optional<std::vector<JointVector>> LazyRoadmap::solve(ob::Planner& planner,
   return out;
 }
 
+// Phases (paper, "Planning Time"): the planner's own work (sampling, neighbours, graph search, the
+// trees of global sampling) is roadmap construction and growth, booked as motion construction; its
+// lazy collision checks stay with the phase that asked (motion query or conflict resolution).
+void LazyRoadmap::bookConstruction(double seconds, double check_seconds_before) {
+  if (emitter_ != nullptr)
+    emitter_->rebook(log::Phase::MotionConstruction, seconds - (checker_->check_seconds - check_seconds_before));
+}
+
 std::optional<std::vector<JointVector>> LazyRoadmap::query(const JointVector& q_start, const JointVector& q_goal,
                                                            const MotionContext& motion, const Deadline& deadline) {
   if (!prepare(q_start, q_goal, motion)) return std::nullopt;
-  planner_->clearQuery();
-  return solve(*planner_, q_start, q_goal, querySampleBudget(params_, vertexCount()), deadline);
+  ob::ScopedState<> start(si_), goal(si_);
+  setJoints(q_start, start.get());
+  setJoints(q_goal, goal.get());
+  const double budget = std::min(params_.query_seconds, std::max(0.0, deadline.secondsLeft()));
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget);
+  const Checker* c = checker_.get();
+  const Stopwatch watch;
+  const double checks_before = checker_->check_seconds;
+  const auto states = planner_->solveInContext(
+      start.get(), goal.get(), querySampleBudget(params_, vertexCount()),
+      [&] { return deadline.expired() || std::chrono::steady_clock::now() >= end; },
+      [c](const ob::State* s) { return c->timed([&] { return c->stateValid(jointsOf(s, c->dof)); }); },
+      [c](const ob::State* a, const ob::State* b) {
+        return c->timed([&] { return c->motionValid(jointsOf(a, c->dof), jointsOf(b, c->dof)); });
+      });
+  bookConstruction(watch.seconds(), checks_before);
+  if (!states) return std::nullopt;
+  og::PathGeometric path(si_);
+  for (const ob::State* s : *states) path.append(s);
+  return finish(path, q_start, q_goal);
 }
 
 std::optional<std::vector<JointVector>> LazyRoadmap::queryTrees(const JointVector& q_start, const JointVector& q_goal,
@@ -158,7 +177,25 @@ std::optional<std::vector<JointVector>> LazyRoadmap::queryTrees(const JointVecto
   SeededRRTConnect trees(si_);
   trees.setRange(planner_->getRange());
   trees.setup();
-  return solve(trees, q_start, q_goal, params_.tree_iterations, deadline);
+  auto pdef = std::make_shared<ob::ProblemDefinition>(si_);
+  ob::ScopedState<> start(si_), goal(si_);
+  setJoints(q_start, start.get());
+  setJoints(q_goal, goal.get());
+  pdef->setStartAndGoalStates(start, goal);
+  trees.setProblemDefinition(pdef);
+  const double budget = std::min(params_.query_seconds, std::max(0.0, deadline.secondsLeft()));
+  // RRT-Connect evaluates the condition once per iteration: its work budget.
+  std::size_t iterations = 0;
+  const ob::PlannerTerminationCondition ptc(
+      [&, end = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget)] {
+        return ++iterations > params_.tree_iterations || deadline.expired() || std::chrono::steady_clock::now() >= end;
+      });
+  const Stopwatch watch;
+  const double checks_before = checker_->check_seconds;
+  const ob::PlannerStatus status = trees.solve(ptc);
+  bookConstruction(watch.seconds(), checks_before);
+  if (status != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
+  return finish(*std::static_pointer_cast<og::PathGeometric>(pdef->getSolutionPath()), q_start, q_goal);
 }
 
 void LazyRoadmap::scaleBudget(double factor) {

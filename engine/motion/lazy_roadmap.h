@@ -1,10 +1,10 @@
 #pragma once
 // An edge-unvalidated roadmap for one robot (OMPL's Lazy-PRM, Bohlin & Kavraki 2000), reused across
 // the queries of a run. Lazy-PRM checks vertices and edges only on the paths it returns and caches the
-// result. Validity here depends on the motion context (held object, resting objects), so when the
-// context changes the cached flags are cleared (clearValidity) while the roadmap itself is kept.
-// Departure from a context-free Lazy-PRM: vertices or edges found invalid in one context are removed by
-// OMPL for good; the roadmap keeps sampling, so it regrows where they were.
+// result. Validity here has two parts (context_lazy_prm.h): static (the robot with an empty hand against
+// what never moves), cached for good, what fails it removed as Lazy-PRM does; and the motion context
+// (held object, resting objects, robots standing still), cached until the context changes, what fails
+// it only skipped: the roadmap keeps every vertex and edge a later context may use.
 #include <memory>
 #include <optional>
 #include <vector>
@@ -15,7 +15,7 @@
 #include "engine/motion/motion_context.h"
 
 namespace ompl::geometric {
-class LazyPRM;
+class PathGeometric;
 }
 namespace ompl::base {
 class Planner;
@@ -24,23 +24,28 @@ class SpaceInformation;
 
 namespace dash {
 
+class ContextLazyPRM;
+
 struct RoadmapParams {
   double max_edge_length = 1.5;         ///< radians (joint space) or metres (gantry), OMPL setRange
   unsigned int neighbours = 10;         ///< k nearest neighbours
-  /// Work budget of one query: samples (Lazy-PRM adds one milestone per iteration). Work, not time,
+  /// Work budget of one query: samples (milestones added to the roadmap). Work, not time,
   /// so that a run does the same on a loaded machine as on an idle one (same seed, same plan).
   std::size_t query_samples = 5000;
   double query_seconds = 10.0;          ///< a ceiling per query on top of the work budget
-  /// A roadmap this dense answers from what it has, growing by at most `dense_query_samples` per
-  /// query: queries that still fail there ask for a narrow passage that more samples rarely find, and
-  /// every sample makes the next query slower (thousands of replans in conflict resolution).
-  std::size_t dense_vertices = 50000;
+  /// A roadmap this dense grows by at most `dense_query_samples` per query. A joint-space roadmap
+  /// needs some thousands of samples to connect at all, but most queries that fail on a dense one
+  /// (conflict resolution asks around robots standing in the way) fail whatever the budget, and every
+  /// sample they add makes each later search slower: shelf-wall 4/32 seed 1 spent 194 of 213 s of
+  /// roadmap queries in 156 failing ones (5000 samples up to 50k vertices, 600k vertices in all), and
+  /// solved in 165 s instead of 477 s with 1000 samples and a 30k cap.
+  std::size_t dense_vertices = 10000;
   std::size_t dense_query_samples = 1000;
-  /// A roadmap this large stops growing: a query draws the one sample OMPL's Lazy-PRM needs before it
-  /// searches, and answers from the roadmap. Past the dense size every sample of a failing query costs
-  /// a search of the whole roadmap, so growth without a bound makes each failure slower than the last
-  /// (stocking 3/18: 486k vertices after ~440 failing queries of one conflict-resolution round).
-  std::size_t max_vertices = 100000;
+  /// A roadmap this large stops growing: a query answers from what the roadmap has. Every search of a
+  /// failing query covers what it reaches of the roadmap, so growth without a bound makes each
+  /// failure slower than the last (stocking 3/18: 486k vertices after ~440 failing queries of one
+  /// conflict-resolution round).
+  std::size_t max_vertices = 30000;
   bool simplify = true;                 ///< shortcut the found path
   /// Work budget of one global-sampling query (queryTrees): RRT-Connect iterations.
   std::size_t tree_iterations = 20000;
@@ -83,18 +88,19 @@ class LazyRoadmap {
  private:
   /// Sets the validity context; false if an end is invalid (answered at once, see query()).
   bool prepare(const JointVector& q_start, const JointVector& q_goal, const MotionContext& motion);
-  /// Runs `planner` from q_start to q_goal for at most `work` condition evaluations (and the time
-  /// ceiling), then simplifies the path.
-  std::optional<std::vector<JointVector>> solve(ompl::base::Planner& planner, const JointVector& q_start,
-                                                const JointVector& q_goal, std::size_t work, const Deadline& deadline);
+  /// A found path, simplified (in the context) and with exactly the requested ends.
+  std::vector<JointVector> finish(ompl::geometric::PathGeometric& path, const JointVector& q_start,
+                                  const JointVector& q_goal) const;
+  void bookConstruction(double seconds, double check_seconds_before);
 
   const CollisionWorld* world_;
   CollisionContext* context_;
   int robot_;
   RoadmapParams params_;
   std::shared_ptr<Checker> checker_;
-  std::shared_ptr<ompl::base::SpaceInformation> si_;
-  std::shared_ptr<ompl::geometric::LazyPRM> planner_;
+  std::shared_ptr<ompl::base::SpaceInformation> static_si_;  ///< the roadmap's own (static) validity
+  std::shared_ptr<ompl::base::SpaceInformation> si_;         ///< validity in the context: trees, simplifier
+  std::shared_ptr<ContextLazyPRM> planner_;
   std::optional<MotionContext> last_context_;
   log::EventEmitter* emitter_ = nullptr;
 };

@@ -62,19 +62,16 @@ TEST_F(OneArm, RoadmapQueryFindsAValidPath) {
 }
 
 TEST(RoadmapBudget, GrowthSlowsWhenDenseAndStopsAtTheMaximum) {
-  RoadmapParams params;
-  params.query_samples = 5000;
-  params.dense_vertices = 50000;
-  params.dense_query_samples = 1000;
-  params.max_vertices = 100000;
+  const RoadmapParams params;  // the defaults
   EXPECT_EQ(querySampleBudget(params, 0), 5000u);
-  EXPECT_EQ(querySampleBudget(params, 49999), 5000u);
-  EXPECT_EQ(querySampleBudget(params, 50000), 1000u);
-  EXPECT_EQ(querySampleBudget(params, 99999), 1000u);
-  EXPECT_EQ(querySampleBudget(params, 100000), 1u);
-  EXPECT_EQ(querySampleBudget(params, 486000), 1u);
-  params.query_samples = 10;  // a smaller query budget is never raised
-  EXPECT_EQ(querySampleBudget(params, 60000), 10u);
+  EXPECT_EQ(querySampleBudget(params, 9999), 5000u);
+  EXPECT_EQ(querySampleBudget(params, 10000), 1000u);
+  EXPECT_EQ(querySampleBudget(params, 29999), 1000u);
+  EXPECT_EQ(querySampleBudget(params, 30000), 0u);
+  EXPECT_EQ(querySampleBudget(params, 486000), 0u);
+  RoadmapParams small;
+  small.query_samples = 10;  // a smaller query budget is never raised
+  EXPECT_EQ(querySampleBudget(small, 20000), 10u);
 }
 
 TEST_F(OneArm, ARoadmapAtItsMaximumStopsGrowingAndAnswersFromWhatItHas) {
@@ -89,8 +86,8 @@ TEST_F(OneArm, ARoadmapAtItsMaximumStopsGrowingAndAnswersFromWhatItHas) {
     ASSERT_TRUE(path.has_value()) << "query " << i;
     expectValidPath(*path, turned(), home());
   }
-  // Each query adds at most its two ends and the one sample drawn before the search.
-  EXPECT_LE(roadmap.vertexCount(), grown + 5 * 3);
+  // A query adds at most its two ends and draws no sample.
+  EXPECT_LE(roadmap.vertexCount(), grown + 5 * 2);
 }
 
 }  // namespace
