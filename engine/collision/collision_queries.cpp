@@ -150,8 +150,13 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
       // Every other resting object keeps the clearance from it.
       const BodyGeometry& body = rg.bodies[at(b)];
       const ObjectGeometry& object = world.object(j);
+      // A hand that holds an object grasps no resting one: its gripper keeps the clearance from all of
+      // them (placing next to a neighbour, the TCP may be nearer the neighbour than anything else).
       if (body.is_gripper && grasped == kUnknown) {
-        grasped = graspedObject(world, s.object_pose, s.resting_list, posed.frames[at(b)] * body.X_FT.translation());
+        grasped = posed.held_object >= 0
+                      ? -1
+                      : graspedObject(world, s.object_pose, s.resting_list,
+                                      posed.frames[at(b)] * body.X_FT.translation());
       }
       const bool contact = body.is_gripper && j == grasped;
       if (shapesCollide(context, contact ? *body.shape : *body.shape_vs_static, bodyPose(world, posed, r, b),

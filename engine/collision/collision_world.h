@@ -48,8 +48,9 @@ namespace dash {
 using Aabb = Eigen::AlignedBox3d;
 
 inline constexpr double kObjectContactTolerance = 1e-3;
-/// Planners: a gripper body may touch the resting object nearest its TCP, if the TCP is within this of
-/// its box (a gripper on its approach line, at a grasp or just after a release); no other one.
+/// Planners: a gripper body of an empty hand may touch the resting object nearest its TCP, if the TCP is
+/// within this of its box (a gripper on its approach line, at a grasp or just after a release); no other
+/// one, and none while the hand holds an object.
 inline constexpr double kGraspReach = 0.02;
 
 /// The planners' default clearance (LazyDashParams, DashParams): a few millimetres, so that what they

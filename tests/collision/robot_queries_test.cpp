@@ -198,6 +198,24 @@ TEST(RobotQueries, GripperTouchesOnlyTheObjectItGrasps) {
       << describe(report, far.scene);
 }
 
+TEST(RobotQueries, AHandThatHoldsAnObjectGraspsNoRestingOne) {
+  // The fingers 0.25 mm from the 49.5 mm target, as above, but the hand holds the neighbour (where it
+  // rests, 1 cm beyond the target): the target is not being grasped and must keep the 2 mm clearance
+  // (a place next to a resting object; the validator allows contact only with the object held).
+  NeighbourSetup setup(0.0495, 0.01);
+  ASSERT_EQ(setup.state.q.size(), 6);
+  const Pose X_WT = test::toolDown(Vec3(0.5, 0.0, 0.2));
+  RobotState holding = setup.state;
+  holding.held = {.object = 1, .X_TO = X_WT.inverse() * setup.scene.objects[1].X_WO_start};
+  CollisionReport report;
+  ASSERT_TRUE(robotInCollision(*setup.world, *setup.context, holding, ObjectLayout::atStart(setup.scene), &report));
+  EXPECT_EQ(report.b, CollisionElement::object(0));
+  EXPECT_TRUE(setup.scene.robots[0].model->bodies[static_cast<std::size_t>(report.a.body)].is_gripper);
+  // Empty-handed, the same configuration grasps the target: contact is meant.
+  EXPECT_FALSE(robotInCollision(*setup.world, *setup.context, setup.state, ObjectLayout::atStart(setup.scene), &report))
+      << describe(report, setup.scene);
+}
+
 TEST(RobotQueries, HeldCubeAgainstAWall) {
   HeldCubeSetup setup(0.04, true);
   ASSERT_EQ(setup.state.q.size(), 6);
