@@ -16,6 +16,7 @@
 #include "engine/collision/segment_queries.h"
 #include "engine/motion/ompl_validity.h"
 #include "engine/motion/seeded_ompl.h"
+#include "engine/motion/static_robot_validity.h"
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
@@ -58,22 +59,6 @@ struct ValidatedRoadmap::Space {
   }
 };
 
-// Static validity with an empty hand: what og::PRM builds the shared roadmap with.
-struct ValidatedRoadmap::Checker {
-  const CollisionWorld* world;
-  CollisionContext* context;
-  int robot;
-  int dof;
-  ObjectLayout none;
-
-  bool stateValid(const JointVector& q) const {
-    return !robotInCollision(*world, *context, RobotState{robot, q, {}}, none, nullptr, CheckScope::kStaticOnly);
-  }
-  bool motionValid(const JointVector& a, const JointVector& b) const {
-    return !segmentInCollision(*world, *context, RobotState{robot, a, {}}, b, none, nullptr,
-                               SegmentOptions{.scope = CheckScope::kStaticOnly});
-  }
-};
 
 
 ValidatedRoadmap::ValidatedRoadmap(const CollisionWorld& world, CollisionContext& context, int robot,
@@ -81,12 +66,14 @@ ValidatedRoadmap::ValidatedRoadmap(const CollisionWorld& world, CollisionContext
     : world_(&world), context_(&context), robot_(robot), params_(params) {
   const RobotModel& model = *world.scene().robots[robot].model;
   dof_ = model.dof();
-  checker_ = std::make_shared<Checker>(Checker{&world, &context, robot, dof_, ObjectLayout::empty(world.scene())});
+  // og::PRM builds the shared roadmap with an empty hand against what never moves.
+  statically_ = std::make_shared<StaticRobotValidity>(world, context, robot);
   si_ = std::make_shared<ob::SpaceInformation>(jointSpace(model));
-  const Checker* c = checker_.get();
+  const StaticRobotValidity* v = statically_.get();
+  const int dof = dof_;
   installValidity(
-      si_, [c](const ob::State* s) { return c->stateValid(jointsOf(s, c->dof)); },
-      [c](const ob::State* a, const ob::State* b) { return c->motionValid(jointsOf(a, c->dof), jointsOf(b, c->dof)); });
+      si_, [v, dof](const ob::State* s) { return v->stateValid(jointsOf(s, dof)); },
+      [v, dof](const ob::State* a, const ob::State* b) { return v->motionValid(jointsOf(a, dof), jointsOf(b, dof)); });
   si_->setup();
   prm_ = std::make_shared<SeededPRM>(si_, false);
   prm_->setMaxNearestNeighbors(params_.neighbours);
@@ -109,13 +96,11 @@ void ValidatedRoadmap::growTo(std::size_t milestones, const Deadline& deadline) 
 }
 
 bool ValidatedRoadmap::stateFree(const Space& space, const JointVector& q) {
-  return !robotInCollision(*world_, *context_, RobotState{robot_, q, space.held}, checker_->none, nullptr,
-                           CheckScope::kStaticOnly);
+  return statically_->stateValid(q, space.held);
 }
 
 bool ValidatedRoadmap::segmentFree(const Space& space, const JointVector& a, const JointVector& b) {
-  return !segmentInCollision(*world_, *context_, RobotState{robot_, a, space.held}, b, checker_->none, nullptr,
-                             SegmentOptions{.scope = CheckScope::kStaticOnly});
+  return statically_->motionValid(a, b, space.held);
 }
 
 // Brings the og::PRM milestones and edges added since the last call into `space`. With an empty hand

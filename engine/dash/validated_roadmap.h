@@ -34,6 +34,8 @@ class SpaceInformation;
 
 namespace dash {
 
+class StaticRobotValidity;
+
 struct ValidatedRoadmapParams {
   unsigned int neighbours = 10;         ///< og::PRM k nearest
   unsigned int anchor_neighbours = 12;  ///< vertices an anchor tries to connect to
@@ -81,8 +83,6 @@ class ValidatedRoadmap {
   std::size_t edgeCount() const;
   std::size_t spaceCount() const { return spaces_.size(); }
 
-  struct Checker;  ///< static validity with an empty hand, for og::PRM (defined in the .cpp)
-
  private:
   struct Space;
   void sync(Space& space);
@@ -95,7 +95,7 @@ class ValidatedRoadmap {
   int robot_;
   int dof_;
   ValidatedRoadmapParams params_;
-  std::shared_ptr<Checker> checker_;
+  std::shared_ptr<StaticRobotValidity> statically_;  ///< og::PRM's validity, and each space's with its held geometry
   std::shared_ptr<ompl::base::SpaceInformation> si_;
   std::shared_ptr<ompl::geometric::PRM> prm_;
   std::vector<std::unique_ptr<Space>> spaces_;

@@ -181,7 +181,6 @@ std::optional<std::vector<const ob::State*>> ContextLazyPRM::solveInContext(cons
       addNumberedMilestone(si_->cloneState(work));
     }
     drawn += batch;
-    ++iterations_;
   }
   si_->freeState(work);
   return found;

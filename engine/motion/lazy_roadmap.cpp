@@ -17,6 +17,7 @@
 #include "engine/motion/context_lazy_prm.h"
 #include "engine/motion/ompl_validity.h"
 #include "engine/motion/seeded_ompl.h"
+#include "engine/motion/static_robot_validity.h"
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
@@ -34,17 +35,10 @@ struct LazyRoadmap::Checker {
   CollisionContext* context;
   int robot;
   int dof;
-  ObjectLayout none;
+  StaticRobotValidity statically;
   MotionContext motion;
   mutable double check_seconds = 0.0;  ///< spent in the validity functions (lazy validation)
 
-  bool staticStateValid(const JointVector& q) const {
-    return !robotInCollision(*world, *context, RobotState{robot, q, {}}, none, nullptr, CheckScope::kStaticOnly);
-  }
-  bool staticMotionValid(const JointVector& a, const JointVector& b) const {
-    return !segmentInCollision(*world, *context, RobotState{robot, a, {}}, b, none, nullptr,
-                               SegmentOptions{.scope = CheckScope::kStaticOnly});
-  }
   bool stateValid(const JointVector& q) const {
     const RobotState self{robot, q, motion.held};
     if (motion.parked.empty()) return !robotInCollision(*world, *context, self, motion.layout);
@@ -79,15 +73,15 @@ LazyRoadmap::LazyRoadmap(const CollisionWorld& world, CollisionContext& context,
     : world_(&world), context_(&context), robot_(robot), params_(params) {
   const RobotModel& model = *world.scene().robots[robot].model;
   const int dof = model.dof();
-  checker_ = std::make_shared<Checker>(Checker{&world, &context, robot, dof, ObjectLayout::empty(world.scene()), {}});
+  checker_ = std::make_shared<Checker>(Checker{&world, &context, robot, dof, {world, context, robot}, {}});
   const Checker* c = checker_.get();
   const auto space = jointSpace(model);
   static_si_ = std::make_shared<ob::SpaceInformation>(space);
   installValidity(
       static_si_,
-      [c](const ob::State* s) { return c->timed([&] { return c->staticStateValid(jointsOf(s, c->dof)); }); },
+      [c](const ob::State* s) { return c->timed([&] { return c->statically.stateValid(jointsOf(s, c->dof)); }); },
       [c](const ob::State* a, const ob::State* b) {
-        return c->timed([&] { return c->staticMotionValid(jointsOf(a, c->dof), jointsOf(b, c->dof)); });
+        return c->timed([&] { return c->statically.motionValid(jointsOf(a, c->dof), jointsOf(b, c->dof)); });
       });
   static_si_->setup();
   si_ = std::make_shared<ob::SpaceInformation>(space);

@@ -125,6 +125,22 @@ inline Scene twoGantriesScene() {
   return parseScene(text, library(), "two-gantries");
 }
 
+/// A gantry's grasp of a cube's top: the cube's top face at the TCP.
+inline Pose cubeTopGrasp() { return makePose(Vec3(0.0, 0.0, 0.02), Quat(0.0, 1.0, 0.0, 0.0)); }
+
+/// twoGantriesScene's gantry_0 from home over cube_0, grasping it at t=4, lifting it and putting it back
+/// (release at t=6): its trajectory so far, the two events added to `plan`.
+inline RobotTrajectory liftAndPutBackCube0(const Scene& scene, Plan& plan) {
+  RobotTrajectory a{"gantry_0", scene.robots[0].model->joint_names, {point(0.0, scene.robots[0].home)}};
+  a.points.push_back(point(1.0, joints({0.3, 0.2, 0.0})));
+  a.points.push_back(point(4.0, joints({0.3, 0.2, 0.26})));  // TCP z = 0.4 - q_z: cube_0's top
+  plan.events.push_back({PlanEvent::Type::kGrasp, 4.0, "gantry_0", "cube_0", cubeTopGrasp(), -1});
+  a.points.push_back(point(5.0, joints({0.3, 0.2, 0.2})));
+  a.points.push_back(point(6.0, joints({0.3, 0.2, 0.26})));
+  plan.events.push_back({PlanEvent::Type::kRelease, 6.0, "gantry_0", "cube_0", Pose::Identity(), -1});
+  return a;
+}
+
 /// gantry_0 lifts cube_0 and puts it back (release at t=6), then presses its tool `press` deep into the
 /// cube's top from t=7 to t=10 before it rises; meanwhile gantry_1 grasps cube_1 at t=7.5 and releases it
 /// at t=8.5, so gantry_0's press spans epochs that neither follow nor precede its own release directly.
@@ -132,15 +148,9 @@ inline Plan pressAfterReleasePlan(const Scene& scene, double press) {
   Plan plan;
   plan.scene = scene.name;
   plan.planner = "test";
-  const Pose X_TO = makePose(Vec3(0.0, 0.0, 0.02), Quat(0.0, 1.0, 0.0, 0.0));  // cube top at the TCP
+  const Pose X_TO = cubeTopGrasp();
   const auto& names = scene.robots[0].model->joint_names;
-  RobotTrajectory a{"gantry_0", names, {point(0.0, scene.robots[0].home)}};
-  a.points.push_back(point(1.0, joints({0.3, 0.2, 0.0})));
-  a.points.push_back(point(4.0, joints({0.3, 0.2, 0.26})));  // TCP z = 0.4 - q_z: cube_0's top
-  plan.events.push_back({PlanEvent::Type::kGrasp, 4.0, "gantry_0", "cube_0", X_TO, -1});
-  a.points.push_back(point(5.0, joints({0.3, 0.2, 0.2})));
-  a.points.push_back(point(6.0, joints({0.3, 0.2, 0.26})));
-  plan.events.push_back({PlanEvent::Type::kRelease, 6.0, "gantry_0", "cube_0", Pose::Identity(), -1});
+  RobotTrajectory a = liftAndPutBackCube0(scene, plan);
   a.points.push_back(point(7.0, joints({0.3, 0.2, 0.26 + press})));
   a.points.push_back(point(10.0, joints({0.3, 0.2, 0.26 + press})));
   a.points.push_back(point(13.0, joints({0.3, 0.2, 0.0})));

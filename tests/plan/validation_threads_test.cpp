@@ -57,15 +57,8 @@ Plan busyPlan(const Scene& scene) {
   Plan plan;
   plan.scene = scene.name;
   plan.planner = "test";
-  const Pose X_TO = makePose(Vec3(0.0, 0.0, 0.02), Quat(0.0, 1.0, 0.0, 0.0));  // cube top at the TCP
   const auto& names = scene.robots[0].model->joint_names;
-  RobotTrajectory a{"gantry_0", names, {point(0.0, scene.robots[0].home)}};
-  a.points.push_back(point(1.0, joints({0.3, 0.2, 0.0})));
-  a.points.push_back(point(4.0, joints({0.3, 0.2, 0.26})));  // TCP z = 0.4 - q_z: cube_0's top
-  plan.events.push_back({PlanEvent::Type::kGrasp, 4.0, "gantry_0", "cube_0", X_TO, -1});
-  a.points.push_back(point(5.0, joints({0.3, 0.2, 0.2})));
-  a.points.push_back(point(6.0, joints({0.3, 0.2, 0.26})));
-  plan.events.push_back({PlanEvent::Type::kRelease, 6.0, "gantry_0", "cube_0", Pose::Identity(), -1});
+  RobotTrajectory a = test::liftAndPutBackCube0(scene, plan);
   a.points.push_back(point(8.0, joints({0.3, 0.2, 0.0})));
   a.points.push_back(point(10.0, joints({0.65, 0.2, 0.0})));  // into gantry_1 parked at world x 0.7
   a.points.push_back(point(11.0, joints({0.65, 0.2, 0.0})));
