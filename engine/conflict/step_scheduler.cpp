@@ -330,8 +330,9 @@ std::string StepScheduler::lastConflictText() const {
 }
 
 std::optional<std::string> StepScheduler::place() {
-  double T = earliest();
-  const double give_up = T + b_.params.max_delay;
+  const double start = earliest();
+  double T = start;
+  double give_up = T + b_.params.max_delay;
   while (T <= give_up) {
     std::optional<ScheduleConflict> round_conflict;
     for (int m = 0; m < kArrivalModeCount;) {
@@ -367,11 +368,17 @@ std::optional<std::string> StepScheduler::place() {
     if (round_conflict) {
       last_conflict_ = round_conflict;
       ++b_.stats.delays;
+      // Waiting for a robot that is still busy (moving, or waiting in its own schedule for a later
+      // step) does not count against max_delay: once its schedule has ended it stands still, and the
+      // repairs for a robot standing in the way (move around it, send it home, plan together) apply.
+      const int other = round_conflict->other;
+      if (other >= 0 && b_.state.timelines[other].end() > T)
+        give_up = std::max(give_up, b_.state.timelines[other].end() + b_.params.max_delay);
     }
     T += b_.params.delay_step;  // retiming: every mode was in conflict (or none fitted yet)
   }
   return "could not schedule step " + std::to_string(k_) + " (" + describeStep(plan_.steps[k_], space_) + ") within " +
-         std::to_string(static_cast<int>(b_.params.max_delay)) + " s of delay; last conflict: " + lastConflictText();
+         std::to_string(static_cast<int>(give_up - start)) + " s of delay; last conflict: " + lastConflictText();
 }
 
 bool StepScheduler::finish(std::string& why) {

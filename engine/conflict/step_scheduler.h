@@ -5,7 +5,7 @@
 // A step is placed at the earliest transition time T its dependencies and its robots allow. At each T
 // every arrival mode is tried in turn; a conflict is repaired (the repair ladder below) and the same
 // mode tried again, else the next mode; when no mode is free of conflicts T moves on by delay_step
-// (retiming), up to max_delay.
+// (retiming), up to max_delay after the last busy robot in the way has finished its schedule.
 //
 // Repair ladder, first that applies:
 //   1. the partner of a handover in the way: replan the transits of this arrival mode around it;
