@@ -267,6 +267,7 @@ bool checkStates(const CollisionWorld& world, CollisionContext& context, std::sp
     poseRobot(world, context, state.robot, state.q, state.held);
   }
   for (const RobotState& state : states) {
+    if (scope == CheckScope::kRobotsOnly) break;
     if (checkPosedRobot(world, context, state.robot, fullCandidates(world, context, state.robot, scope), report)) {
       return true;
     }

@@ -37,6 +37,7 @@ enum class CheckScope {
   kAll,          ///< static + objects
   kStaticOnly,   ///< self pairs, obstacles, held object vs obstacles and the robot's own bodies
   kObjectsOnly,  ///< robot bodies and held object vs resting objects
+  kRobotsOnly,   ///< robot against robot only: each pair's bodies and held objects (several robots)
 };
 
 }  // namespace dash

@@ -292,6 +292,7 @@ bool motionsInCollision(const CollisionWorld& world, CollisionContext& context, 
       for (std::size_t k = i + 1; k < whole.size() && apart; ++k) apart = !whole[i].intersects(whole[k]);
     }
   }
+  if (apart && options.scope == CheckScope::kRobotsOnly) return false;
   if (apart) {
     SegmentOptions alone = options;
     alone.check_endpoints = false;

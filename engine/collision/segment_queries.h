@@ -60,7 +60,8 @@ struct RobotMotion {
 
 /// Several robots moving over the same time interval, each interpolated linearly from start to end
 /// (all at the same fraction at any instant). Robots whose swept boxes meet no other robot's are
-/// checked alone; otherwise all are checked together at the finest step count of any robot.
+/// checked alone (not at all with CheckScope::kRobotsOnly: they cannot meet); otherwise all are
+/// checked together at the finest step count of any robot.
 bool motionsInCollision(const CollisionWorld& world, CollisionContext& context, std::span<const RobotMotion> motions,
                         const ObjectLayout& layout, CollisionReport* report = nullptr,
                         const SegmentOptions& options = {});

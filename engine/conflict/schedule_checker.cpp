@@ -31,41 +31,66 @@ ScheduleChecker::ScheduleChecker(const CollisionWorld& world, CollisionContext& 
     }
 }
 
-std::optional<ScheduleConflict> ScheduleChecker::check(const RobotTimeline& timeline, double from, double until,
-                                                       const std::vector<RobotTimeline>& others,
-                                                       const ObjectTimeline& objects) {
-  const int r = timeline.robot();
-  if (until == kForever) until = std::max({horizonOf(others), timeline.end(), from});
-  std::vector<double> cuts{from, until};
+void ScheduleChecker::cutsOf(const RobotTimeline& timeline, const RobotTimeline* other, const ObjectTimeline* objects,
+                             double from, double until, std::vector<double>& cuts) const {
+  cuts.assign({from, until});
   timeline.breakpoints(from, until, cuts);
-  objects.breakpoints(from, until, cuts);
-  for (const RobotTimeline& o : others)
-    if (o.robot() != r && mayInteract(r, o.robot())) o.breakpoints(from, until, cuts);
+  if (other) other->breakpoints(from, until, cuts);
+  if (objects) objects->breakpoints(from, until, cuts);
   for (auto it = std::upper_bound(extra_cuts_.begin(), extra_cuts_.end(), from); it != extra_cuts_.end() && *it < until; ++it)
     cuts.push_back(*it);
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end(), [](double a, double b) { return b - a < 1e-9; }), cuts.end());
   if (cuts.size() == 1) cuts.push_back(cuts.front());  // a single instant
+}
 
-  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
-    const double u = cuts[i], v = cuts[i + 1], mid = 0.5 * (u + v);
+// Each kind of pair is cut only where one of its own two parts changes: the robot against the resting
+// objects where the robot's timeline or the object layout has a breakpoint, the robot against another
+// robot where either timeline has one. Inside such a piece both move linearly (or stand), so one
+// segment check covers it; cutting it also at unrelated robots' breakpoints would only repeat the same
+// motion in smaller pieces. Pieces are checked in the order of their start times over all pairs (at
+// equal times the objects first, then the robots in index order), so the first conflict found is the
+// earliest and the check stops there.
+std::optional<ScheduleConflict> ScheduleChecker::check(const RobotTimeline& timeline, double from, double until,
+                                                       const std::vector<RobotTimeline>& others,
+                                                       const ObjectTimeline& objects) {
+  const int r = timeline.robot();
+  if (until == kForever) until = std::max({horizonOf(others), timeline.end(), from});
+  // One sequence of pieces per pair: index 0 the resting objects, then each robot that may interact.
+  pairs_.clear();
+  pairs_.push_back({nullptr, {}, 0});
+  cutsOf(timeline, nullptr, &objects, from, until, pairs_.back().cuts);
+  for (const RobotTimeline& o : others) {
+    if (o.robot() == r || !mayInteract(r, o.robot())) continue;
+    pairs_.push_back({&o, {}, 0});
+    cutsOf(timeline, &o, nullptr, from, until, pairs_.back().cuts);
+  }
+  const ObjectLayout none = ObjectLayout::empty(world_->scene());
+  for (;;) {
+    PairPieces* next = nullptr;
+    for (PairPieces& p : pairs_)
+      if (p.next + 1 < p.cuts.size() && (!next || p.cuts[p.next] < next->cuts[next->next] - 1e-12)) next = &p;
+    if (!next) return std::nullopt;
+    const double u = next->cuts[next->next], v = next->cuts[next->next + 1], mid = 0.5 * (u + v);
+    ++next->next;
     const RobotState self{r, timeline.at(u), timeline.heldAt(mid)};
     const JointVector self_end = timeline.at(v);
-    const ObjectLayout layout = objects.layoutAt(mid);
-    CollisionReport report;
-    if (segmentInCollision(*world_, *context_, self, self_end, layout, &report, {CheckScope::kObjectsOnly})) {
-      const int j = report.b.kind == CollisionElement::Kind::kObject ? report.b.index : -1;
-      return ScheduleConflict{u, -1, j, r};
+    if (!next->other) {
+      CollisionReport report;
+      if (segmentInCollision(*world_, *context_, self, self_end, objects.layoutAt(mid), &report,
+                             {CheckScope::kObjectsOnly})) {
+        const int j = report.b.kind == CollisionElement::Kind::kObject ? report.b.index : -1;
+        return ScheduleConflict{u, -1, j, r};
+      }
+      continue;
     }
-    const ObjectLayout none = ObjectLayout::empty(world_->scene());
-    for (const RobotTimeline& o : others) {
-      if (o.robot() == r || !mayInteract(r, o.robot())) continue;
-      const RobotMotion motions[2] = {{self, self_end}, {{o.robot(), o.at(u), o.heldAt(mid)}, o.at(v)}};
-      if (motionsInCollision(*world_, *context_, motions, none, nullptr, {CheckScope::kStaticOnly}))
-        return ScheduleConflict{u, o.robot(), -1, r};
-    }
+    const RobotTimeline& o = *next->other;
+    const RobotMotion motions[2] = {{self, self_end}, {{o.robot(), o.at(u), o.heldAt(mid)}, o.at(v)}};
+    // Robot against robot only: each robot's own motion against what never moves was checked when it
+    // was planned (roadmaps, replans, composite paths, transitions).
+    if (motionsInCollision(*world_, *context_, motions, none, nullptr, {CheckScope::kRobotsOnly}))
+      return ScheduleConflict{u, o.robot(), -1, r};
   }
-  return std::nullopt;
 }
 
 void ScheduleChecker::alsoCheckAt(double t) { extra_cuts_.insert(std::upper_bound(extra_cuts_.begin(), extra_cuts_.end(), t), t); }

@@ -1,9 +1,10 @@
 #pragma once
 // Motion conflict detection in continuous time (paper, "Motion Conflicts"): a new timed piece of one
 // robot against everything already scheduled — hyperarc-hyperarc conflicts with other robots' motions
-// and hyperarc-vertex conflicts with resting objects. Time is cut at every breakpoint of every
-// timeline, so inside each sub-interval all robots move linearly and the resting objects are fixed;
-// each sub-interval is then checked at the collision checker's segment resolution.
+// and hyperarc-vertex conflicts with resting objects. Each pair is checked on its own cuts: the robot
+// against the resting objects is cut where its timeline or the object layout changes, the robot against
+// another robot where either timeline has a breakpoint; inside each piece the pair moves linearly (and
+// the resting objects are fixed), and the piece is checked at the collision checker's segment resolution.
 #include <optional>
 #include <vector>
 
@@ -36,11 +37,21 @@ class ScheduleChecker {
 
  private:
   bool mayInteract(int a, int b) const { return interact_[a][b]; }
+  /// The instants in [from, until] where `timeline`, `other` (if any) or `objects` (if any) change,
+  /// with alsoCheckAt's, sorted and without repeats.
+  void cutsOf(const RobotTimeline& timeline, const RobotTimeline* other, const ObjectTimeline* objects, double from,
+              double until, std::vector<double>& cuts) const;
 
   const CollisionWorld* world_;
   CollisionContext* context_;
   std::vector<std::vector<bool>> interact_;  ///< robots whose reach boxes (grown for a held object) meet
   std::vector<double> extra_cuts_;           ///< alsoCheckAt's instants, sorted
+  struct PairPieces {                        ///< check's workspace: one pair's pieces
+    const RobotTimeline* other = nullptr;    ///< null: the resting objects
+    std::vector<double> cuts;
+    std::size_t next = 0;                    ///< the next piece to check starts at cuts[next]
+  };
+  std::vector<PairPieces> pairs_;
 };
 
 }  // namespace dash

@@ -173,6 +173,27 @@ TEST(Segments, TwoArmsSwingingIntoEachOther) {
   const JointVector away = test::joints({M_PI, 0, 0, 0, 0, 0});
   const std::array<RobotMotion, 2> one_moves{RobotMotion{start[0], side_2}, RobotMotion{{.robot = 1, .q = away}, away}};
   EXPECT_FALSE(motionsInCollision(world, context, one_moves, layout, &report)) << describe(report, scene);
+  // Robot against robot only (the scheduler's check): the same crossing is found.
+  EXPECT_TRUE(motionsInCollision(world, context, motions, layout, &report, {.scope = CheckScope::kRobotsOnly}));
+  EXPECT_EQ(report.a.kind, CollisionElement::Kind::kRobotBody);
+  EXPECT_EQ(report.b.kind, CollisionElement::Kind::kRobotBody);
+}
+
+// CheckScope::kRobotsOnly looks at robot pairs only: an arm swinging through a thin wall beside a
+// robot far away is a collision for the static scope and none for the robots-only one.
+TEST(Segments, RobotsOnlyScopeIgnoresWhatNeverMoves) {
+  ThinWall setup;
+  test::addUr(setup.scene, "far", test::yawPose(5.0, 0.0, 0.0));
+  const CollisionWorld world(setup.scene);
+  CollisionContext context(world);
+  const ObjectLayout layout = ObjectLayout::empty(setup.scene);
+  const std::array<RobotMotion, 2> motions{RobotMotion{{.robot = 0, .q = setup.q0}, setup.q1},
+                                           RobotMotion{{.robot = 1, .q = test::urHome()}, test::urHome()}};
+  EXPECT_TRUE(motionsInCollision(world, context, motions, layout, nullptr, {.scope = CheckScope::kStaticOnly}));
+  context.resetCounters();
+  EXPECT_FALSE(motionsInCollision(world, context, motions, layout, nullptr, {.scope = CheckScope::kRobotsOnly}));
+  // Apart: nothing between the end points is looked at.
+  EXPECT_LE(context.counters().configuration_checks, 2u);
 }
 
 TEST(Segments, MotionsApartAreCheckedOneByOne) {
