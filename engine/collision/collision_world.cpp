@@ -196,8 +196,6 @@ CollisionWorld::CollisionWorld(const Scene& scene, CollisionWorldOptions options
     for (const CollisionBody& body : model.bodies) {
       if (!body.is_gripper) rg.non_gripper_bodies.push_back(static_cast<int>(rg.bodies.size()));
       rg.bodies.push_back(makeBodyGeometry(body, options.clearance));
-      BodyGeometry& g = rg.bodies.back();
-      g.shape_vs_target = model.kinematics == KinematicsKind::kUrDh ? g.shape_vs_static : g.shape;
       frames.push_back(body.frame);
     }
     setGripperTcp(model, rg);

@@ -70,11 +70,6 @@ struct BodyGeometry {
   ShapePtr shape;               ///< exact
   ShapePtr shape_vs_static;     ///< grown by the clearance: against obstacles and resting objects
   ShapePtr shape_vs_robot;      ///< grown by half the clearance: against robot bodies and held objects
-  /// A gripper body against the contact box of the object it grasps or has just let go: grown by the
-  /// clearance on an arm, whose joint-space approach bulges off the straight line (a 30 cm back-off
-  /// by 6 mm) and would slide a finger into the object between checked configurations; exact on a
-  /// gantry, whose axes move the tool in straight lines onto the face it rests on.
-  ShapePtr shape_vs_target;
   Pose X_FG = Pose::Identity();  ///< the FCL shape's frame in F
   bool is_capsule = true;
   Vec3 a = Vec3::Zero();          ///< capsule segment in F
