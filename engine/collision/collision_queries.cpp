@@ -146,11 +146,8 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
     if (!posed.aabb.intersects(object_box)) continue;
     for (int b = 0; b < bodies; ++b) {
       if (!posed.body_aabb[at(b)].intersects(object_box)) continue;
-      // A gripper may touch the resting object it grasps or has just let go (the one nearest its TCP)
-      // within that object's contact tolerance, and keeps the planning clearance from the rest of it:
-      // an approach along a bulging joint-space line (a deep back-off) otherwise grazes the object's
-      // side between the checked configurations, where the certified validator finds it. Every other
-      // resting object keeps the clearance from its exact box.
+      // A gripper may touch the resting object it grasps or has just let go: the one nearest its TCP.
+      // Every other resting object keeps the clearance from it.
       const BodyGeometry& body = rg.bodies[at(b)];
       const ObjectGeometry& object = world.object(j);
       // A hand that holds an object grasps no resting one: its gripper keeps the clearance from all of
@@ -162,7 +159,7 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
                                       posed.frames[at(b)] * body.X_FT.translation());
       }
       const bool contact = body.is_gripper && j == grasped;
-      if (shapesCollide(context, *body.shape_vs_static, bodyPose(world, posed, r, b),
+      if (shapesCollide(context, contact ? *body.shape : *body.shape_vs_static, bodyPose(world, posed, r, b),
                         contact ? *object.contact_shape : *object.shape, s.object_pose[at(j)])) {
         setReport(report, CollisionElement::robotBody(r, b), CollisionElement::object(j));
         return true;
