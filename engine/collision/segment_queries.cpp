@@ -5,7 +5,9 @@
 #include <vector>
 
 #include "engine/collision/collision_internal.h"
+#include "engine/collision/distance_queries.h"
 #include "engine/core/check.h"
+#include "engine/robots/kinematics.h"
 
 namespace dash {
 
@@ -306,6 +308,38 @@ bool motionsInCollision(const CollisionWorld& world, CollisionContext& context, 
     n = std::max(n, segmentSteps(world, m.start.robot, m.start.q, m.q_end, m.start.held, options.resolution));
   }
   return forEachStepCoarseToFine(context, n, [&](int k) { return check_states(static_cast<double>(k) / n); });
+}
+
+bool gripperEntersContactBox(const CollisionWorld& world, CollisionContext& context, int robot, const JointVector& q0,
+                             const JointVector& q1, const ObjectLayout& layout) {
+  const RobotGeometry& rg = world.robot(robot);
+  const SceneRobot& sr = *rg.robot;
+  std::vector<Pose> frames(rg.bodies.size());
+  auto framesAt = [&](double s) { bodyFrames(*rg.model, sr.X_WB, q0 + s * (q1 - q0), frames); };
+  framesAt(0.0);
+  const std::vector<Pose> frames0 = frames;
+  for (int b = 0; b < static_cast<int>(rg.bodies.size()); ++b) {
+    const BodyGeometry& body = rg.bodies[at(b)];
+    if (!body.is_gripper) continue;
+    const double L = bodyDisplacementBound(world, robot, b, q0, q1);
+    const Vec3 p0 = frames0[at(b)].translation();
+    for (int j = 0; j < layout.size(); ++j) {
+      if (!layout.isPresent(j)) continue;
+      const ObjectGeometry& object = world.object(j);
+      const Pose& X_WO = layout.X_WO[at(j)];
+      // Out of reach: the body's points stay within extent of its frame origin, which moves at most L.
+      if ((X_WO.translation() - p0).norm() > body.extent + object.contact_half_extents.norm() + L) continue;
+      double s = 0.0;
+      for (;;) {
+        framesAt(s);
+        const double d = signedDistance(context, *body.shape, frames[at(b)] * body.X_FG, *object.contact_shape, X_WO);
+        if (d < 0.0) return true;
+        if (s >= 1.0 || L <= 0.0) break;
+        s = std::min(1.0, s + std::max(d, kAdvanceFloor) / L);
+      }
+    }
+  }
+  return false;
 }
 
 }  // namespace dash

@@ -150,6 +150,7 @@ std::optional<JointVector> MotionLayer::backedOff(int robot, const JointVector& 
       const RobotState state{robot, cand, held};
       if (robotInCollision(*world_, *context_, state, layout)) continue;
       if (segmentInCollision(*world_, *context_, state, q, layout)) continue;
+      if (!held.holding() && gripperEntersContactBox(*world_, *context_, robot, cand, q, layout)) continue;
       if (partner) {
         const RobotMotion motions[2] = {{state, q}, {*partner, partner->q}};
         if (motionsInCollision(*world_, *context_, motions, ObjectLayout::empty(world_->scene()), nullptr,

@@ -4,6 +4,7 @@
 #include <array>
 
 #include "engine/collision/collision_queries.h"
+#include "engine/collision/distance_queries.h"
 #include "engine/collision/grasp_candidates.h"
 #include "engine/collision/segment_queries.h"
 #include "tests/collision/collision_test_util.h"
@@ -214,6 +215,56 @@ TEST(RobotQueries, AHandThatHoldsAnObjectGraspsNoRestingOne) {
   // Empty-handed, the same configuration grasps the target: contact is meant.
   EXPECT_FALSE(robotInCollision(*setup.world, *setup.context, setup.state, ObjectLayout::atStart(setup.scene), &report))
       << describe(report, setup.scene);
+}
+
+/// The smallest signed distance between ur's gripper bodies and cube 0's contact box along q0 -> q1,
+/// sampled every 1/4000 of the segment (brute force, for comparison).
+double sampledGripperDistance(const CollisionWorld& world, CollisionContext& context, const JointVector& q0,
+                              const JointVector& q1) {
+  const RobotGeometry& rg = world.robot(0);
+  std::vector<Pose> frames(rg.bodies.size());
+  double best = 1e9;
+  for (int i = 0; i <= 4000; ++i) {
+    bodyFrames(*rg.model, rg.robot->X_WB, q0 + (i / 4000.0) * (q1 - q0), frames);
+    for (std::size_t b = 0; b < rg.bodies.size(); ++b)
+      if (rg.bodies[b].is_gripper)
+        best = std::min(best, signedDistance(context, *rg.bodies[b].shape, frames[b] * rg.bodies[b].X_FG,
+                                             *world.object(0).contact_shape, world.scene().objects[0].X_WO_start));
+  }
+  return best;
+}
+
+// A gripper sweeping sideways past a 4 cm cube along a joint-space line between two TCP poses whose +x
+// finger's inner face is `into` metres inside the cube's contact box (negative: outside), both ends
+// well clear of it. The line bulges about a millimetre off the straight sweep, so `into` is 2 mm; the
+// brute-force sampled distance says which side it passes on, and the advancement must agree.
+TEST(RobotQueries, AGripperEnteringTheContactBoxBetweenClearEndsIsFound) {
+  for (const double into : {0.002, -0.002}) {
+    Scene scene = test::emptyScene();
+    test::addUr(scene, "ur", Pose::Identity());
+    test::addCube(scene, "target", 0.04, makePose(Vec3(0.5, 0.0, 0.2)));
+    const CollisionWorld world(scene);
+    CollisionContext context(world);
+    const ObjectLayout layout = ObjectLayout::atStart(scene);
+    const Pose X_WT = test::toolDown(Vec3(0.5, 0.0, 0.2));
+    // Finger inner faces 25 mm either side of the TCP along its x axis; the contact box's faces 19 mm.
+    const Vec3 x = X_WT.linear().col(0), y = X_WT.linear().col(1);
+    const Vec3 shift = -(0.025 - 0.019 + into) * x;
+    const JointVector q0 = freeIk(world, context, {.robot = 0}, makePose(shift - 0.045 * y) * X_WT, layout);
+    ASSERT_EQ(q0.size(), 6);
+    JointVector q1;
+    const SceneRobot& ur = scene.robots[0];
+    for (const JointVector& q : inverseKinematics(*ur.model, ur.X_WB, makePose(shift + 0.045 * y) * X_WT))
+      if (q1.size() == 0 || (q - q0).cwiseAbs().maxCoeff() < (q1 - q0).cwiseAbs().maxCoeff()) q1 = q;
+    ASSERT_EQ(q1.size(), 6);
+    ASSERT_FALSE(robotInCollision(world, context, {.robot = 0, .q = q1}, layout));
+    const double sampled = sampledGripperDistance(world, context, q0, q1);
+    ASSERT_GT(std::abs(sampled), 0.0002) << "the sweep must pass clearly in or out, into " << into;
+    ASSERT_EQ(sampled < 0.0, into > 0.0) << "sampled distance " << sampled << ", into " << into;
+    EXPECT_EQ(gripperEntersContactBox(world, context, 0, q0, q1, layout), sampled < 0.0)
+        << "sampled distance " << sampled << ", into " << into;
+    EXPECT_EQ(gripperEntersContactBox(world, context, 0, q1, q0, layout), sampled < 0.0) << "reversed, into " << into;
+  }
 }
 
 TEST(RobotQueries, HeldCubeAgainstAWall) {
