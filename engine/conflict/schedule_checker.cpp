@@ -1,6 +1,8 @@
 #include "engine/conflict/schedule_checker.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 
 #include "engine/collision/segment_queries.h"
 
@@ -8,6 +10,7 @@ namespace dash {
 
 namespace {
 constexpr double kHeldObjectMargin = 0.15;  // a held object can stick out of a robot's reach box
+constexpr std::size_t kMaxStill = 1u << 20;  // standing-still verdicts kept (then forgotten, all)
 
 double horizonOf(const std::vector<RobotTimeline>& timelines) {
   double h = 0.0;
@@ -85,12 +88,72 @@ std::optional<ScheduleConflict> ScheduleChecker::check(const RobotTimeline& time
       continue;
     }
     const RobotTimeline& o = *next->other;
+    if ((self.q - self_end).cwiseAbs().maxCoeff() <= 1e-12 && standingFreeOfSegment(self, o, u, v)) continue;
     const RobotMotion motions[2] = {{self, self_end}, {{o.robot(), o.at(u), o.heldAt(mid)}, o.at(v)}};
     // Robot against robot only: each robot's own motion against what never moves was checked when it
     // was planned (roadmaps, replans, composite paths, transitions).
     if (motionsInCollision(*world_, *context_, motions, none, nullptr, {CheckScope::kRobotsOnly}))
       return ScheduleConflict{u, o.robot(), -1, r};
   }
+}
+
+std::size_t ScheduleChecker::StillKeyHash::operator()(const StillKey& key) const {
+  std::size_t h = 1469598103934665603ull;
+  for (const double x : key.values) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    h = (h ^ bits) * 1099511628211ull;
+  }
+  return h;
+}
+
+namespace {
+void appendHeld(std::vector<double>& key, const HeldObject& held) {
+  key.push_back(held.object);
+  key.push_back(held.in_transit ? 1.0 : 0.0);
+  if (!held.holding()) return;
+  const double* m = held.X_TO.matrix().data();
+  key.insert(key.end(), m, m + 12);  // the rotation and translation columns
+}
+}  // namespace
+
+bool ScheduleChecker::standingFreeOfSegment(const RobotState& self, const RobotTimeline& other, double u, double v) {
+  // The other robot's straight segment [ta, tb] holding [u, v] (past its end it stands at its last point).
+  const auto& pts = other.points();
+  auto it = std::upper_bound(pts.begin(), pts.end(), u + 1e-12, [](double t, const TimedPoint& p) { return t < p.t; });
+  if (it == pts.begin()) return false;
+  const TimedPoint& a = *(it - 1);
+  const bool past_end = it == pts.end();
+  const double ta = a.t, tb = past_end ? kForever : it->t;
+  if (v > tb + 1e-12) return false;
+  const JointVector& qb = past_end ? a.q : it->q;
+  // An instant to check (alsoCheckAt) inside the segment: its pieces are checked themselves, at it.
+  if (auto cut = std::upper_bound(extra_cuts_.begin(), extra_cuts_.end(), ta - 1e-9);
+      cut != extra_cuts_.end() && *cut < tb + 1e-9)
+    return false;
+  // What the other robot holds must not change inside the segment.
+  const HeldObject held = other.heldAt(0.5 * (u + v));
+  for (const HoldInterval& h : other.holds())
+    if ((h.from > ta + 1e-12 && h.from < tb - 1e-12) || (h.to > ta + 1e-12 && h.to < tb - 1e-12)) return false;
+  std::vector<double>& key = key_;
+  key.clear();
+  key.push_back(self.robot);
+  key.push_back(other.robot());
+  key.push_back(ta);
+  key.push_back(tb);
+  key.insert(key.end(), self.q.data(), self.q.data() + self.q.size());
+  key.insert(key.end(), a.q.data(), a.q.data() + a.q.size());
+  key.insert(key.end(), qb.data(), qb.data() + qb.size());
+  appendHeld(key, self.held);
+  appendHeld(key, held);
+  StillKey k{key};
+  if (const auto found = still_.find(k); found != still_.end()) return found->second;
+  const ObjectLayout none = ObjectLayout::empty(world_->scene());
+  const RobotMotion whole[2] = {{self, self.q}, {{other.robot(), a.q, held}, qb}};
+  const bool free = !motionsInCollision(*world_, *context_, whole, none, nullptr, {CheckScope::kRobotsOnly});
+  if (still_.size() >= kMaxStill) still_.clear();
+  still_.emplace(std::move(k), free);
+  return free;
 }
 
 void ScheduleChecker::alsoCheckAt(double t) { extra_cuts_.insert(std::upper_bound(extra_cuts_.begin(), extra_cuts_.end(), t), t); }

@@ -6,6 +6,7 @@
 // another robot where either timeline has a breakpoint; inside each piece the pair moves linearly (and
 // the resting objects are fixed), and the piece is checked at the collision checker's segment resolution.
 #include <optional>
+#include <unordered_map>
 #include <vector>
 
 #include "engine/collision/collision_context.h"
@@ -52,6 +53,24 @@ class ScheduleChecker {
     std::size_t next = 0;                    ///< the next piece to check starts at cuts[next]
   };
   std::vector<PairPieces> pairs_;
+
+  /// A robot standing still (configuration, what it holds) against one straight segment of another
+  /// robot's timeline (its ends, what it holds): free over the whole segment means free on every piece
+  /// of it. Retiming a step checks the same waits and the same standing at the transition against the
+  /// same segments of the others again and again; the verdicts are looked up here instead (a segment in
+  /// conflict somewhere has its pieces checked one by one). Exact keys (no hash-only match).
+  struct StillKey {
+    std::vector<double> values;
+    bool operator==(const StillKey& other) const { return values == other.values; }
+  };
+  struct StillKeyHash {
+    std::size_t operator()(const StillKey& key) const;
+  };
+  /// Whether `self` standing still is free of `other`'s whole segment holding [u, v] (checked once, then
+  /// remembered). False: check the piece itself.
+  bool standingFreeOfSegment(const RobotState& self, const RobotTimeline& other, double u, double v);
+  std::unordered_map<StillKey, bool, StillKeyHash> still_;
+  std::vector<double> key_;  ///< workspace
 };
 
 }  // namespace dash
