@@ -116,7 +116,7 @@ std::vector<JointVector> LazyRoadmap::finish(og::PathGeometric& path, const Join
                                              const JointVector& q_goal) const {
   if (params_.simplify) {
     SeededPathSimplifier simplifier(si_);
-    simplifier.reduceVertices(path);
+    simplifier.reduceVertices(path, params_.simplify_steps, params_.simplify_empty_steps);
     simplifier.shortcutPath(path);
   }
   // The end points are exactly the requested configurations (OMPL copies them). States closer than
