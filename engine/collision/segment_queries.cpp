@@ -327,8 +327,9 @@ bool gripperEntersContactBox(const CollisionWorld& world, CollisionContext& cont
       if (!layout.isPresent(j)) continue;
       const ObjectGeometry& object = world.object(j);
       const Pose& X_WO = layout.X_WO[at(j)];
-      // Out of reach: the body's points stay within extent of its frame origin, which moves at most L.
-      if ((X_WO.translation() - p0).norm() > body.extent + object.contact_half_extents.norm() + L) continue;
+      // Out of reach: every point of the body stays within extent of its frame origin, and the origin
+      // moves at most L + 2 extent (a body point moves at most L; the turn of the body adds the rest).
+      if ((X_WO.translation() - p0).norm() > 3.0 * body.extent + object.contact_half_extents.norm() + L) continue;
       double s = 0.0;
       for (;;) {
         framesAt(s);
