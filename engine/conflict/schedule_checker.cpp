@@ -20,7 +20,7 @@ double horizonOf(const std::vector<RobotTimeline>& timelines) {
 }  // namespace
 
 ScheduleChecker::ScheduleChecker(const CollisionWorld& world, CollisionContext& context)
-    : world_(&world), context_(&context) {
+    : world_(&world), context_(&context), none_(ObjectLayout::empty(world.scene())) {
   const int n = world.robotCount();
   interact_.assign(static_cast<std::size_t>(n), std::vector<bool>(static_cast<std::size_t>(n), false));
   for (int a = 0; a < n; ++a)
@@ -68,7 +68,6 @@ std::optional<ScheduleConflict> ScheduleChecker::check(const RobotTimeline& time
     pairs_.push_back({&o, {}, 0});
     cutsOf(timeline, &o, nullptr, from, until, pairs_.back().cuts);
   }
-  const ObjectLayout none = ObjectLayout::empty(world_->scene());
   for (;;) {
     PairPieces* next = nullptr;
     for (PairPieces& p : pairs_)
@@ -92,7 +91,7 @@ std::optional<ScheduleConflict> ScheduleChecker::check(const RobotTimeline& time
     const RobotMotion motions[2] = {{self, self_end}, {{o.robot(), o.at(u), o.heldAt(mid)}, o.at(v)}};
     // Robot against robot only: each robot's own motion against what never moves was checked when it
     // was planned (roadmaps, replans, composite paths, transitions).
-    if (motionsInCollision(*world_, *context_, motions, none, nullptr, {CheckScope::kRobotsOnly}))
+    if (motionsInCollision(*world_, *context_, motions, none_, nullptr, {CheckScope::kRobotsOnly}))
       return ScheduleConflict{u, o.robot(), -1, r};
   }
 }
@@ -135,8 +134,8 @@ bool ScheduleChecker::standingFreeOfSegment(const RobotState& self, const RobotT
   const HeldObject held = other.heldAt(0.5 * (u + v));
   for (const HoldInterval& h : other.holds())
     if ((h.from > ta + 1e-12 && h.from < tb - 1e-12) || (h.to > ta + 1e-12 && h.to < tb - 1e-12)) return false;
-  std::vector<double>& key = key_;
-  key.clear();
+  StillKey k;
+  std::vector<double>& key = k.values;
   key.push_back(self.robot);
   key.push_back(other.robot());
   key.push_back(ta);
@@ -146,11 +145,9 @@ bool ScheduleChecker::standingFreeOfSegment(const RobotState& self, const RobotT
   key.insert(key.end(), qb.data(), qb.data() + qb.size());
   appendHeld(key, self.held);
   appendHeld(key, held);
-  StillKey k{key};
   if (const auto found = still_.find(k); found != still_.end()) return found->second;
-  const ObjectLayout none = ObjectLayout::empty(world_->scene());
   const RobotMotion whole[2] = {{self, self.q}, {{other.robot(), a.q, held}, qb}};
-  const bool free = !motionsInCollision(*world_, *context_, whole, none, nullptr, {CheckScope::kRobotsOnly});
+  const bool free = !motionsInCollision(*world_, *context_, whole, none_, nullptr, {CheckScope::kRobotsOnly});
   if (still_.size() >= kMaxStill) still_.clear();
   still_.emplace(std::move(k), free);
   return free;

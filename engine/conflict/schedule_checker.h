@@ -45,6 +45,7 @@ class ScheduleChecker {
 
   const CollisionWorld* world_;
   CollisionContext* context_;
+  ObjectLayout none_;  ///< no resting objects: the layout of robot-pair checks
   std::vector<std::vector<bool>> interact_;  ///< robots whose reach boxes (grown for a held object) meet
   std::vector<double> extra_cuts_;           ///< alsoCheckAt's instants, sorted
   struct PairPieces {                        ///< check's workspace: one pair's pieces
@@ -70,7 +71,6 @@ class ScheduleChecker {
   /// remembered). False: check the piece itself.
   bool standingFreeOfSegment(const RobotState& self, const RobotTimeline& other, double u, double v);
   std::unordered_map<StillKey, bool, StillKeyHash> still_;
-  std::vector<double> key_;  ///< workspace
 };
 
 }  // namespace dash
