@@ -37,6 +37,7 @@ class CollisionContext {
     std::vector<int> objects;                  ///< resting objects, for bodies and held object
     std::vector<std::pair<int, int>> self_pairs;
     std::vector<int> held_vs_bodies;           ///< non-gripper bodies checked against the held object
+    std::vector<int> robots;                   ///< robots standing still (posed), for bodies and held object
   };
   struct Scratch {
     std::vector<PosedRobot> robots;         ///< one per scene robot

@@ -18,7 +18,18 @@ struct CandidateView {
   std::span<const int> objects;         ///< resting objects, against bodies and held object
   std::span<const std::pair<int, int>> self_pairs;
   std::span<const int> held_vs_bodies;  ///< own bodies against the held object
+  std::span<const int> robots;          ///< robots standing still, already posed: bodies and held objects
 };
+
+/// A posed robot's box: its bodies and what it holds.
+inline Aabb postureBox(const CollisionContext::PosedRobot& posed) {
+  return posed.held_object >= 0 ? posed.aabb.merged(posed.held_aabb) : posed.aabb;
+}
+
+/// Poses the robots standing still of a query (once: they do not move) and keeps, in `near`, those
+/// whose posture box meets `reach`.
+void poseParked(const CollisionWorld& world, CollisionContext& context, std::span<const RobotState> parked,
+                const Aabb& reach, std::vector<int>& near);
 
 /// Poses robot r's bodies (and held object) in context.scratch().robots[r].
 void poseRobot(const CollisionWorld& world, CollisionContext& context, int r, const JointVector& q,
@@ -39,9 +50,10 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
 bool checkPosedRobotPair(const CollisionWorld& world, CollisionContext& context, int r1, int r2,
                          CollisionReport* report);
 
-/// Poses and checks several robots (each once) with a prepared resting set.
+/// Poses and checks several robots (each once) with a prepared resting set; each of them also against
+/// the posed robots standing still in `parked` (unless kObjectsOnly).
 bool checkStates(const CollisionWorld& world, CollisionContext& context, std::span<const RobotState> states,
-                 CheckScope scope, CollisionReport* report);
+                 CheckScope scope, CollisionReport* report, std::span<const int> parked = {});
 
 /// World pose of body b of a posed robot, for FCL.
 inline Pose bodyPose(const CollisionWorld& world, const CollisionContext::PosedRobot& posed, int r, int b) {

@@ -166,6 +166,9 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
       }
     }
   }
+  for (const int p : candidates.robots) {
+    if (checkPosedRobotPair(world, context, r, p, report)) return true;
+  }
   if (posed.held_object < 0) return false;
   const int held = posed.held_object;
   const auto& held_shape = *world.object(held).held_vs_robot;
@@ -258,8 +261,18 @@ bool checkPosedRobotPair(const CollisionWorld& world, CollisionContext& context,
   return false;
 }
 
+void poseParked(const CollisionWorld& world, CollisionContext& context, std::span<const RobotState> parked,
+                const Aabb& reach, std::vector<int>& near) {
+  near.clear();
+  for (const RobotState& p : parked) {
+    DASH_DEMAND(p.robot >= 0 && p.robot < world.robotCount());
+    poseRobot(world, context, p.robot, p.q, p.held);
+    if (postureBox(context.scratch().robots[at(p.robot)]).intersects(reach)) near.push_back(p.robot);
+  }
+}
+
 bool checkStates(const CollisionWorld& world, CollisionContext& context, std::span<const RobotState> states,
-                 CheckScope scope, CollisionReport* report) {
+                 CheckScope scope, CollisionReport* report, std::span<const int> parked) {
   for (std::size_t i = 0; i < states.size(); ++i) {
     const RobotState& state = states[i];
     DASH_DEMAND(state.robot >= 0 && state.robot < world.robotCount());
@@ -276,6 +289,9 @@ bool checkStates(const CollisionWorld& world, CollisionContext& context, std::sp
   for (std::size_t i = 0; i < states.size(); ++i) {
     for (std::size_t k = i + 1; k < states.size(); ++k) {
       if (checkPosedRobotPair(world, context, states[i].robot, states[k].robot, report)) return true;
+    }
+    for (const int p : parked) {
+      if (checkPosedRobotPair(world, context, states[i].robot, p, report)) return true;
     }
   }
   return false;
@@ -296,6 +312,27 @@ bool robotsInCollision(const CollisionWorld& world, CollisionContext& context, s
   ++context.counters().configuration_checks;
   detail::prepareResting(world, context, layout, states);
   return detail::checkStates(world, context, states, scope, report);
+}
+
+bool robotsAmongParked(const CollisionWorld& world, CollisionContext& context, std::span<const RobotState> states,
+                       std::span<const RobotState> parked, const ObjectLayout& layout, CollisionReport* report,
+                       CheckScope scope) {
+  if (parked.empty()) return robotsInCollision(world, context, states, layout, report, scope);
+  ++context.counters().configuration_checks;
+  std::vector<RobotState> all(states.begin(), states.end());
+  all.insert(all.end(), parked.begin(), parked.end());
+  for (std::size_t i = 0; i < all.size(); ++i)
+    for (std::size_t k = 0; k < i; ++k) DASH_DEMAND_MSG(all[k].robot != all[i].robot, "a robot appears twice");
+  detail::prepareResting(world, context, layout, all);
+  Aabb reach;
+  reach.setEmpty();
+  for (const RobotState& state : states) {
+    detail::poseRobot(world, context, state.robot, state.q, state.held);
+    reach.extend(detail::postureBox(context.scratch().robots[static_cast<std::size_t>(state.robot)]));
+  }
+  std::vector<int> near;
+  detail::poseParked(world, context, parked, reach, near);
+  return detail::checkStates(world, context, states, scope, report, near);
 }
 
 bool objectInCollision(const CollisionWorld& world, CollisionContext& context, int object, const Pose& X_WO,

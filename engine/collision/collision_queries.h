@@ -30,6 +30,14 @@ bool robotsInCollision(const CollisionWorld& world, CollisionContext& context, s
                        const ObjectLayout& layout, CollisionReport* report = nullptr,
                        CheckScope scope = CheckScope::kAll);
 
+/// `states` as in robotsInCollision, and each of them against the robots standing still in `parked`
+/// (bodies and held objects; not with kObjectsOnly). The parked robots are not checked against anything
+/// else (obstacles, objects, each other): they were when they stopped there, and nothing here moves
+/// them. A robot may appear once in both lists together.
+bool robotsAmongParked(const CollisionWorld& world, CollisionContext& context, std::span<const RobotState> states,
+                       std::span<const RobotState> parked, const ObjectLayout& layout,
+                       CollisionReport* report = nullptr, CheckScope scope = CheckScope::kAll);
+
 /// One object placed at X_WO (not held) against obstacles and the other resting objects of `layout`.
 bool objectInCollision(const CollisionWorld& world, CollisionContext& context, int object, const Pose& X_WO,
                        const ObjectLayout& layout, CollisionReport* report = nullptr);

@@ -108,6 +108,12 @@ void narrowCandidates(const CollisionWorld& world, CollisionContext& context, co
   for (const auto& pair : full.self_pairs) {
     if (s.swept_body[at(pair.first)].intersects(s.swept_body[at(pair.second)])) c.self_pairs.push_back(pair);
   }
+  c.robots.clear();
+  for (const int p : full.robots) {
+    const Aabb box = detail::postureBox(s.robots[at(p)]);
+    if (!whole.intersects(box)) continue;
+    if ((holding && held_swept.intersects(box)) || anyBodyMeets(s.swept_body, box)) c.robots.push_back(p);
+  }
 }
 
 /// True if any pair of `view` meets the current swept boxes.
@@ -125,6 +131,11 @@ bool anyCandidateMeets(const CollisionWorld& world, const CollisionContext::Scra
     if (!whole.intersects(box)) continue;
     if ((holding && held_swept.intersects(box)) || anyBodyMeets(s.swept_body, box)) return true;
   }
+  for (const int p : view.robots) {
+    const Aabb box = detail::postureBox(s.robots[at(p)]);
+    if (!whole.intersects(box)) continue;
+    if ((holding && held_swept.intersects(box)) || anyBodyMeets(s.swept_body, box)) return true;
+  }
   if (!holding) return false;
   for (const int i : view.held_obstacles) {
     if (held_swept.intersects(world.obstacles()[at(i)].aabb)) return true;
@@ -135,10 +146,12 @@ bool anyCandidateMeets(const CollisionWorld& world, const CollisionContext::Scra
   return false;
 }
 
-/// One robot's segment with the resting set already prepared. The steps are visited coarse to fine;
-/// a part of the segment whose swept boxes meet no candidate pair is free and not refined further.
+/// One robot's segment with the resting set already prepared, and against the posed robots standing
+/// still in `parked`. The steps are visited coarse to fine; a part of the segment whose swept boxes meet
+/// no candidate pair is free and not refined further.
 bool robotSegment(const CollisionWorld& world, CollisionContext& context, const RobotState& start,
-                  const JointVector& q_end, CollisionReport* report, const SegmentOptions& options) {
+                  const JointVector& q_end, CollisionReport* report, const SegmentOptions& options,
+                  std::span<const int> parked = {}) {
   const int r = start.robot;
   DASH_DEMAND(r >= 0 && r < world.robotCount());
   DASH_DEMAND_MSG(q_end.size() == start.q.size(), "segment end points differ in size");
@@ -146,7 +159,9 @@ bool robotSegment(const CollisionWorld& world, CollisionContext& context, const 
   const int bodies = static_cast<int>(rg.bodies.size());
   const bool holding = start.held.holding();
   auto& s = context.scratch();
-  const detail::CandidateView full = detail::fullCandidates(world, context, r, options.scope);
+  detail::CandidateView full;
+  if (options.scope != CheckScope::kRobotsOnly) full = detail::fullCandidates(world, context, r, options.scope);
+  if (options.scope != CheckScope::kObjectsOnly) full.robots = parked;
   auto check_posed = [&](double fraction, const detail::CandidateView& view) {
     ++context.counters().configuration_checks;
     if (!detail::checkPosedRobot(world, context, r, view, report)) return false;
@@ -173,7 +188,8 @@ bool robotSegment(const CollisionWorld& world, CollisionContext& context, const 
   const Aabb whole = sweptBetween(context, bodies, slot_start, slot_end, 1.0, held_d, holding, held_swept);
   narrowCandidates(world, context, full, whole, holding, held_swept);
   const auto& c = s.candidates;
-  const detail::CandidateView narrowed{c.obstacles, c.held_obstacles, c.objects, c.self_pairs, c.held_vs_bodies};
+  const detail::CandidateView narrowed{c.obstacles, c.held_obstacles, c.objects, c.self_pairs, c.held_vs_bodies,
+                                       c.robots};
   if (!anyCandidateMeets(world, s, narrowed, whole, holding, held_swept)) return false;
 
   s.intervals.push_back({0, n, slot_start, slot_end});
@@ -269,37 +285,59 @@ bool segmentInCollision(const CollisionWorld& world, CollisionContext& context, 
 
 bool motionsInCollision(const CollisionWorld& world, CollisionContext& context, std::span<const RobotMotion> motions,
                         const ObjectLayout& layout, CollisionReport* report, const SegmentOptions& options) {
+  return motionsAmongParked(world, context, motions, {}, layout, report, options);
+}
+
+bool motionsAmongParked(const CollisionWorld& world, CollisionContext& context, std::span<const RobotMotion> motions,
+                        std::span<const RobotState> parked, const ObjectLayout& layout, CollisionReport* report,
+                        const SegmentOptions& options) {
   ++context.counters().segment_checks;
   std::vector<RobotState> states;
-  states.reserve(motions.size());
+  states.reserve(motions.size() + parked.size());
   for (const RobotMotion& m : motions) states.push_back(m.start);
+  states.insert(states.end(), parked.begin(), parked.end());
+  for (std::size_t i = motions.size(); i < states.size(); ++i)
+    for (std::size_t k = 0; k < i; ++k) DASH_DEMAND_MSG(states[k].robot != states[i].robot, "a robot appears twice");
   detail::prepareResting(world, context, layout, states);
+  states.resize(motions.size());
+
+  // Each robot's whole swept box; the parked robots are posed once, and only those within reach of a
+  // swept box are checked against the movers.
+  std::vector<Aabb> whole;
+  whole.reserve(motions.size());
+  Aabb reach;
+  reach.setEmpty();
+  for (const RobotMotion& m : motions) {
+    whole.push_back(wholeSweptBox(world, context, m));
+    reach.extend(whole.back());
+  }
+  std::vector<int> near;
+  detail::poseParked(world, context, parked, reach, near);
+
   auto check_states = [&](double t) {
     ++context.counters().configuration_checks;
     for (std::size_t i = 0; i < motions.size(); ++i) states[i].q = interpolate(motions[i].start.q, motions[i].q_end, t);
-    if (!detail::checkStates(world, context, states, options.scope, report)) return false;
+    if (!detail::checkStates(world, context, states, options.scope, report, near)) return false;
     if (report != nullptr) report->segment_fraction = t;
     return true;
   };
   if (options.check_endpoints && (check_states(0.0) || check_states(1.0))) return true;
 
-  // Robots whose swept boxes meet no other's cannot collide with each other along the motion: each is
-  // then checked alone (with its own refinement); otherwise all together at every step.
+  // Moving robots whose swept boxes meet no other's cannot collide with each other along the motion:
+  // each is then checked alone (with its own refinement, against the parked robots near it);
+  // otherwise all together at every step.
   bool apart = true;
   if (options.scope != CheckScope::kObjectsOnly) {
-    std::vector<Aabb> whole;
-    whole.reserve(motions.size());
-    for (const RobotMotion& m : motions) whole.push_back(wholeSweptBox(world, context, m));
     for (std::size_t i = 0; i < whole.size() && apart; ++i) {
       for (std::size_t k = i + 1; k < whole.size() && apart; ++k) apart = !whole[i].intersects(whole[k]);
     }
   }
-  if (apart && options.scope == CheckScope::kRobotsOnly) return false;
+  if (apart && options.scope == CheckScope::kRobotsOnly && near.empty()) return false;
   if (apart) {
     SegmentOptions alone = options;
     alone.check_endpoints = false;
     for (const RobotMotion& m : motions) {
-      if (robotSegment(world, context, m.start, m.q_end, report, alone)) return true;
+      if (robotSegment(world, context, m.start, m.q_end, report, alone, near)) return true;
     }
     return false;
   }

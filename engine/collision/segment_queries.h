@@ -79,4 +79,13 @@ bool motionsInCollision(const CollisionWorld& world, CollisionContext& context, 
                         const ObjectLayout& layout, CollisionReport* report = nullptr,
                         const SegmentOptions& options = {});
 
+/// The motions as in motionsInCollision, among robots standing still (`parked`, each holding what it
+/// holds): each moving robot is also checked against the parked robots (bodies and held objects) whose
+/// boxes meet its swept box. The parked robots are posed once and checked against nothing else
+/// (obstacles, objects, each other): they were when they stopped there. The motion planners' query with
+/// other robots parked: a parked robot is never re-posed at every step.
+bool motionsAmongParked(const CollisionWorld& world, CollisionContext& context, std::span<const RobotMotion> motions,
+                        std::span<const RobotState> parked, const ObjectLayout& layout,
+                        CollisionReport* report = nullptr, const SegmentOptions& options = {});
+
 }  // namespace dash

@@ -57,20 +57,18 @@ struct CompositeChecker {
   std::vector<RobotState> states(const std::vector<JointVector>& qs) const {
     std::vector<RobotState> out;
     for (std::size_t i = 0; i < qs.size(); ++i) out.push_back({problem->robots[i], qs[i], problem->held[i]});
-    out.insert(out.end(), problem->parked.begin(), problem->parked.end());
     return out;
   }
   bool stateValid(const ob::State* s) const {
-    return !robotsInCollision(*world, *context, states(stacking.split(s)), problem->layout);
+    return !robotsAmongParked(*world, *context, states(stacking.split(s)), problem->parked, problem->layout);
   }
   bool motionValid(const ob::State* a, const ob::State* b) const {
     const std::vector<JointVector> qa = stacking.split(a), qb = stacking.split(b);
     std::vector<RobotMotion> motions;
     for (std::size_t i = 0; i < qa.size(); ++i) motions.push_back({{problem->robots[i], qa[i], problem->held[i]}, qb[i]});
-    for (const RobotState& p : problem->parked) motions.push_back({p, p.q});
     // Finer than the schedule checker, which samples the same motion at other instants (its time is
     // cut wherever any robot's timeline bends): a graze one sampling misses, the other may find.
-    return !motionsInCollision(*world, *context, motions, problem->layout, nullptr,
+    return !motionsAmongParked(*world, *context, motions, problem->parked, problem->layout, nullptr,
                                {CheckScope::kAll, true, kSegmentResolution / 2});
   }
 };

@@ -221,17 +221,16 @@ std::optional<std::vector<JointVector>> ValidatedRoadmap::plan(const JointVector
   auto stateOk = [&](const JointVector& q, CheckScope scope) {
     const RobotState self{robot_, q, held};
     if (context.parked.empty()) return !robotInCollision(*world_, *context_, self, context.layout, nullptr, scope);
-    std::vector<RobotState> states{self};
-    states.insert(states.end(), context.parked.begin(), context.parked.end());
-    return !robotsInCollision(*world_, *context_, states, context.layout, nullptr, CheckScope::kAll);
+    return !robotsAmongParked(*world_, *context_, std::span<const RobotState>(&self, 1), context.parked,
+                              context.layout, nullptr, CheckScope::kAll);
   };
   auto motionOk = [&](const JointVector& p, const JointVector& r, CheckScope scope) {
     if (context.parked.empty())
       return !segmentInCollision(*world_, *context_, RobotState{robot_, p, held}, r, context.layout, nullptr,
                                  SegmentOptions{.scope = scope});
-    std::vector<RobotMotion> motions{{RobotState{robot_, p, held}, r}};
-    for (const RobotState& parked : context.parked) motions.push_back({parked, parked.q});
-    return !motionsInCollision(*world_, *context_, motions, context.layout);
+    const RobotMotion self{RobotState{robot_, p, held}, r};
+    return !motionsAmongParked(*world_, *context_, std::span<const RobotMotion>(&self, 1), context.parked,
+                               context.layout);
   };
   // Cheapest first: the straight segment, checked against everything.
   if (motionOk(a, b, CheckScope::kAll)) return std::vector<JointVector>{a, b};

@@ -42,16 +42,13 @@ struct LazyRoadmap::Checker {
   bool stateValid(const JointVector& q) const {
     const RobotState self{robot, q, motion.held};
     if (motion.parked.empty()) return !robotInCollision(*world, *context, self, motion.layout);
-    std::vector<RobotState> states{self};
-    states.insert(states.end(), motion.parked.begin(), motion.parked.end());
-    return !robotsInCollision(*world, *context, states, motion.layout);
+    return !robotsAmongParked(*world, *context, std::span<const RobotState>(&self, 1), motion.parked, motion.layout);
   }
   bool motionValid(const JointVector& a, const JointVector& b) const {
     if (motion.parked.empty())
       return !segmentInCollision(*world, *context, RobotState{robot, a, motion.held}, b, motion.layout);
-    std::vector<RobotMotion> motions{{RobotState{robot, a, motion.held}, b}};
-    for (const RobotState& p : motion.parked) motions.push_back({p, p.q});
-    return !motionsInCollision(*world, *context, motions, motion.layout);
+    const RobotMotion self{RobotState{robot, a, motion.held}, b};
+    return !motionsAmongParked(*world, *context, std::span<const RobotMotion>(&self, 1), motion.parked, motion.layout);
   }
   /// `valid` timed into check_seconds.
   template <class Check>

@@ -212,5 +212,58 @@ TEST(Segments, MotionsApartAreCheckedOneByOne) {
   EXPECT_LT(context.counters().configuration_checks, static_cast<unsigned>(steps) / 2);
 }
 
+// The planners' query with other robots parked (motionsAmongParked) poses the parked robots once and
+// checks them against the mover only. Where the parked robots stand free of everything, it gives the
+// verdict of the full check with the parked robots as motions that stay put (motionsInCollision, which
+// re-poses and re-checks every robot at every step); a parked robot that touches an obstacle does not
+// make a mover far from it collide.
+TEST(Segments, ParkedRobotsAreCheckedAgainstTheMoverOnly) {
+  Scene scene = test::emptyScene();
+  test::addTable(scene);
+  test::addUr(scene, "mover", Pose::Identity());
+  test::addUr(scene, "left", test::yawPose(0.9, 0.3, 0.0, M_PI));
+  test::addUr(scene, "right", test::yawPose(-0.9, -0.3, 0.0));
+  const CollisionWorld world(scene);
+  CollisionContext context(world);
+  const ObjectLayout layout = ObjectLayout::empty(scene);
+  Rng rng(11);
+  auto random_q = [&] {
+    JointVector q = test::urHome();
+    for (Eigen::Index i = 0; i < q.size(); ++i) q[i] += rng.uniform(-1.2, 1.2);
+    return q;
+  };
+  int compared = 0, colliding = 0;
+  for (int trial = 0; trial < 400 && compared < 120; ++trial) {
+    const std::array<RobotState, 2> parked{RobotState{.robot = 1, .q = random_q()}, RobotState{.robot = 2, .q = random_q()}};
+    if (robotsInCollision(world, context, parked, layout)) continue;  // parked robots stand free
+    const RobotState start{.robot = 0, .q = random_q()};
+    const JointVector end = random_q();
+    const std::array<RobotMotion, 3> all{RobotMotion{start, end}, RobotMotion{parked[0], parked[0].q},
+                                         RobotMotion{parked[1], parked[1].q}};
+    const RobotMotion mover{start, end};
+    const bool full = motionsInCollision(world, context, all, layout);
+    const bool among = motionsAmongParked(world, context, std::span<const RobotMotion>(&mover, 1), parked, layout);
+    EXPECT_EQ(full, among) << "trial " << trial;
+    const bool state_full = robotsInCollision(world, context, std::array<RobotState, 3>{start, parked[0], parked[1]}, layout);
+    const bool state_among = robotsAmongParked(world, context, std::span<const RobotState>(&start, 1), parked, layout);
+    EXPECT_EQ(state_full, state_among) << "trial " << trial;
+    ++compared;
+    colliding += full ? 1 : 0;
+  }
+  EXPECT_GE(compared, 60);
+  EXPECT_GT(colliding, 5);                // the mover meets the parked robots or the table...
+  EXPECT_LT(colliding, compared - 5);     // ...and also passes them
+
+  // A parked arm bent into the table: the full check fails every motion, the query among parked robots
+  // only those that meet it.
+  const RobotState sunk{.robot = 2, .q = test::joints({0, -0.2, 2.4, 0, 0, 0})};
+  ASSERT_TRUE(robotInCollision(world, context, sunk, layout));
+  const RobotMotion still{{.robot = 0, .q = test::urHome()}, test::urHome()};
+  ASSERT_FALSE(robotInCollision(world, context, still.start, layout));
+  EXPECT_TRUE(motionsInCollision(world, context, std::array<RobotMotion, 2>{still, RobotMotion{sunk, sunk.q}}, layout));
+  EXPECT_FALSE(motionsAmongParked(world, context, std::span<const RobotMotion>(&still, 1),
+                                  std::span<const RobotState>(&sunk, 1), layout));
+}
+
 }  // namespace
 }  // namespace dash
