@@ -49,6 +49,7 @@ std::vector<ParamInfo> lazyDashParameters() {
            "RRT-Connect from both ends when the roadmap finds no way between valid ends (the paper's global "
            "sampling in tree form; off: none)"),
       flag("path_simplification", true, "shortcut roadmap paths (OMPL PathSimplifier)"),
+      flag("keep_tree_paths", true, "a path global sampling finds joins the roadmap (its states as milestones)"),
       flag("budget_growth", true, "raise the roadmap budgets 4x (at most 3 times) when a failure has no alternative"),
       // Task layer.
       flag("round_trip_removal", true, "drop task plan round trips (an object taken out and put back for nothing)"),

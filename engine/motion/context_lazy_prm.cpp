@@ -1,5 +1,6 @@
 #include "engine/motion/context_lazy_prm.h"
 
+#include <ompl/base/OptimizationObjective.h>
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 
@@ -54,6 +55,26 @@ ContextLazyPRM::Vertex ContextLazyPRM::endMilestone(const ob::State* state) {
   const Vertex v = addNumberedMilestone(si_->cloneState(state));
   ends_.emplace(std::move(key), v);
   return v;
+}
+
+void ContextLazyPRM::addPath(const std::vector<const ob::State*>& states) {
+  Vertex before = nullptr;
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    const ob::State* state = states[i];
+    // No state twice (RRT-Connect's trees may meet at one): equal states tie in GNAT's neighbour
+    // queries, which OMPL breaks by address. The ends are the query's, already in the roadmap.
+    if (before != nullptr && si_->distance(stateProperty_[before], state) < 1e-9) continue;
+    const bool end = i == 0 || i + 1 == states.size();
+    const Vertex v = end ? endMilestone(state) : addNumberedMilestone(si_->cloneState(state));
+    if (before != nullptr && !boost::edge(before, v, g_).second) {
+      const ob::Cost weight = opt_->motionCost(stateProperty_[before], stateProperty_[v]);
+      const Graph::edge_property_type properties(weight);
+      const Edge e = boost::add_edge(before, v, properties, g_).first;
+      edgeValidityProperty_[e] = VALIDITY_UNKNOWN;
+      uniteComponents(before, v);
+    }
+    before = v;
+  }
 }
 
 void ContextLazyPRM::removeMilestone(Vertex v) {

@@ -48,6 +48,13 @@ class ContextLazyPRM : public ompl::geometric::LazyPRM {
   /// Samples drawn between two searches when the roadmap has `vertices` vertices.
   static std::size_t sampleBatch(std::size_t vertices);
 
+  /// Adds `states` (copied) as milestones, each joined to its nearest neighbours as any sample and to
+  /// the one before it in the list (a path found elsewhere: its states join the roadmap where uniform
+  /// samples rarely land). The first and last states are query ends (deduplicated as such). Nothing is
+  /// validated here: the static and context checks come when a search uses them, as for every other
+  /// vertex and edge.
+  void addPath(const std::vector<const ompl::base::State*>& states);
+
  private:
   // Context verdicts live in the high bits of OMPL's validity flags (bit 0: statically valid), tagged
   // with the context's generation, so that forgetting a context costs nothing and a search reads a

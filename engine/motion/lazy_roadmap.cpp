@@ -186,7 +186,13 @@ std::optional<std::vector<JointVector>> LazyRoadmap::queryTrees(const JointVecto
   const ob::PlannerStatus status = trees.solve(ptc);
   bookConstruction(watch.seconds(), checks_before);
   if (status != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
-  return finish(*std::static_pointer_cast<og::PathGeometric>(pdef->getSolutionPath()), q_start, q_goal);
+  auto& path = *std::static_pointer_cast<og::PathGeometric>(pdef->getSolutionPath());
+  if (params_.keep_tree_paths) {
+    std::vector<const ob::State*> states;
+    for (std::size_t i = 0; i < path.getStateCount(); ++i) states.push_back(path.getState(i));
+    planner_->addPath(states);
+  }
+  return finish(path, q_start, q_goal);
 }
 
 void LazyRoadmap::scaleBudget(double factor) {

@@ -54,6 +54,12 @@ struct RoadmapParams {
   unsigned int simplify_empty_steps = 4;
   /// Work budget of one global-sampling query (queryTrees): RRT-Connect iterations.
   std::size_t tree_iterations = 20000;
+  /// A path global sampling finds joins the roadmap (its states as milestones, consecutive ones joined):
+  /// the long moves the roadmap misses recur (sorting 16/64 seed 1: a giver carrying its object half a
+  /// turn round, 12.7 rad of joint travel, the same move for several robots and twice for some; the
+  /// roadmap failed 64 times in the motion layer, each after its whole sample budget, and RRT-Connect
+  /// found a path every time).
+  bool keep_tree_paths = true;
 
   /// Multiplies the per-query work budgets and the time ceiling.
   void scale(double factor) {
@@ -77,7 +83,8 @@ class LazyRoadmap {
                                                 const MotionContext& motion, const Deadline& deadline);
   /// Global sampling, for when query() found no path between valid ends: OMPL's RRT-Connect grows a
   /// tree from each end, and so gets out of narrow places next to them (deep in a shelf cubby) that the
-  /// roadmap's uniform samples rarely reach. The roadmap itself is not changed.
+  /// roadmap's uniform samples rarely reach. With keep_tree_paths the path found (before
+  /// simplification) joins the roadmap.
   std::optional<std::vector<JointVector>> queryTrees(const JointVector& q_start, const JointVector& q_goal,
                                                      const MotionContext& motion, const Deadline& deadline);
   /// Multiplies the per-query budgets (after a motion failure was found to have no alternative).

@@ -101,6 +101,7 @@ void applyParameters(LazyDashParams& p, const ParamValues& v) {
   set("straight_first", p.motion.straight_first);
   set("global_sampling", p.motion.global_sampling);
   set("path_simplification", p.motion.roadmap.simplify);
+  set("keep_tree_paths", p.motion.roadmap.keep_tree_paths);
   set("roadmap_query_samples", p.motion.roadmap.query_samples);
   set("roadmap_max_vertices", p.motion.roadmap.max_vertices);
   if (v.contains("deep_backoffs") && !paramBool(v, "deep_backoffs")) p.motion.deep_approach_distances.clear();

@@ -45,6 +45,26 @@ TEST_F(OneArm, TreesFindAPathTheRoadmapHasNoBudgetFor) {
   expectValidPath(*path, home(), turned());
 }
 
+// keep_tree_paths: the path global sampling found joins the roadmap, so the next roadmap query
+// between the same ends answers from it (no budget needed); without it the roadmap still cannot.
+TEST_F(OneArm, ATreesPathJoinsTheRoadmap) {
+  for (const bool keep : {true, false}) {
+    RoadmapParams params;
+    params.query_samples = 1;
+    params.keep_tree_paths = keep;
+    LazyRoadmap roadmap(world, context, 0, params);
+    ASSERT_FALSE(roadmap.query(home(), turned(), context_at_start(), Deadline()).has_value());
+    const std::size_t before = roadmap.vertexCount();
+    ASSERT_TRUE(roadmap.queryTrees(home(), turned(), context_at_start(), Deadline()).has_value());
+    const auto again = roadmap.query(home(), turned(), context_at_start(), Deadline());
+    EXPECT_EQ(again.has_value(), keep) << "keep_tree_paths " << keep;
+    if (keep) {
+      EXPECT_GT(roadmap.vertexCount(), before);  // the tree path's inner states
+      expectValidPath(*again, home(), turned());
+    }
+  }
+}
+
 TEST_F(OneArm, TreesAnswerAnInvalidEndAtOnce) {
   LazyRoadmap roadmap(world, context, 0);
   JointVector into_table = home();
