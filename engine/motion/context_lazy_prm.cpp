@@ -58,15 +58,22 @@ ContextLazyPRM::Vertex ContextLazyPRM::endMilestone(const ob::State* state) {
 }
 
 void ContextLazyPRM::addPath(const std::vector<const ob::State*>& states) {
-  Vertex before = nullptr;
+  // No state twice (RRT-Connect's trees may meet at one): equal states tie in GNAT's neighbour
+  // queries, which OMPL breaks by address. The last state is the query's goal and stays.
+  std::vector<const ob::State*> kept;
   for (std::size_t i = 0; i < states.size(); ++i) {
-    const ob::State* state = states[i];
-    // No state twice (RRT-Connect's trees may meet at one): equal states tie in GNAT's neighbour
-    // queries, which OMPL breaks by address. The ends are the query's, already in the roadmap.
-    if (before != nullptr && si_->distance(stateProperty_[before], state) < 1e-9) continue;
-    const bool end = i == 0 || i + 1 == states.size();
-    const Vertex v = end ? endMilestone(state) : addNumberedMilestone(si_->cloneState(state));
-    if (before != nullptr && !boost::edge(before, v, g_).second) {
+    if (!kept.empty() && si_->distance(kept.back(), states[i]) < 1e-9) {
+      if (i + 1 == states.size() && kept.size() > 1) kept.back() = states[i];
+      continue;
+    }
+    kept.push_back(states[i]);
+  }
+  Vertex before = nullptr;
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    // The ends are the query's, already in the roadmap (deduplicated as query ends).
+    const bool end = i == 0 || i + 1 == kept.size();
+    const Vertex v = end ? endMilestone(kept[i]) : addNumberedMilestone(si_->cloneState(kept[i]));
+    if (before != nullptr && before != v && !boost::edge(before, v, g_).second) {
       const ob::Cost weight = opt_->motionCost(stateProperty_[before], stateProperty_[v]);
       const Graph::edge_property_type properties(weight);
       const Edge e = boost::add_edge(before, v, properties, g_).first;
