@@ -26,10 +26,9 @@ inline Aabb postureBox(const CollisionContext::PosedRobot& posed) {
   return posed.held_object >= 0 ? posed.aabb.merged(posed.held_aabb) : posed.aabb;
 }
 
-/// Poses the robots standing still of a query (once: they do not move) and keeps, in `near`, those
-/// whose posture box meets `reach`.
+/// Poses the robots standing still of a query (once: they do not move); their indices in `robots`.
 void poseParked(const CollisionWorld& world, CollisionContext& context, std::span<const RobotState> parked,
-                const Aabb& reach, std::vector<int>& near);
+                std::vector<int>& robots);
 
 /// Poses robot r's bodies (and held object) in context.scratch().robots[r].
 void poseRobot(const CollisionWorld& world, CollisionContext& context, int r, const JointVector& q,

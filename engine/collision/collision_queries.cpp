@@ -262,12 +262,12 @@ bool checkPosedRobotPair(const CollisionWorld& world, CollisionContext& context,
 }
 
 void poseParked(const CollisionWorld& world, CollisionContext& context, std::span<const RobotState> parked,
-                const Aabb& reach, std::vector<int>& near) {
-  near.clear();
+                std::vector<int>& robots) {
+  robots.clear();
   for (const RobotState& p : parked) {
     DASH_DEMAND(p.robot >= 0 && p.robot < world.robotCount());
     poseRobot(world, context, p.robot, p.q, p.held);
-    if (postureBox(context.scratch().robots[at(p.robot)]).intersects(reach)) near.push_back(p.robot);
+    robots.push_back(p.robot);
   }
 }
 
@@ -324,15 +324,10 @@ bool robotsAmongParked(const CollisionWorld& world, CollisionContext& context, s
   for (std::size_t i = 0; i < all.size(); ++i)
     for (std::size_t k = 0; k < i; ++k) DASH_DEMAND_MSG(all[k].robot != all[i].robot, "a robot appears twice");
   detail::prepareResting(world, context, layout, all);
-  Aabb reach;
-  reach.setEmpty();
-  for (const RobotState& state : states) {
-    detail::poseRobot(world, context, state.robot, state.q, state.held);
-    reach.extend(detail::postureBox(context.scratch().robots[static_cast<std::size_t>(state.robot)]));
-  }
-  std::vector<int> near;
-  detail::poseParked(world, context, parked, reach, near);
-  return detail::checkStates(world, context, states, scope, report, near);
+  // Every parked robot: the pair check's boxes clear the far ones at once (checkStates poses `states`).
+  std::vector<int> robots;
+  detail::poseParked(world, context, parked, robots);
+  return detail::checkStates(world, context, states, scope, report, robots);
 }
 
 bool objectInCollision(const CollisionWorld& world, CollisionContext& context, int object, const Pose& X_WO,

@@ -78,6 +78,13 @@ bool anyBodyMeets(const std::vector<Aabb>& swept, const Aabb& box) {
   return std::any_of(swept.begin(), swept.end(), [&](const Aabb& b) { return b.intersects(box); });
 }
 
+/// Whether `box` meets the current swept boxes: their union first, then each body's and the held object's.
+bool meetsSwept(const CollisionContext::Scratch& s, const Aabb& box, const Aabb& whole, bool holding,
+                const Aabb& held_swept) {
+  if (!whole.intersects(box)) return false;
+  return (holding && held_swept.intersects(box)) || anyBodyMeets(s.swept_body, box);
+}
+
 /// Keeps the pairs of `full` that meet the swept boxes, in context.scratch().candidates.
 void narrowCandidates(const CollisionWorld& world, CollisionContext& context, const detail::CandidateView& full,
                       const Aabb& whole, bool holding, const Aabb& held_swept) {
@@ -101,18 +108,14 @@ void narrowCandidates(const CollisionWorld& world, CollisionContext& context, co
     }
   }
   for (const int j : full.objects) {
-    const Aabb& box = s.object_aabb[at(j)];
-    if (!whole.intersects(box)) continue;
-    if ((holding && held_swept.intersects(box)) || anyBodyMeets(s.swept_body, box)) c.objects.push_back(j);
+    if (meetsSwept(s, s.object_aabb[at(j)], whole, holding, held_swept)) c.objects.push_back(j);
   }
   for (const auto& pair : full.self_pairs) {
     if (s.swept_body[at(pair.first)].intersects(s.swept_body[at(pair.second)])) c.self_pairs.push_back(pair);
   }
   c.robots.clear();
   for (const int p : full.robots) {
-    const Aabb box = detail::postureBox(s.robots[at(p)]);
-    if (!whole.intersects(box)) continue;
-    if ((holding && held_swept.intersects(box)) || anyBodyMeets(s.swept_body, box)) c.robots.push_back(p);
+    if (meetsSwept(s, detail::postureBox(s.robots[at(p)]), whole, holding, held_swept)) c.robots.push_back(p);
   }
 }
 
@@ -127,14 +130,10 @@ bool anyCandidateMeets(const CollisionWorld& world, const CollisionContext::Scra
     if (s.swept_body[at(pair.first)].intersects(s.swept_body[at(pair.second)])) return true;
   }
   for (const int j : view.objects) {
-    const Aabb& box = s.object_aabb[at(j)];
-    if (!whole.intersects(box)) continue;
-    if ((holding && held_swept.intersects(box)) || anyBodyMeets(s.swept_body, box)) return true;
+    if (meetsSwept(s, s.object_aabb[at(j)], whole, holding, held_swept)) return true;
   }
   for (const int p : view.robots) {
-    const Aabb box = detail::postureBox(s.robots[at(p)]);
-    if (!whole.intersects(box)) continue;
-    if ((holding && held_swept.intersects(box)) || anyBodyMeets(s.swept_body, box)) return true;
+    if (meetsSwept(s, detail::postureBox(s.robots[at(p)]), whole, holding, held_swept)) return true;
   }
   if (!holding) return false;
   for (const int i : view.held_obstacles) {
@@ -312,7 +311,8 @@ bool motionsAmongParked(const CollisionWorld& world, CollisionContext& context, 
     reach.extend(whole.back());
   }
   std::vector<int> near;
-  detail::poseParked(world, context, parked, reach, near);
+  detail::poseParked(world, context, parked, near);
+  std::erase_if(near, [&](int p) { return !detail::postureBox(context.scratch().robots[at(p)]).intersects(reach); });
 
   auto check_states = [&](double t) {
     ++context.counters().configuration_checks;

@@ -58,7 +58,8 @@ struct RoadmapParams {
   /// the long moves the roadmap misses recur (sorting 16/64 seed 1: a giver carrying its object half a
   /// turn round, 12.7 rad of joint travel, the same move for several robots and twice for some; the
   /// roadmap failed 64 times in the motion layer, each after its whole sample budget, and RRT-Connect
-  /// found a path every time).
+  /// found a path every time). The path's states join even a roadmap at max_vertices (a few per
+  /// global-sampling query, which has its own work budget).
   bool keep_tree_paths = true;
 
   /// Multiplies the per-query work budgets and the time ceiling.
