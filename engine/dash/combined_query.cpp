@@ -27,6 +27,7 @@ using Kind = MotionVertex::Kind;
 using Type = MotionArc::Type;
 
 bool isObjectState(const MotionVertex& v) { return v.kind == Kind::kObject || v.kind == Kind::kHolding; }
+bool isRobotState(const MotionVertex& v) { return v.kind == Kind::kRobot || v.kind == Kind::kHolding; }
 }  // namespace
 
 struct CombinedQuery::Summary {
@@ -55,9 +56,10 @@ void CombinedQuery::refresh(const std::vector<HyperarcId>& forbidden_list) {
   const MotionGraph& g = graph_->graph();
   const TaskSpace& space = graph_->space();
   const Scene& scene = space.scene();
+  refreshStranded(forbidden);
   std::vector<std::vector<std::pair<VertexId, double>>> reverse(g.vertexCount());
   for (HyperarcId a : g.hyperarcs()) {
-    if (forbidden.contains(a)) continue;
+    if (forbidden.contains(a) || strandsRobot(a)) continue;
     const auto [from, to] = objectMove(a);
     if (from.valid() && to.valid()) reverse[to.value()].push_back({from, graph_->cost(a)});
   }
@@ -101,12 +103,76 @@ void CombinedQuery::refresh(const std::vector<HyperarcId>& forbidden_list) {
   }
 }
 
+void CombinedQuery::refreshStranded(const std::unordered_set<HyperarcId>& forbidden) {
+  const MotionGraph& g = graph_->graph();
+  const TaskSpace& space = graph_->space();
+  const Scene& scene = space.scene();
+  std::vector<char> needed_away(scene.objects.size(), 0);
+  for (const auto& task : scene.tasks)
+    if (task.requires_removed_object >= 0) needed_away[task.requires_removed_object] = 1;
+  // A pick of an object at its goal (one no inspection needs away) is not a way home: the goal needs
+  // the object back there, so such a pick right after the place that left the robot there only undoes
+  // it, and H_M never needs a goal cleared (resting objects block no transition of H_M).
+  auto undoesGoal = [&](HyperarcId a) {
+    if (g.property(a).type != Type::kPick) return false;
+    for (VertexId t : g.tail(a)) {
+      const MotionVertex& tv = g.property(t);
+      if (tv.kind == Kind::kObject && !needed_away[tv.object] && tv.placement == space.goalLocation(tv.object)) return true;
+    }
+    return false;
+  };
+  // Reverse robot steps: for each hyperarc, each robot's vertex before it from the one after it.
+  std::vector<std::vector<VertexId>> before(g.vertexCount());
+  for (HyperarcId a : g.hyperarcs()) {
+    if (forbidden.contains(a) || undoesGoal(a)) continue;
+    for (VertexId h : g.head(a)) {
+      const MotionVertex& hv = g.property(h);
+      if (!isRobotState(hv)) continue;
+      for (VertexId t : g.tail(a)) {
+        const MotionVertex& tv = g.property(t);
+        if (isRobotState(tv) && tv.robot == hv.robot && t != h) before[h.value()].push_back(t);
+      }
+    }
+  }
+  std::vector<char> reaches_home(g.vertexCount(), 0);
+  std::vector<VertexId> open;
+  for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r) {
+    const VertexId home = graph_->homeVertex(r);
+    reaches_home[home.value()] = 1;
+    open.push_back(home);
+  }
+  while (!open.empty()) {
+    const VertexId v = open.back();
+    open.pop_back();
+    for (VertexId u : before[v.value()])
+      if (!reaches_home[u.value()]) {
+        reaches_home[u.value()] = 1;
+        open.push_back(u);
+      }
+  }
+  strands_.assign(g.hyperarcCount(), 0);
+  for (HyperarcId a : g.hyperarcs())
+    for (VertexId h : g.head(a))
+      if (isRobotState(g.property(h)) && !reaches_home[h.value()]) strands_[a.value()] = 1;
+}
+
 double CombinedQuery::costToGo(const HyperpathState& state, VertexId v) const {
   const MotionVertex& mv = graph_->graph().property(v);
   if (!isObjectState(mv)) return 0.0;
   for (VertexId pending : pending_of_[mv.object])
     if (state.inFrontier(pending)) return to_away_[v.value()];
   return to_goal_[v.value()];
+}
+
+int CombinedQuery::firstUnfinished(const HyperpathState& state) const {
+  const MotionGraph& g = graph_->graph();
+  int first = -1;
+  for (ExtendedVertexId instance : state.frontier()) {
+    const VertexId v = state.vertexOf(instance);
+    const MotionVertex& mv = g.property(v);
+    if (isObjectState(mv) && (first < 0 || mv.object < first) && costToGo(state, v) > 0.0) first = mv.object;
+  }
+  return first;
 }
 
 bool CombinedQuery::placementFree(const HyperpathState& state, HyperarcId a) const {
@@ -130,6 +196,7 @@ double CombinedQuery::regret(const HyperpathState& state, HyperarcId a) const {
 double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summary& summary, bool complete) const {
   const MotionGraph& g = graph_->graph();
   const MotionArc& arc = g.property(a);
+  if (strandsRobot(a)) return kInf;
   if (arc.type == Type::kInspect) return 0.0;
   if (arc.type != Type::kMove) {
     const auto [from, to] = objectMove(a);
@@ -217,9 +284,14 @@ HyperpathResult CombinedQuery::run(const std::vector<MotionConstraint>& constrai
   const MotionGraph& g = graph_->graph();
   HyperpathSearchParams search;
   search.algorithm = HyperpathAlgorithm::kGreedy;
-  search.allowed = [this, &constraints, &g](const HyperpathState& state, HyperarcId a) {
+  bool one_object = false;  // the pass that moves one object at a time
+  search.allowed = [this, &constraints, &g, &one_object](const HyperpathState& state, HyperarcId a) {
     for (const MotionConstraint& c : constraints)
       if (violates(g, state, a, c)) return false;
+    if (one_object) {
+      const VertexId from = objectMove(a).first;
+      if (from.valid() && g.property(from).object != firstUnfinished(state)) return false;
+    }
     return placementFree(state, a);
   };
   // Only for pruning: a state the goal cannot be reached from (either way of counting).
@@ -228,21 +300,32 @@ HyperpathResult CombinedQuery::run(const std::vector<MotionConstraint>& constrai
   search.deadline = deadline;
   search.onExtendedVertex = std::move(on_vertex);
   search.onExtendedHyperarc = std::move(on_hyperarc);
-  auto pass = [&](bool complete) {
+  auto pass = [&](Pass which) {
+    const bool complete = which != Pass::kGreedy;  // every move expanded, idle ones last
+    one_object = which == Pass::kOneObjectAtATime;
     auto summary = std::make_shared<Summary>();
     search.priority = [this, summary, complete](const HyperpathState& state, HyperarcId a) {
       return priority(state, a, *summary, complete);
     };
-    search.maxExpansions = complete ? params.complete_max_expansions : params.max_expansions;
+    search.maxExpansions = which == Pass::kGreedy     ? params.max_expansions
+                           : which == Pass::kComplete ? params.complete_max_expansions
+                                                      : params.one_object_max_expansions;
+    last_pass_ = which;
     return findHyperpath(g, {graph_->source(), graph_->sink()}, search);
   };
-  last_pass_ = 0;
-  HyperpathResult greedy = pass(false);
-  if (greedy.found() || greedy.status == HyperpathStatus::kDeadline || !params.complete_pass) return greedy;
-  last_pass_ = 1;
-  HyperpathResult complete = pass(true);
-  complete.stats.expansions += greedy.stats.expansions;
-  return complete;
+  HyperpathResult result = pass(Pass::kGreedy);
+  std::size_t expansions = result.stats.expansions;
+  auto done = [&] { return result.found() || result.status == HyperpathStatus::kDeadline; };
+  if (done() || !params.complete_pass) return result;
+  if (params.one_object_pass) {
+    result = pass(Pass::kOneObjectAtATime);
+    expansions += result.stats.expansions;
+    result.stats.expansions = expansions;
+    if (done()) return result;
+  }
+  result = pass(Pass::kComplete);
+  result.stats.expansions += expansions;
+  return result;
 }
 
 }  // namespace dash

@@ -24,8 +24,19 @@
 // configuration is not, so when the greedy pass exhausts its states, a complete pass searches again
 // with every move expanded (those last): over the finite states of H_M (one instance per robot,
 // object and task) the depth-first search with its state memo is then complete, so "no hyperpath"
-// means none exists in H_M under the constraints.
+// means none exists in H_M under the constraints. Before it (it rarely ends within its budget on the
+// larger scenes: its states are every robot's configuration times every object's state), a pass moves
+// one object at a time: only the first object (by index) not yet finished may be picked, handed over,
+// carried or placed; the robots go anywhere. That pass cannot tangle (robots holding objects, each
+// waiting for another to take its own), and it finds a hyperpath whenever each object has a route of
+// its own and the robots can get home, which is what a generated scene gives; the scheduler then runs
+// the independent steps of different objects side by side.
+// A step that leaves a robot where its roadmaps give it no way home (e.g. a place whose empty-handed
+// retreat lies in another component of the robot's roadmap than home) is never applicable: the goal
+// needs every robot home, and no later step can bring it there (robot reachability over H_M,
+// objects ignored, so this prunes nothing a hyperpath could use).
 // Motion constraints are CBS-MP's (motion_constraint.h): (robot, vertex or edge, time interval).
+#include <unordered_set>
 #include <vector>
 
 #include "engine/dash/motion_constraint.h"
@@ -35,9 +46,11 @@
 namespace dash {
 
 struct CombinedQueryParams {
-  std::size_t max_expansions = 200000;            ///< greedy pass
-  std::size_t complete_max_expansions = 4000000;  ///< complete pass (then kBudget, never "none")
-  bool complete_pass = true;                      ///< false: the greedy pass only (tests)
+  std::size_t max_expansions = 200000;             ///< greedy pass
+  std::size_t one_object_max_expansions = 1000000;  ///< one-object-at-a-time pass
+  std::size_t complete_max_expansions = 4000000;    ///< complete pass (then kBudget, never "none")
+  bool one_object_pass = true;                      ///< false: greedy, then complete (tests)
+  bool complete_pass = true;                        ///< false: the greedy pass only (tests)
 };
 
 class CombinedQuery {
@@ -51,15 +64,25 @@ class CombinedQuery {
   HyperpathResult run(const std::vector<MotionConstraint>& constraints, const CombinedQueryParams& params,
                       const Deadline& deadline, std::function<void(const ExtendedVertex&)> on_vertex = {},
                       std::function<void(const ExtendedHyperarc&)> on_hyperarc = {});
-  /// Which pass found the last hyperpath (or ended the last query): 0 greedy, 1 complete.
-  int lastPass() const { return last_pass_; }
+  enum class Pass { kGreedy, kComplete, kOneObjectAtATime };
+  /// Which pass found the last hyperpath (or ended the last query).
+  Pass lastPass() const { return last_pass_; }
 
   /// Cost-to-go to the object's goal, as of the last run() (or with no constraints before one).
   double costToGo(VertexId v) const { return to_goal_[v.value()]; }
 
+  /// Whether `a` leaves some robot at a vertex from which H_M has no way to its home (as of the last
+  /// run(); such a step is never taken).
+  bool strandsRobot(HyperarcId a) const { return strands_[a.value()] != 0; }
+
  private:
   struct Summary;
   void refresh(const std::vector<HyperarcId>& forbidden);
+  /// strands_ from the robot vertices that can reach home over hyperarcs not in `forbidden`.
+  void refreshStranded(const std::unordered_set<HyperarcId>& forbidden);
+  /// The first object (by index) not at its goal (or, while an inspection needs it away, not away
+  /// from its start) in `state`; -1 when all are.
+  int firstUnfinished(const HyperpathState& state) const;
   /// A place onto a shared placement another object rests at now is not applicable.
   bool placementFree(const HyperpathState& state, HyperarcId a) const;
   /// `complete`: moves the greedy order drops come last instead of not at all.
@@ -73,8 +96,9 @@ class CombinedQuery {
   const MotionHypergraph* graph_;
   std::vector<double> to_goal_;
   std::vector<double> to_away_;
+  std::vector<char> strands_;  ///< per hyperarc: strandsRobot()
   std::vector<std::vector<VertexId>> pending_of_;  ///< per object: pending tasks that need it away
-  int last_pass_ = 0;
+  Pass last_pass_ = Pass::kGreedy;
 };
 
 }  // namespace dash

@@ -226,6 +226,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   Scheduler scheduler(world, context, scheduler_params);
   scheduler.reportProgress(&emitter);  // steps scheduled, for people watching (reporting only)
   std::int64_t rechecks = 0, validation_feedbacks = 0, reused_steps = 0, restarts = 0;
+  std::int64_t complete_passes = 0, one_object_passes = 0;  // queries that got past the greedy pass
   std::function<void(const ExtendedVertex&)> on_vertex = [&](const ExtendedVertex& v) {
     emitter.vertex(log::Layer::MotionExtended, static_cast<std::uint32_t>(extended_vertices++),
                    emitter.enabled() ? motion->label(v.vertex) : std::string());
@@ -274,7 +275,9 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
       log::PhaseTimer timer(emitter, log::Phase::MotionQuery);
       path = query.run(node, params_.query, deadline, on_vertex, on_hyperarc);
     }
-    emitter.counter("complete_query_passes", query.lastPass());
+    if (query.lastPass() == CombinedQuery::Pass::kComplete) emitter.counter("complete_query_passes", ++complete_passes);
+    if (query.lastPass() == CombinedQuery::Pass::kOneObjectAtATime)
+      emitter.counter("one_object_query_passes", ++one_object_passes);
     if (!path.found()) {
       if (path.status == HyperpathStatus::kDeadline) return timeout("combined query (last: " + last_failure + ")");
       // Under constraints: back up the tree. Without any, the representation itself has no

@@ -24,7 +24,8 @@
 // starts again, until the deadline.
 // Counters in the event stream: "constraint_tree_nodes" (queries), "roadmap_growths" and
 // "constraint_tree_branchings" (the break rule's decisions), "constraint_tree_restarts",
-// "complete_query_passes", "validation_rechecks", "validation_feedbacks".
+// "one_object_query_passes" and "complete_query_passes" (queries the greedy pass did not answer, by
+// the pass that ended them), "validation_rechecks", "validation_feedbacks".
 // DaSH has no task conflict detection and no task space expansion: only motion constraints drive its
 // replanning. That is what the paper shows failing on Wall, Shelf-wall and Stocking.
 //

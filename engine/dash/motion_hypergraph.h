@@ -9,7 +9,9 @@
 //  - move: within one planning space (a robot alone, or a robot holding one object with one grasp),
 //    from every configuration a transition leaves the robot at to every configuration a transition
 //    needs it at, its path the shortest path in that space's validated roadmap, its cost the path
-//    length;
+//    length; and back, from a configuration only a handover needs the robot at (waiting to give or
+//    to receive) to home (empty hand) or to where the robot took the object (holding), so a robot
+//    whose partner does not come can leave;
 //  - source and sink: the start (robots at home, objects at their start) and the goal (objects at
 //    their goal, robots at home, tasks done).
 // Costs of transitions are their approach and retreat lengths; they are what the combined query sums.

@@ -170,6 +170,44 @@ TEST(MotionHypergraph, ExhaustiveMovesWithinOnePlanningSpaceAndEveryElementAnEve
   EXPECT_GT(moves, 2 * picks);
 }
 
+// A robot at a handover's waiting configuration (no transition but that handover leaves from there)
+// can leave when its partner does not come: empty-handed back home, holding back to a configuration
+// where it took the object. Without these moves a receiver that went to wait for an object another
+// robot then placed elsewhere could never get home (wall 8/2/16 seed 9 ended "no hyperpath").
+TEST(MotionHypergraph, ARobotWaitingForAHandoverCanLeave) {
+  Built& b = sorting22();
+  if (!b.motion) {
+    log::EventEmitter emitter(nullptr);
+    b.buildMotion(emitter);
+  }
+  const MotionGraph& g = b.motion->graph();
+  auto movesOut = [&](VertexId v, VertexId to) {
+    int n = 0;
+    for (HyperarcId a : g.outgoing(v))
+      n += g.property(a).type == MotionArc::Type::kMove && (!to.valid() || g.head(a).front() == to);
+    return n;
+  };
+  auto movesIn = [&](VertexId v) {
+    int n = 0;
+    for (HyperarcId a : g.incoming(v)) n += g.property(a).type == MotionArc::Type::kMove;
+    return n;
+  };
+  int handovers = 0, waits_checked = 0;
+  for (HyperarcId a : g.hyperarcs()) {
+    if (g.property(a).type != MotionArc::Type::kHandover) continue;
+    ++handovers;
+    for (VertexId v : g.tail(a)) {
+      const MotionVertex& mv = g.property(v);
+      if (movesIn(v) == 0) continue;  // a configuration the roadmap did not connect
+      ++waits_checked;
+      if (mv.kind == MotionVertex::Kind::kRobot) EXPECT_EQ(movesOut(v, b.motion->homeVertex(mv.robot)), 1) << b.motion->label(v);
+      else EXPECT_GE(movesOut(v, {}), 1) << b.motion->label(v);
+    }
+  }
+  EXPECT_GT(handovers, 0);
+  EXPECT_GT(waits_checked, 0);
+}
+
 TEST(CombinedQuery, FindsAHyperpathAndHonoursMotionConstraints) {
   Built& b = sorting22();
   if (!b.motion) {
@@ -246,9 +284,11 @@ TEST(CombinedQuery, CompletePassFindsTheDetourTheGreedyPassMisses) {
   greedy_only.complete_pass = false;
   const HyperpathResult greedy = query.run(constraints, greedy_only, Deadline());
   EXPECT_EQ(greedy.status, HyperpathStatus::kExhausted);
-  const HyperpathResult complete = query.run(constraints, {}, Deadline());
+  CombinedQueryParams complete_after_greedy;
+  complete_after_greedy.one_object_pass = false;
+  const HyperpathResult complete = query.run(constraints, complete_after_greedy, Deadline());
   ASSERT_TRUE(complete.found()) << toString(complete.status);
-  EXPECT_EQ(query.lastPass(), 1);
+  EXPECT_EQ(query.lastPass(), CombinedQuery::Pass::kComplete);
   bool detour = false;
   for (const HyperpathStep& s : complete.steps) {
     for (const MotionConstraint& c : constraints) EXPECT_NE(s.hyperarc, c.edge);
@@ -261,6 +301,79 @@ TEST(CombinedQuery, CompletePassFindsTheDetourTheGreedyPassMisses) {
   const ExtractedPlan plan = extractPlan(*b.motion, complete);
   for (const RobotMotionPlan& rp : plan.motion.robots)
     for (std::size_t i = 1; i < rp.visits.size(); ++i) EXPECT_EQ(rp.visits[i].transit.front(), rp.visits[i - 1].q_post);
+}
+
+// A place whose empty-handed retreat has no move anywhere (a roadmap that did not connect it) strands
+// its robot: the goal needs every robot home, and re-picking the object from its goal only undoes the
+// place. Such a step is never taken, so the query neither descends into states that cannot end nor
+// counts it as a route for the object.
+TEST(CombinedQuery, AStepThatLeavesARobotNoWayHomeIsNeverTaken) {
+  Built& b = sorting22();
+  if (!b.motion) {
+    log::EventEmitter emitter(nullptr);
+    b.buildMotion(emitter);
+  }
+  const MotionGraph& g = b.motion->graph();
+  CombinedQuery query(*b.motion);
+  const HyperpathResult first = query.run({}, {}, Deadline());
+  ASSERT_TRUE(first.found());
+  HyperarcId place;
+  for (const HyperpathStep& s : first.steps) {
+    EXPECT_FALSE(query.strandsRobot(s.hyperarc));
+    if (!place.valid() && g.property(s.hyperarc).type == MotionArc::Type::kPlace) place = s.hyperarc;
+  }
+  ASSERT_TRUE(place.valid());
+  VertexId retreat;
+  for (VertexId v : g.head(place))
+    if (g.property(v).kind == MotionVertex::Kind::kRobot) retreat = v;
+  ASSERT_TRUE(retreat.valid());
+  const int r = g.property(retreat).robot;
+  // Every move out of the retreat forbidden: the robot can leave it only by picking the object again.
+  std::vector<MotionConstraint> constraints;
+  for (HyperarcId a : g.outgoing(retreat))
+    if (g.property(a).type == MotionArc::Type::kMove) constraints.push_back({r, {}, a, {}});
+  ASSERT_FALSE(constraints.empty());
+  const HyperpathResult second = query.run(constraints, {}, Deadline());
+  EXPECT_TRUE(query.strandsRobot(place));
+  ASSERT_TRUE(second.found()) << toString(second.status);  // through another grasp
+  for (const HyperpathStep& s : second.steps) {
+    EXPECT_NE(s.hyperarc, place);
+    EXPECT_FALSE(query.strandsRobot(s.hyperarc));
+  }
+  query.run({}, {}, Deadline());
+  EXPECT_FALSE(query.strandsRobot(place));
+}
+
+// When the greedy pass gives up (here: a budget of one state), the next pass moves one object at a
+// time: every step that moves an object moves the first one not yet at its goal, so objects finish in
+// index order, and robots still go wherever that object's route needs them.
+TEST(CombinedQuery, TheOneObjectPassFinishesObjectsInOrder) {
+  Built& b = sorting22();
+  if (!b.motion) {
+    log::EventEmitter emitter(nullptr);
+    b.buildMotion(emitter);
+  }
+  const MotionGraph& g = b.motion->graph();
+  CombinedQuery query(*b.motion);
+  CombinedQueryParams params;
+  params.max_expansions = 1;
+  const HyperpathResult path = query.run({}, params, Deadline());
+  ASSERT_TRUE(path.found()) << toString(path.status);
+  EXPECT_EQ(query.lastPass(), CombinedQuery::Pass::kOneObjectAtATime);
+  int current = 0, object_steps = 0;
+  for (const HyperpathStep& s : path.steps) {
+    const MotionArc::Type type = g.property(s.hyperarc).type;
+    if (type != MotionArc::Type::kPick && type != MotionArc::Type::kPlace && type != MotionArc::Type::kHandover)
+      continue;
+    int object = -1;
+    for (VertexId v : g.head(s.hyperarc))
+      if (g.property(v).object >= 0) object = g.property(v).object;
+    ++object_steps;
+    EXPECT_GE(object, current) << "object " << object << " moved after object " << current << " started";
+    current = std::max(current, object);
+  }
+  EXPECT_EQ(current, 1);  // both objects moved, the second after the first
+  EXPECT_GE(object_steps, 4);
 }
 
 // A constraint with an interval: robot r kept off a vertex only while an object rests at its start.
