@@ -1,5 +1,6 @@
 #include "engine/dash/combined_query.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <queue>
@@ -34,6 +35,7 @@ struct CombinedQuery::Summary {
   ExtendedHyperarcId node;
   bool valid = false;
   std::vector<VertexId> robot_at;  ///< the vertex each robot's instance is at
+  int focus = -1;                  ///< the one-object pass: the object it may move now
 };
 
 CombinedQuery::CombinedQuery(const MotionHypergraph& graph) : graph_(&graph) { refresh({}); }
@@ -121,10 +123,17 @@ void CombinedQuery::refreshStranded(const std::unordered_set<HyperarcId>& forbid
     }
     return false;
   };
+  // A move back from a handover is not a way home either: a robot goes to wait there only for the
+  // handover, so where every handover from there strands it, going there is the mistake (and the
+  // greedy pass, which never moves back, would be stuck there).
+  auto movesBack = [&](HyperarcId a) {
+    const MotionArc& arc = g.property(a);
+    return arc.type == Type::kMove && graph_->move(arc.index).back;
+  };
   // Reverse robot steps: for each hyperarc, each robot's vertex before it from the one after it.
   std::vector<std::vector<VertexId>> before(g.vertexCount());
   for (HyperarcId a : g.hyperarcs()) {
-    if (forbidden.contains(a) || undoesGoal(a)) continue;
+    if (forbidden.contains(a) || undoesGoal(a) || movesBack(a)) continue;
     for (VertexId h : g.head(a)) {
       const MotionVertex& hv = g.property(h);
       if (!isRobotState(hv)) continue;
@@ -193,7 +202,8 @@ double CombinedQuery::regret(const HyperpathState& state, HyperarcId a) const {
   return graph_->cost(a) + costToGo(state, to) - costToGo(state, from);
 }
 
-double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summary& summary, bool complete) const {
+double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summary& summary, Pass which) const {
+  const bool complete = which == Pass::kComplete;
   const MotionGraph& g = graph_->graph();
   const MotionArc& arc = g.property(a);
   if (strandsRobot(a)) return kInf;
@@ -215,6 +225,7 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
       const MotionVertex& mv = g.property(v);
       if (mv.kind == Kind::kRobot || mv.kind == Kind::kHolding) summary.robot_at[mv.robot] = v;
     }
+    summary.focus = which == Pass::kOneObjectAtATime ? firstUnfinished(state) : -1;
   }
   auto emptyHanded = [&](int robot) {
     const VertexId v = summary.robot_at[robot];
@@ -225,6 +236,12 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
   const double cost = graph_->cost(a);
   const MotionVertex& mv = g.property(from);
   const TransitionCatalog& catalog = graph_->catalog();
+  // Back from a handover its partner did not come to: a way out of a tangle, not a step towards the
+  // goal (in the greedy pass such detours made it wander past its budget on sorting 4/64).
+  if (graph_->move(arc.index).back) {
+    if (which == Pass::kGreedy) return kInf;
+    return (mv.kind == Kind::kRobot ? kHome : kIdleMove) + cost;
+  }
   if (mv.kind == Kind::kHolding) {
     const double r = cost + costToGo(state, to) - costToGo(state, from);
     if (!std::isfinite(r)) return kInf;
@@ -251,6 +268,8 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
     if (ta.type == Type::kPick) {
       const auto [object_at, held] = objectMove(t);
       if (!state.inFrontier(object_at)) continue;
+      // The one-object pass picks only its object: going to wait by another is a wasted move.
+      if (which == Pass::kOneObjectAtATime && g.property(object_at).object != summary.focus) continue;
       const double r = regret(state, t);
       const bool undo = costToGo(state, object_at) == 0.0 && costToGo(state, held) > 0.0;
       value = (undo ? kUndoMove : kPickMove) + r;
@@ -300,16 +319,18 @@ HyperpathResult CombinedQuery::run(const std::vector<MotionConstraint>& constrai
   search.deadline = deadline;
   search.onExtendedVertex = std::move(on_vertex);
   search.onExtendedHyperarc = std::move(on_hyperarc);
+  search.maxPendingSuccessors = params.max_pending_successors;
   auto pass = [&](Pass which) {
-    const bool complete = which != Pass::kGreedy;  // every move expanded, idle ones last
     one_object = which == Pass::kOneObjectAtATime;
     auto summary = std::make_shared<Summary>();
-    search.priority = [this, summary, complete](const HyperpathState& state, HyperarcId a) {
-      return priority(state, a, *summary, complete);
+    search.priority = [this, summary, which](const HyperpathState& state, HyperarcId a) {
+      return priority(state, a, *summary, which);
     };
-    search.maxExpansions = which == Pass::kGreedy     ? params.max_expansions
-                           : which == Pass::kComplete ? params.complete_max_expansions
-                                                      : params.one_object_max_expansions;
+    const std::size_t frontier = std::max<std::size_t>(1, g.head(graph_->source()).size());
+    search.maxExpansions = std::min(which == Pass::kGreedy     ? params.max_expansions
+                                    : which == Pass::kComplete ? params.complete_max_expansions
+                                                               : params.one_object_max_expansions,
+                                    params.max_frontier_entries / frontier);
     last_pass_ = which;
     return findHyperpath(g, {graph_->source(), graph_->sink()}, search);
   };

@@ -27,7 +27,8 @@
 // means none exists in H_M under the constraints. Before it (it rarely ends within its budget on the
 // larger scenes: its states are every robot's configuration times every object's state), a pass moves
 // one object at a time: only the first object (by index) not yet finished may be picked, handed over,
-// carried or placed; the robots go anywhere. That pass cannot tangle (robots holding objects, each
+// carried or placed; robots move as in the greedy pass, and back from a handover whose partner did
+// not come (moves the greedy pass leaves out: they let it wander). That pass cannot tangle (robots holding objects, each
 // waiting for another to take its own), and it finds a hyperpath whenever each object has a route of
 // its own and the robots can get home, which is what a generated scene gives; the scheduler then runs
 // the independent steps of different objects side by side.
@@ -49,6 +50,12 @@ struct CombinedQueryParams {
   std::size_t max_expansions = 200000;             ///< greedy pass
   std::size_t one_object_max_expansions = 1000000;  ///< one-object-at-a-time pass
   std::size_t complete_max_expansions = 4000000;    ///< complete pass (then kBudget, never "none")
+  /// Memory cap of one pass, in frontier entries over its states (about 16 bytes each): a pass's
+  /// budget is the smaller of its max and this over the number of robots, objects and tasks (the
+  /// frontier's size).
+  std::size_t max_frontier_entries = 100000000;
+  /// Memory cap of a pass's depth-first stack, in successors not yet tried (24 bytes each).
+  std::size_t max_pending_successors = 50000000;
   bool one_object_pass = true;                      ///< false: greedy, then complete (tests)
   bool complete_pass = true;                        ///< false: the greedy pass only (tests)
 };
@@ -85,8 +92,10 @@ class CombinedQuery {
   int firstUnfinished(const HyperpathState& state) const;
   /// A place onto a shared placement another object rests at now is not applicable.
   bool placementFree(const HyperpathState& state, HyperarcId a) const;
-  /// `complete`: moves the greedy order drops come last instead of not at all.
-  double priority(const HyperpathState& state, HyperarcId a, Summary& summary, bool complete) const;
+  /// The greedy order of `which` pass: the greedy pass drops moves to where nothing can happen now
+  /// and moves back from a handover; the one-object pass takes moves back (last); the complete pass
+  /// takes every move (those two kinds last).
+  double priority(const HyperpathState& state, HyperarcId a, Summary& summary, Pass which) const;
   /// The object state an object-moving hyperarc leaves and the one it reaches (invalid otherwise).
   std::pair<VertexId, VertexId> objectMove(HyperarcId a) const;
   double regret(const HyperpathState& state, HyperarcId a) const;

@@ -197,6 +197,29 @@ MotionHypergraph::MotionHypergraph(const TaskSpace& space_in, const TransitionCa
 }
 
 void MotionHypergraph::connectMoves(RoadmapSet& roadmaps, const std::vector<int>& robots, const Deadline& deadline) {
+  // A move e -> x of cost `length` along path() (made only when needed), or a shorter path for one
+  // already there.
+  auto addMove = [&](int robot, const HeldObject& held, VertexId e, VertexId x, double length, auto path, bool back) {
+    const auto key = std::make_pair(e.value(), x.value());
+    if (auto it = move_of_.find(key); it != move_of_.end()) {
+      MovePath& m = moves_[it->second];
+      if (length < m.length - 1e-12) {  // a shorter path through new milestones
+        m.path = path();
+        m.length = length;
+        cost_[graph_.find({e}, {x}, MotionArc{MotionArc::Type::kMove, it->second})->value()] = length;
+      }
+      return;
+    }
+    const int index = static_cast<int>(moves_.size());
+    moves_.push_back({robot, held, e, x, path(), length, back});
+    move_of_.emplace(key, index);
+    arc({e}, {x}, MotionArc{MotionArc::Type::kMove, index}, length);
+  };
+  // A robot waiting where a handover needs it (an exit no transition leaves it at) may leave if the
+  // handover does not happen: empty-handed back home, holding back to where it took the object; from
+  // there every exit is a move away again. Those moves come after every other (hyperarc ids break the
+  // queries' ties, so the greedy pass, which leaves them out, sees the same H_M as without them).
+  std::vector<MovePath> backs;
   for (Space& sp : spaces_) {
     if (!robots.empty() && std::find(robots.begin(), robots.end(), sp.robot) == robots.end()) continue;
     if (deadline.expired()) return;
@@ -210,44 +233,24 @@ void MotionHypergraph::connectMoves(RoadmapSet& roadmaps, const std::vector<int>
     for (const auto* list : {&sp.entries, &sp.exits})
       for (VertexId v : *list)
         if (!at.contains(v)) at[v] = roadmap.anchor(s, configs_[graph_.property(v).config]);
-    // A move e -> x of cost `length` along path() (made only when needed), or a shorter path for one
-    // already there.
-    auto addMove = [&](VertexId e, VertexId x, double length, auto path) {
-      const auto key = std::make_pair(e.value(), x.value());
-      if (auto it = move_of_.find(key); it != move_of_.end()) {
-        MovePath& m = moves_[it->second];
-        if (length < m.length - 1e-12) {  // a shorter path through new milestones
-          m.path = path();
-          m.length = length;
-          cost_[graph_.find({e}, {x}, MotionArc{MotionArc::Type::kMove, it->second})->value()] = length;
-        }
-        return;
-      }
-      const int index = static_cast<int>(moves_.size());
-      moves_.push_back({sp.robot, sp.held, e, x, path(), length});
-      move_of_.emplace(key, index);
-      arc({e}, {x}, MotionArc{MotionArc::Type::kMove, index}, length);
-    };
     for (VertexId e : sp.entries) {
       if (deadline.expired()) return;
       const ValidatedRoadmap::Tree tree = roadmap.shortestPaths(s, at[e]);
-      // A robot waiting where a handover needs it (an exit no transition leaves it at) may leave if
-      // the handover does not happen: empty-handed back home, holding back to where it took the
-      // object; from there every exit is a move away again.
       const bool back = sp.held.holding() || e == home_[sp.robot];
       for (VertexId x : sp.exits) {
         if (x == e || !std::isfinite(tree.dist[at[x]])) continue;
-        auto forward = [&] { return roadmap.pathTo(s, tree, at[x]); };
-        addMove(e, x, tree.dist[at[x]], forward);
-        if (back && !std::binary_search(sp.entries.begin(), sp.entries.end(), x))
-          addMove(x, e, tree.dist[at[x]], [&] {
-            std::vector<JointVector> path = forward();
-            std::reverse(path.begin(), path.end());
-            return path;
-          });
+        const double length = tree.dist[at[x]];
+        addMove(sp.robot, sp.held, e, x, length, [&] { return roadmap.pathTo(s, tree, at[x]); }, false);
+        if (!back || std::binary_search(sp.entries.begin(), sp.entries.end(), x)) continue;
+        const auto known = move_of_.find(std::make_pair(x.value(), e.value()));
+        if (known != move_of_.end() && !(length < moves_[known->second].length - 1e-12)) continue;
+        std::vector<JointVector> path = roadmap.pathTo(s, tree, at[x]);
+        std::reverse(path.begin(), path.end());
+        backs.push_back({sp.robot, sp.held, x, e, std::move(path), length, true});
       }
     }
   }
+  for (MovePath& m : backs) addMove(m.robot, m.held, m.from, m.to, m.length, [&] { return std::move(m.path); }, true);
 }
 
 VertexId MotionHypergraph::objectVertex(int object, int placement) const {

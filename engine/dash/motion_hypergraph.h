@@ -85,6 +85,7 @@ struct MovePath {
   VertexId to;
   std::vector<JointVector> path;
   double length = 0.0;
+  bool back = false;  ///< from a handover's waiting configuration back (home, or where the object was taken)
 };
 
 /// The validated roadmap of every planning space (robot, hand state).

@@ -86,6 +86,7 @@ Outcome runGreedy(SearchWorkspace& ws, const HyperpathSearchParams& params, Hype
           const bool postponed = !params.priority && ws.undoesFinishedWork(a);
           candidates.push_back({postponed, priority, a});
         }
+        if (candidates.size() > params.maxPendingSuccessors) return {HyperpathStatus::kBudget, {}};
         std::make_heap(candidates.begin() + static_cast<std::ptrdiff_t>(frame.begin), candidates.end(), later);
       }
       frame.end = candidates.size();

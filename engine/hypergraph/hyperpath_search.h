@@ -158,6 +158,9 @@ struct HyperpathSearchParams {
   std::size_t maxExpansions = std::numeric_limits<std::size_t>::max();
   /// Steps after the source at most (a guard for hypergraphs whose frontier can grow without bound).
   std::size_t maxDepth = std::numeric_limits<std::size_t>::max();
+  /// kGreedy: successors waiting to be tried, summed over the depth-first stack, at most (a memory
+  /// guard: a deep search with many successors per state keeps them all); past it, kBudget.
+  std::size_t maxPendingSuccessors = std::numeric_limits<std::size_t>::max();
   std::function<void(const ExtendedVertex&)> onExtendedVertex;
   std::function<void(const ExtendedHyperarc&)> onExtendedHyperarc;
 };

@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -68,6 +69,72 @@ struct Row {
 
 bool finishedStatus(RunStatus s) { return s != RunStatus::Running && s != RunStatus::Cancelled; }
 
+/// One line of a stop axis (family, the other parameters, planner label): per size of the axis, its
+/// seeds, those with a final result, those solved, those the axis stop rule skipped.
+struct AxisLine {
+  std::string others;  ///< the other parameters, "robots=8 walls=2"
+  std::string axis;
+  struct Size {
+    int seeds = 0, finished = 0, solved = 0, skipped = 0;
+  };
+  std::map<int, Size> sizes;
+};
+
+/// A line's key: its other parameters' values (numeric order) and the planner label.
+using AxisLineKey = std::pair<std::vector<int>, std::string>;
+
+void addToAxisLine(const StoredRun& r, std::map<std::string, std::map<AxisLineKey, AxisLine>>& lines) {
+  if (r.spec.stop_axis.empty()) return;
+  std::string others;
+  std::vector<int> values;
+  int value = 0;
+  for (const auto& [name, v] : r.spec.params) {
+    if (name == r.spec.stop_axis) {
+      value = v;
+      continue;
+    }
+    others += (others.empty() ? "" : " ") + name + "=" + std::to_string(v);
+    values.push_back(v);
+  }
+  AxisLine& line = lines[r.spec.family][{values, r.spec.label}];
+  line.others = others;
+  line.axis = r.spec.stop_axis;
+  AxisLine::Size& size = line.sizes[value];
+  ++size.seeds;
+  if (r.complete()) ++size.finished;
+  if (r.status && *r.status == "solved") ++size.solved;
+  if (!r.skipped.empty()) ++size.skipped;
+}
+
+// Where each planner breaks: along each stop axis, the largest size every seed solved, the largest
+// some seed solved, the first size no seed solved, the first size skipped, and the sizes still open.
+std::string formatAxisLines(const std::map<AxisLineKey, AxisLine>& lines) {
+  Table table({"line", "planner", "axis", "all seeds solved up to", "some seed up to", "none solved at",
+               "skipped from", "sizes open"},
+              3);
+  auto text = [](std::optional<int> v) { return v ? std::to_string(*v) : std::string("-"); };
+  for (const auto& [key, line] : lines) {
+    std::optional<int> all, some, none, skip;
+    int open = 0;
+    for (const auto& [value, size] : line.sizes) {
+      if (size.skipped > 0) {
+        if (!skip) skip = value;
+        continue;
+      }
+      if (size.finished < size.seeds) {
+        ++open;
+        continue;
+      }
+      if (size.solved == size.seeds) all = value;
+      if (size.solved > 0) some = value;
+      if (size.solved == 0 && !none) none = value;
+    }
+    table.add({line.others.empty() ? "-" : line.others, key.second, line.axis, text(all), text(some), text(none), text(skip),
+               std::to_string(open)});
+  }
+  return "Where each planner breaks (along the stop axis; sizes with every seed finished)\n" + table.str() + "\n";
+}
+
 }  // namespace
 
 double median(std::vector<double> values) {
@@ -118,9 +185,11 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
   }
   // Runs the axis stop rule skipped (axis_stop.h): per family, (params, planner) -> count and reason.
   std::map<std::string, std::map<std::pair<std::string, std::string>, std::pair<int, std::string>>> skipped;
+  std::map<std::string, std::map<AxisLineKey, AxisLine>> axis_lines;  // family -> line
   if (!options.batch_id.empty()) {
     const BatchStore store(db.path(), log::OpenMode::ReadOnly);
     for (const StoredRun& r : store.runs(options.batch_id)) {
+      addToAxisLine(r, axis_lines);
       if (r.skipped.empty()) continue;
       if (!families.count(r.spec.family) && !skipped.count(r.spec.family)) family_order.push_back(r.spec.family);
       auto& slot = skipped[r.spec.family][{r.spec.paramsText(), r.spec.label}];
@@ -229,6 +298,7 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
         skips.add({key.first, key.second, std::to_string(value.first), value.second});
       out << "Skipped by the axis stop rule (not run)\n" << skips.str() << "\n";
     }
+    if (axis_lines.count(family)) out << formatAxisLines(axis_lines[family]);
   }
   return out.str();
 }

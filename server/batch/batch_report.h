@@ -5,6 +5,9 @@
 //   - time breakdown (phase totals): task construction, task query, task conflict detection,
 //     motion construction, motion query, conflict resolution, total;
 //   - success rate: solved / finished runs, with timeouts, infeasible and crashed runs.
+// With a batch: the runs the axis stop rule skipped, and where each planner breaks along each stop
+// axis (the largest size every seed solved, the largest some seed solved, the first size no seed
+// solved, the first size skipped).
 // Sizes and times are medians over the row's solved runs (over every finished run with
 // include_unsolved). Runs still running or cancelled are left out.
 #include <string>

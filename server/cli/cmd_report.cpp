@@ -19,6 +19,8 @@ const char* const kReportHelp =
     "  - time breakdown from the phase totals: task construction, task query, task conflict\n"
     "    detection, motion construction, motion query, conflict resolution, and the total;\n"
     "  - success rate: solved runs of the finished ones, with timeouts, infeasible and crashed.\n"
+    "  - with --batch: runs the axis stop rule skipped, and where each planner breaks along each\n"
+    "    stop axis (largest size all seeds / some seed solved, first size none solved, skipped from)\n"
     "  --batch ID    only the runs of batch ID (default: every run of DB)\n"
     "  --all-runs    sizes and times over every finished run, not only the solved ones\n"
     "  --figures DIR also write the paper's figures per family into DIR (created if missing):\n"

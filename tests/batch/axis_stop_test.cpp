@@ -4,6 +4,8 @@
 
 #include <sqlite3.h>
 
+#include <regex>
+
 #include "server/batch/axis_stop.h"
 #include "server/batch/batch_report.h"
 #include "server/batch/batch_store.h"
@@ -137,6 +139,14 @@ TEST(AxisStop, ABatchSkipsWhatTheRuleStopsAndResumeRespectsIt) {
     const std::size_t section = report.find("Skipped by the axis stop rule");
     ASSERT_NE(section, std::string::npos) << report;
     EXPECT_NE(report.find("robots=2 objects=3", section), std::string::npos) << report;
+    // Where each planner breaks: "aborts" solved no size and was stopped after objects=1; the
+    // task-only planner solved every seed up to objects=3.
+    const std::size_t breaks = report.find("Where each planner breaks");
+    ASSERT_NE(breaks, std::string::npos) << report;
+    const std::regex aborts(R"(robots=2\s+aborts\s+objects\s+-\s+-\s+1\s+2\s+0)");
+    const std::regex task_only(R"(robots=2\s+lazy-task\s+objects\s+3\s+3\s+-\s+-\s+0)");
+    EXPECT_TRUE(std::regex_search(report.substr(breaks), aborts)) << report.substr(breaks);
+    EXPECT_TRUE(std::regex_search(report.substr(breaks), task_only)) << report.substr(breaks);
   }
   // Resume after the skips at objects=3 were lost: the rule, rebuilt from the stored results, skips
   // them again instead of running them.

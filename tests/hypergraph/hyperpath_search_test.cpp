@@ -263,6 +263,25 @@ TEST_P(BothSearches, DepthLimitAndBudgetEndAnUnboundedSearch) {
   EXPECT_EQ(result.stats.expansions, 50u);
 }
 
+// The greedy search's memory guard: successors waiting on its depth-first stack.
+TEST(GreedySearch, PendingSuccessorsCapEndsTheSearchAsABudget) {
+  NamedGraph g;  // two ways to grow from every state: each level of the stack keeps one untried
+  g.arc("source", {"src"}, {"A"});
+  g.arc("grow B", {"A"}, {"A", "B"});
+  g.arc("grow C", {"A"}, {"A", "C"});
+  g.arc("sink", {"Z"}, {"sink"});
+  HyperpathSearchParams p;
+  p.algorithm = HyperpathAlgorithm::kGreedy;
+  p.maxDepth = 12;
+  HyperpathResult result = findHyperpath(g.graph, g.query(), p);
+  ASSERT_EQ(result.status, HyperpathStatus::kBudget);
+  const std::size_t uncapped = result.stats.expansions;
+  p.maxPendingSuccessors = 3;
+  result = findHyperpath(g.graph, g.query(), p);
+  EXPECT_EQ(result.status, HyperpathStatus::kBudget);
+  EXPECT_LT(result.stats.expansions, uncapped);
+}
+
 TEST_P(BothSearches, AllowedCanForbidTheSink) {
   const NamedGraph g = handoverGraph();
   HyperpathSearchParams p = params();
