@@ -207,15 +207,6 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
   const MotionGraph& g = graph_->graph();
   const MotionArc& arc = g.property(a);
   if (strandsRobot(a)) return kInf;
-  if (arc.type == Type::kInspect) return 0.0;
-  if (arc.type != Type::kMove) {
-    const auto [from, to] = objectMove(a);
-    const double r = regret(state, a);
-    if (!std::isfinite(r)) return kInf;
-    if (costToGo(state, from) == 0.0 && costToGo(state, to) > 0.0) return kUndo + r;
-    if (r > kOnRoute) return kDetour + r;
-    return (arc.type == Type::kPick ? kPickPenalty : 0.0) + r;
-  }
   if (!summary.valid || summary.node != state.node()) {
     summary.valid = true;
     summary.node = state.node();
@@ -226,6 +217,20 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
       if (mv.kind == Kind::kRobot || mv.kind == Kind::kHolding) summary.robot_at[mv.robot] = v;
     }
     summary.focus = which == Pass::kOneObjectAtATime ? firstUnfinished(state) : -1;
+  }
+  // The one-object pass moves only the first object not yet finished.
+  if (which == Pass::kOneObjectAtATime) {
+    const VertexId moved = objectMove(a).first;
+    if (moved.valid() && g.property(moved).object != summary.focus) return kInf;
+  }
+  if (arc.type == Type::kInspect) return 0.0;
+  if (arc.type != Type::kMove) {
+    const auto [from, to] = objectMove(a);
+    const double r = regret(state, a);
+    if (!std::isfinite(r)) return kInf;
+    if (costToGo(state, from) == 0.0 && costToGo(state, to) > 0.0) return kUndo + r;
+    if (r > kOnRoute) return kDetour + r;
+    return (arc.type == Type::kPick ? kPickPenalty : 0.0) + r;
   }
   auto emptyHanded = [&](int robot) {
     const VertexId v = summary.robot_at[robot];
@@ -303,14 +308,9 @@ HyperpathResult CombinedQuery::run(const std::vector<MotionConstraint>& constrai
   const MotionGraph& g = graph_->graph();
   HyperpathSearchParams search;
   search.algorithm = HyperpathAlgorithm::kGreedy;
-  bool one_object = false;  // the pass that moves one object at a time
-  search.allowed = [this, &constraints, &g, &one_object](const HyperpathState& state, HyperarcId a) {
+  search.allowed = [this, &constraints, &g](const HyperpathState& state, HyperarcId a) {
     for (const MotionConstraint& c : constraints)
       if (violates(g, state, a, c)) return false;
-    if (one_object) {
-      const VertexId from = objectMove(a).first;
-      if (from.valid() && g.property(from).object != firstUnfinished(state)) return false;
-    }
     return placementFree(state, a);
   };
   // Only for pruning: a state the goal cannot be reached from (either way of counting).
@@ -321,7 +321,6 @@ HyperpathResult CombinedQuery::run(const std::vector<MotionConstraint>& constrai
   search.onExtendedHyperarc = std::move(on_hyperarc);
   search.maxPendingSuccessors = params.max_pending_successors;
   auto pass = [&](Pass which) {
-    one_object = which == Pass::kOneObjectAtATime;
     auto summary = std::make_shared<Summary>();
     search.priority = [this, summary, which](const HyperpathState& state, HyperarcId a) {
       return priority(state, a, *summary, which);

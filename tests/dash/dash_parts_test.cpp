@@ -57,6 +57,16 @@ Built& sorting22() {
   return built;
 }
 
+/// sorting22() with its motion hypergraph (built once, by whichever test needs it first).
+Built& sorting22WithMotion() {
+  Built& b = sorting22();
+  if (!b.motion) {
+    log::EventEmitter emitter(nullptr);
+    b.buildMotion(emitter);
+  }
+  return b;
+}
+
 TEST(DashTaskGraph, ObjectElementsAreLocationFree) {
   const Built& b = sorting22();
   int objects = 0;
@@ -175,11 +185,7 @@ TEST(MotionHypergraph, ExhaustiveMovesWithinOnePlanningSpaceAndEveryElementAnEve
 // where it took the object. Without these moves a receiver that went to wait for an object another
 // robot then placed elsewhere could never get home (wall 8/2/16 seed 9 ended "no hyperpath").
 TEST(MotionHypergraph, ARobotWaitingForAHandoverCanLeave) {
-  Built& b = sorting22();
-  if (!b.motion) {
-    log::EventEmitter emitter(nullptr);
-    b.buildMotion(emitter);
-  }
+  Built& b = sorting22WithMotion();
   const MotionGraph& g = b.motion->graph();
   auto movesOut = [&](VertexId v, VertexId to) {
     int n = 0;
@@ -209,11 +215,7 @@ TEST(MotionHypergraph, ARobotWaitingForAHandoverCanLeave) {
 }
 
 TEST(CombinedQuery, FindsAHyperpathAndHonoursMotionConstraints) {
-  Built& b = sorting22();
-  if (!b.motion) {
-    log::EventEmitter emitter(nullptr);
-    b.buildMotion(emitter);
-  }
+  Built& b = sorting22WithMotion();
   CombinedQuery query(*b.motion);
   const HyperpathResult first = query.run({}, {}, Deadline());
   ASSERT_TRUE(first.found()) << toString(first.status);
@@ -248,11 +250,7 @@ TEST(CombinedQuery, FindsAHyperpathAndHonoursMotionConstraints) {
 // greedy order never expands such a move, so its pass exhausts its states; the only way is a detour
 // through such a configuration, which the complete pass finds.
 TEST(CombinedQuery, CompletePassFindsTheDetourTheGreedyPassMisses) {
-  Built& b = sorting22();
-  if (!b.motion) {
-    log::EventEmitter emitter(nullptr);
-    b.buildMotion(emitter);
-  }
+  Built& b = sorting22WithMotion();
   const MotionGraph& g = b.motion->graph();
   const int r = 0;
   const VertexId home = b.motion->homeVertex(r);
@@ -308,11 +306,7 @@ TEST(CombinedQuery, CompletePassFindsTheDetourTheGreedyPassMisses) {
 // place. Such a step is never taken, so the query neither descends into states that cannot end nor
 // counts it as a route for the object.
 TEST(CombinedQuery, AStepThatLeavesARobotNoWayHomeIsNeverTaken) {
-  Built& b = sorting22();
-  if (!b.motion) {
-    log::EventEmitter emitter(nullptr);
-    b.buildMotion(emitter);
-  }
+  Built& b = sorting22WithMotion();
   const MotionGraph& g = b.motion->graph();
   CombinedQuery query(*b.motion);
   const HyperpathResult first = query.run({}, {}, Deadline());
@@ -348,11 +342,7 @@ TEST(CombinedQuery, AStepThatLeavesARobotNoWayHomeIsNeverTaken) {
 // time: every step that moves an object moves the first one not yet at its goal, so objects finish in
 // index order, and robots still go wherever that object's route needs them.
 TEST(CombinedQuery, TheOneObjectPassFinishesObjectsInOrder) {
-  Built& b = sorting22();
-  if (!b.motion) {
-    log::EventEmitter emitter(nullptr);
-    b.buildMotion(emitter);
-  }
+  Built& b = sorting22WithMotion();
   const MotionGraph& g = b.motion->graph();
   CombinedQuery query(*b.motion);
   CombinedQueryParams params;
@@ -378,11 +368,7 @@ TEST(CombinedQuery, TheOneObjectPassFinishesObjectsInOrder) {
 
 // A constraint with an interval: robot r kept off a vertex only while an object rests at its start.
 TEST(MotionConstraint, AnIntervalHoldsOnlyWhileItsVertexIsOnTheFrontier) {
-  Built& b = sorting22();
-  if (!b.motion) {
-    log::EventEmitter emitter(nullptr);
-    b.buildMotion(emitter);
-  }
+  Built& b = sorting22WithMotion();
   CombinedQuery query(*b.motion);
   const HyperpathResult first = query.run({}, {}, Deadline());
   ASSERT_TRUE(first.found());
