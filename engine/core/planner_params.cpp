@@ -61,9 +61,12 @@ std::vector<ParamInfo> lazyDashParameters() {
             "transition configurations of one task hyperarc turned down before the hyperarc is banned"),
       count("validator_rechecks", 3, 0, 100,
             "schedule again, checking the instant the validator found a contact at (per round)"),
+      flag("restart_when_exhausted", true,
+           "when nothing is left to try (task query, feedback loop, task rounds), lift every task constraint, "
+           "resample and grow the roadmaps, until the deadline (paper: the run ends \"infeasible\")"),
       count("validation_feedbacks", 100, 0, 10000,
-            "contacts the validator finds after the rechecks fed back as task constraints (per run; one more "
-            "ends the run as a planner defect)"),
+            "contacts the validator finds after the rechecks fed back as task constraints (per attempt; one "
+            "more ends the attempt: a restart, or with restarts off the run)"),
       // Paper parameters (budgets): --profile paper leaves them alone.
       {"motion_budget", ParamType::kInt, "3", "", 1, 1000,
        "motion rounds on one task plan (motion constraints, resampling) before its failure becomes a task constraint"},

@@ -48,6 +48,7 @@ constexpr int kMaxTaskRounds = 200;  // task plans tried at most (Algorithm 1's 
 constexpr double kBudgetGrowth = 4.0;
 constexpr int kMaxHomeBudgetGrowths = 3;
 constexpr int kMaxBudgetGrowths = 3;  // after lifted motion bans: at most 64x the first budget
+constexpr int kMaxRestartGrowths = 3;  // restarts that also grow the roadmap budgets
 
 /// A collision between robots, held objects or resting objects (what conflict resolution checks).
 bool isContact(const ValidationProblem& problem) {
@@ -114,6 +115,7 @@ void applyParameters(LazyDashParams& p, const ParamValues& v) {
   set("validation_feedbacks", p.validation_feedbacks);
   set("validation_threads", p.validation_threads);
   set("motion_budget", p.motion_budget);
+  set("restart_when_exhausted", p.restart_when_exhausted);
   if (v.contains("clearance")) p.clearance = paramReal(v, "clearance");
   applySchedulerParameters(p.scheduler, v);
 }
@@ -217,6 +219,22 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   std::int64_t reused_steps = 0;  // steps conflict resolution took from the previous round's schedule
   std::int64_t rechecks = 0;      // schedules built again after the validator found a contact
   auto nextIteration = [&] { emitter.setIteration(emitter.iteration() + 1); };
+  // Nothing left to try on this attempt (the task query has no plan under its constraints, the
+  // feedback loop has spent its allowances, or kMaxTaskRounds task plans failed). A sampling-based
+  // planner cannot prove a problem infeasible, and every generated scene is feasible: start again with
+  // no task constraints, fresh samples and (the first few times) larger roadmap budgets. H_T, H_M and
+  // the roadmaps are kept. False when restarts are off (the paper) or the deadline has passed.
+  auto restart = [&](const std::string& why) {
+    if (!params.restart_when_exhausted || deadline.expired()) return false;
+    task.restart("restart after: " + why);
+    emitter.counter("restarts", task.restarts());
+    if (params.budget_growth && task.restarts() <= kMaxRestartGrowths) motion.scaleBudget(kBudgetGrowth);
+    validation_feedbacks = 0;
+    home_budget_growths = 0;
+    budget_growths = 0;
+    transition_resamples.clear();
+    return true;
+  };
 
   // Lines 9-13 of Algorithm 1 on one task plan: the motion hypergraph and the motion query (MotionLayer:
   // H_M, the optimistic schedule), motion conflict resolution (Scheduler), and the validator. `motions`
@@ -347,11 +365,27 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
     return false;
   };
 
-  for (int task_round = 0; task_round < kMaxTaskRounds; ++task_round) {  // Algorithm 1, line 3
-    TaskLayerResult layer = task.plan(deadline);                        // lines 4-7
-    if (layer.status != TaskLayerStatus::kFeasible)
-      return finish(outcomeOf(layer.status, deadline),
-                    "task layer: " + std::string(toString(layer.status)) + (layer.reason.empty() ? "" : " (" + layer.reason + ")"));
+  // Restarts off (the paper) or the deadline passed: the run ends here.
+  auto giveUp = [&](std::string why) {
+    return finish(deadline.expired() ? outcomeOf(TaskLayerStatus::kTimeout, deadline) : PlanOutcome::kInfeasible,
+                  std::move(why));
+  };
+  emitter.counter("restarts", 0);
+  for (int task_round = 0;; ++task_round) {  // Algorithm 1, line 3
+    if (task_round == kMaxTaskRounds) {
+      const std::string why = "gave up after " + std::to_string(kMaxTaskRounds) + " task plans";
+      if (!restart(why)) return giveUp(why);
+      task_round = 0;
+    }
+    TaskLayerResult layer = task.plan(deadline);  // lines 4-7
+    if (layer.status != TaskLayerStatus::kFeasible) {
+      const std::string why =
+          "task layer: " + std::string(toString(layer.status)) + (layer.reason.empty() ? "" : " (" + layer.reason + ")");
+      if (layer.status != TaskLayerStatus::kInfeasible) return finish(outcomeOf(layer.status, deadline), why);
+      if (layer.no_route_in_task_hypergraph) return finish(PlanOutcome::kInfeasible, why);  // proven
+      if (restart(why)) continue;
+      return giveUp(why);
+    }
     // No schedule avoids the hyperarcs the motion layer failed on: search harder on the same ones.
     if (layer.motion_bans_lifted && params.budget_growth && budget_growths < kMaxBudgetGrowths) {
       ++budget_growths;
@@ -371,19 +405,23 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
         result.plan = std::move(round.plan);
         return finish(PlanOutcome::kSolved, "solved");
       }
-      if (round.kind == MotionRound::Kind::kStopped) return finish(round.outcome, std::move(round.message));
+      if (round.kind == MotionRound::Kind::kStopped) {
+        if (round.outcome != PlanOutcome::kInfeasible) return finish(round.outcome, std::move(round.message));
+        if (restart(round.message)) break;
+        return giveUp(std::move(round.message));
+      }
       const std::optional<bool> stay = feedback(round.failure, layer, motions, motion_round);
       if (!stay) {
-        const std::string why = round.failure.constraint.cause;
-        return finish(PlanOutcome::kInfeasible, round.failure.where == MotionFailure::Where::kValidation
-                                                    ? "internal error: the planned schedule failed validation: " + why
-                                                    : why);
+        const std::string why = round.failure.where == MotionFailure::Where::kValidation
+                                    ? "internal error: the planned schedule failed validation: " + round.failure.constraint.cause
+                                    : round.failure.constraint.cause;
+        if (restart(why)) break;
+        return giveUp(why);
       }
       nextIteration();
       if (!*stay) break;  // lines 14-15: a task constraint, back to the task query
     }
   }
-  return finish(PlanOutcome::kInfeasible, "gave up after " + std::to_string(kMaxTaskRounds) + " task plans");
 }
 
 }  // namespace dash

@@ -33,11 +33,16 @@ struct LazyDashParams {
   int validation_threads = 0;
   bool budget_growth = true;     ///< roadmap budgets raised when a failure has no alternative
   int validator_rechecks = 3;    ///< per round: schedule again checking the validator's contact instant
-  /// Per run: validator contacts fed back as task constraints; one more ends the run as a planner
-  /// defect. At 5, stocking 2 layers / 28 objects seed 1 ended "infeasible" after 500 s; it needs more.
+  /// Per attempt: validator contacts fed back as task constraints; one more ends the attempt (a restart,
+  /// or with restarts off the run). At 5, stocking 2 layers / 28 objects seed 1 ended "infeasible"
+  /// after 500 s; it needs more.
   int validation_feedbacks = 100;
   /// Motion rounds on one task plan (Algorithm 1's inner loop) before its failure becomes a task constraint.
   int motion_budget = 3;
+  /// When the task query, the feedback loop or the task rounds have nothing left to try: restart with
+  /// every task constraint lifted, fresh samples and larger roadmap budgets, until the deadline. Off
+  /// (the paper): the run ends "infeasible" there, which a sampling-based planner cannot prove.
+  bool restart_when_exhausted = true;
 };
 
 /// Sets the fields named by `values` (a resolveParameters("lazy-dash", ...) set, or part of one).

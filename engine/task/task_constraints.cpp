@@ -49,6 +49,10 @@ std::vector<TaskConstraint> TaskConstraintSet::removeTemporary() {
   return removeWhere([](const TaskConstraint& c) { return c.temporary; });
 }
 
+std::vector<TaskConstraint> TaskConstraintSet::removeAll() {
+  return removeWhere([](const TaskConstraint&) { return true; });
+}
+
 std::vector<TaskConstraint> TaskConstraintSet::expireTemporary() {
   for (TaskConstraint& c : constraints_)
     if (c.temporary) --c.queries;

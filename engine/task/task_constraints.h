@@ -48,6 +48,8 @@ class TaskConstraintSet {
   const std::vector<TaskConstraint>& all() const { return constraints_; }
   /// Removes the temporary constraints; returns them.
   std::vector<TaskConstraint> removeTemporary();
+  /// Removes every constraint; returns them.
+  std::vector<TaskConstraint> removeAll();
   /// One task query has been answered: temporary constraints count it down; those that reach zero
   /// are removed and returned.
   std::vector<TaskConstraint> expireTemporary();

@@ -36,6 +36,7 @@ TaskLayer::TaskLayer(const Scene& scene, const CollisionWorld& world, CollisionC
     : scene_(&scene),
       emitter_(&emitter),
       params_(params),
+      seed_(seed),
       rng_(Rng::derive(seed, 11)),
       space_(scene),
       sampler_(world, context),
@@ -126,6 +127,16 @@ std::optional<std::vector<TransitionConfig>> TaskLayer::resampleTransitions(cons
   TaskConflictResult conflicts = detector.detect(plan, deadline);
   if (!conflicts.feasible()) return std::nullopt;
   return std::move(conflicts.transitions);
+}
+
+void TaskLayer::restart(const std::string& why) {
+  for (const TaskConstraint& c : constraints_.removeAll())
+    emitter_->constraint(toLogKind(c.kind), log::ConstraintAction::Lifted, 0, why, {}, c.cause);
+  rejected_ = RejectedConfigurations();
+  motion_failures_.clear();
+  ban_lifts_ = 0;
+  ++restarts_;
+  rng_ = Rng(Rng::derive(seed_, 11 + 1000 * static_cast<std::uint64_t>(restarts_)));
 }
 
 TaskLayer::Lifted TaskLayer::liftTemporaryConstraints(const std::string& why) {
@@ -287,6 +298,11 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
                                        : expandAfterFailure(query) || liftAfterFailure(result);
       if (progress) continue;
       result.status = TaskLayerStatus::kInfeasible;
+      const auto& all = constraints_.all();
+      result.no_route_in_task_hypergraph =
+          query.unroutable_object >= 0 && std::none_of(all.begin(), all.end(), [](const TaskConstraint& c) {
+            return c.kind == TaskConstraint::Kind::kInteraction;
+          });
       result.reason = std::string("task query ") + std::string(toString(query.status)) + " with " +
                       std::to_string(constraints_.size()) + " task constraints" +
                       (query.unroutable_object < 0

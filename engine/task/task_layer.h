@@ -45,6 +45,10 @@ struct TaskLayerResult {
   /// The query had no schedule without the hyperarcs the motion layer failed on, so those bans were
   /// lifted: the motion layer should search harder on the same hyperarcs.
   bool motion_bans_lifted = false;
+  /// Infeasible because an object has no route to its goal in H_T with no interaction constraint in
+  /// force: no robot can take it there (its goal is out of every robot's reach). Lifting constraints
+  /// or resampling cannot change that; a generated scene never has it.
+  bool no_route_in_task_hypergraph = false;
 };
 
 /// Sizes of the task-level representations: H_T as built, H_TE summed over all queries.
@@ -74,6 +78,12 @@ class TaskLayer {
   /// feasible without new task constraints; nullopt otherwise (nothing is added: the caller feeds the
   /// failure back to the task query).
   std::optional<std::vector<TransitionConfig>> resampleTransitions(const TaskPlan& plan, const Deadline& deadline);
+  /// Nothing left to try: every task constraint is lifted (logged with `why`), every rejected
+  /// transition configuration is forgotten, and task conflict detection and expansion draw from a fresh
+  /// random stream. H_T and its expansions stay. A sampling-based planner never proves a problem
+  /// infeasible; this is how Lazy-DaSH goes on until its deadline.
+  void restart(const std::string& why);
+  int restarts() const { return restarts_; }
 
   const TaskSpace& space() const { return space_; }
   const TaskHypergraph& graph() const { return graph_; }
@@ -103,6 +113,7 @@ class TaskLayer {
   const Scene* scene_;
   log::EventEmitter* emitter_;
   TaskLayerParams params_;
+  std::uint64_t seed_;
   Rng rng_;
   TaskSpace space_;
   TransitionSampler sampler_;
@@ -115,6 +126,7 @@ class TaskLayer {
   std::size_t extended_vertices_ = 0;
   std::size_t extended_hyperarcs_ = 0;
   int queries_ = 0;
+  int restarts_ = 0;
 };
 
 }  // namespace dash

@@ -34,6 +34,7 @@ TEST(PlannerParams, DefaultsAreThePlannersOwn) {
   EXPECT_EQ(applied.validator_rechecks, plain.validator_rechecks);
   EXPECT_EQ(applied.validation_feedbacks, plain.validation_feedbacks);
   EXPECT_EQ(applied.motion_budget, plain.motion_budget);
+  EXPECT_EQ(applied.restart_when_exhausted, plain.restart_when_exhausted);
   EXPECT_EQ(applied.task.query.remove_round_trips, plain.task.query.remove_round_trips);
   EXPECT_EQ(applied.scheduler.schedule_memo, plain.scheduler.schedule_memo);
   EXPECT_EQ(applied.clearance, plain.clearance);
@@ -71,6 +72,7 @@ TEST(PlannerParams, ThePaperProfileTurnsEveryExtensionOff) {
   EXPECT_FALSE(p.scheduler.schedule_memo);
   EXPECT_EQ(p.max_transition_resamples, 0);
   EXPECT_EQ(p.validator_rechecks, 0);
+  EXPECT_FALSE(p.restart_when_exhausted);
   EXPECT_EQ(paper.at("motion_budget"), "3");  // a budget of the paper's own: left alone
   EXPECT_TRUE(profileOverrides("lazy-dash", "default").empty());
   EXPECT_THROW(profileOverrides("lazy-dash", "fast"), InputError);

@@ -198,7 +198,14 @@ TEST(TaskLayerFeedback, ObjectWithoutARouteGetsNoExpansions) {
   const TaskLayerResult next = run.layer->plan(Deadline(60));
   EXPECT_EQ(next.status, TaskLayerStatus::kInfeasible);
   EXPECT_NE(next.reason.find("has no route to its goal"), std::string::npos) << next.reason;
+  EXPECT_FALSE(next.no_route_in_task_hypergraph);  // the interaction constraints cut the route, not H_T
   EXPECT_EQ(run.sink.countTaskSpaceExpansions(), expansions);
+  // A restart (Lazy-DaSH when nothing is left to try) lifts every constraint: the plan is back.
+  run.layer->restart("test");
+  EXPECT_EQ(run.layer->restarts(), 1);
+  EXPECT_TRUE(run.layer->constraints().empty());
+  const TaskLayerResult again = run.layer->plan(Deadline(60));
+  EXPECT_EQ(again.status, TaskLayerStatus::kFeasible) << again.reason;
 }
 
 // Into and out of a cubby the gripper moves along its approach axis: the configurations chosen for
