@@ -17,6 +17,9 @@
 #   scaling    experiments/scaling/run.sh                                     (1-3 hours: sorting 4..32 robots x
 #              4 objects each, 3 seeds, 600 s per run; up to 3 hours when 32/128 times out; writes the plot
 #              and raw data under experiments/scaling/results/)
+#   paper-all  experiments/compare/paper_all.sh                              (7.6-35 hours: paper-all.json, 420
+#              runs of 600 s on 2 workers, resumable; PAPER_ALL_BATCH=ID PAPER_ALL_DB=DB: the section of a
+#              batch already run; writes the figures under experiments/compare/figures/)
 #
 # DASHBENCH names the dashbench to use (default: the repository's ./dashbench, which builds first).
 # dispatch-load runs the dispatch tests DISPATCH_LOAD_RUNS times (default 20) while busy loops saturate
@@ -38,15 +41,16 @@ declare -A COMMANDS=(
   [dispatch-load]="tests/dispatch/under_load.sh --runs ${DISPATCH_LOAD_RUNS:-20} --sorting"
   [validation]="experiments/validation/largest.sh${VALIDATION_PLANS:+ --plans $VALIDATION_PLANS}"
   [scaling]="experiments/scaling/run.sh"
+  [paper-all]="experiments/compare/paper_all.sh${PAPER_ALL_BATCH:+ --batch $PAPER_ALL_BATCH}${PAPER_ALL_DB:+ --db $PAPER_ALL_DB}"
 )
-ORDER=(small large task-layer compare ablation dispatch-load validation scaling)
+ORDER=(small large task-layer compare ablation dispatch-load validation scaling paper-all)
 
 if [ "${1:-}" = "--list" ]; then
   for s in "${ORDER[@]}"; do printf '%-13s %s\n' "$s" "${COMMANDS[$s]}"; done
   exit 0
 fi
 if [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then
-  sed -n '2,25p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+  sed -n '2,28p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
   exit 0
 fi
 SECTIONS=("$@")

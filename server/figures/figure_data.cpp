@@ -102,12 +102,18 @@ FigureRuns collectFigureRuns(const log::ResultsDb& db, const std::string& batch_
     }
     std::map<std::pair<std::string, std::string>, Line> lines;
     std::vector<std::pair<std::string, std::string>> line_order;
+    std::map<std::string, std::vector<int>> group_values;  // group -> its parameter values, to order by
     for (const Point* p : mine) {
       std::string group;
+      std::vector<int> group_key;
       int x = 0;
       for (const auto& [k, v] : p->params) {
-        if (k == data.x_param) x = v;
-        else if (values[k].size() > 1) group += (group.empty() ? "" : " ") + k + "=" + std::to_string(v);
+        if (k == data.x_param) {
+          x = v;
+        } else if (values[k].size() > 1) {
+          group += (group.empty() ? "" : " ") + k + "=" + std::to_string(v);
+          group_key.push_back(v);
+        }
       }
       const auto key = std::make_pair(group, p->planner);
       auto [it, inserted] = lines.try_emplace(key);
@@ -115,15 +121,17 @@ FigureRuns collectFigureRuns(const log::ResultsDb& db, const std::string& batch_
         it->second.planner = p->planner;
         it->second.group = group;
         line_order.push_back(key);
+        group_values.emplace(group, std::move(group_key));
       }
       if (p->run) it->second.runs[x].push_back(p->run);
       else ++it->second.skipped[x];
     }
-    // Groups in order; within one, planners in the order the batch ran them (the spec's order).
+    // Groups in numeric order (robots=4 before robots=16); within one, planners in the order the batch
+    // ran them (the spec's order).
     std::map<std::string, int> planner_rank;
     for (const Point* p : mine) planner_rank.emplace(p->planner, static_cast<int>(planner_rank.size()));
     std::sort(line_order.begin(), line_order.end(), [&](const auto& a, const auto& b) {
-      if (a.first != b.first) return a.first < b.first;
+      if (a.first != b.first) return group_values[a.first] < group_values[b.first];
       return planner_rank[a.second] < planner_rank[b.second];
     });
     for (const auto& key : line_order) data.lines.push_back(std::move(lines[key]));

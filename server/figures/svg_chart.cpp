@@ -15,6 +15,7 @@ constexpr double kPanelWidth = 330, kPanelHeight = 270;
 constexpr double kLeft = 62, kRight = 12, kTop = 30, kBottom = 46;  // plot margins inside a panel
 constexpr double kTitleHeight = 30, kLegendRow = 20;
 constexpr int kLinearTicks = 5;
+constexpr double kTickCharWidth = 6, kTickLabelGap = 3;  // x tick labels: font-size 10, px per character
 
 std::string num(double v) {
   char buf[32];
@@ -104,11 +105,18 @@ void drawPanel(std::ostringstream& out, const Panel& panel, double x0, double y0
     xs.clear();
     for (int i = 0; i <= kLinearTicks; ++i) xs.insert(xr.first + (xr.second - xr.first) * i / kLinearTicks);
   }
+  // A label that would overlap the last one drawn (sizes 14 and 16 on an axis to 64) is left out;
+  // its tick stays.
+  double last_label_right = -1e9;
   for (double v : xs) {
     out << "<line x1=\"" << num(X(v)) << "\" x2=\"" << num(X(v)) << "\" y1=\"" << num(py + h) << "\" y2=\""
         << num(py + h + 4) << "\" stroke=\"#333\"/>\n";
+    const std::string label = tickLabel(v);
+    const double half_width = kTickCharWidth * static_cast<double>(label.size()) / 2;
+    if (X(v) - half_width < last_label_right + kTickLabelGap) continue;
+    last_label_right = X(v) + half_width;
     out << "<text x=\"" << num(X(v)) << "\" y=\"" << num(py + h + 15) << "\" text-anchor=\"middle\" font-size=\"10\">"
-        << tickLabel(v) << "</text>\n";
+        << label << "</text>\n";
   }
   out << "<text class=\"x-label\" x=\"" << num(px + w / 2) << "\" y=\"" << num(py + h + 34)
       << "\" text-anchor=\"middle\" font-size=\"11\">" << escapeXml(panel.x_label) << "</text>\n";

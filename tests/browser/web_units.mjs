@@ -36,11 +36,11 @@ test('quantiles follow type 7 (numpy linear)', () => {
   assert.deepEqual([s.n, s.median, s.min, s.max], [3, 2, 1, 3]);
 });
 
-test('runs group into series per configuration and split value, x sorted numerically', () => {
-  const runs = [run({ objects: 10 }), run({ objects: 2 }), run({ robots: 4, objects: 2 }), run({ config: 'dash', planner: 'dash', objects: 2 })];
+test('runs group into series per configuration and split value, x and split values sorted numerically', () => {
+  const runs = [run({ objects: 10 }), run({ objects: 2 }), run({ robots: 16, objects: 2 }), run({ robots: 4, objects: 2 }), run({ config: 'dash', planner: 'dash', objects: 2 })];
   const g = data.groupRuns(runs, { x: 'objects', split: 'robots', groupBy: 'config' });
   assert.deepEqual(g.xs, [2, 10]);
-  assert.deepEqual(g.series, ['dash · robots=2', 'lazy-dash · robots=2', 'lazy-dash · robots=4']);
+  assert.deepEqual(g.series, ['dash · robots=2', 'lazy-dash · robots=2', 'lazy-dash · robots=4', 'lazy-dash · robots=16']);
   assert.equal(g.cells.get('lazy-dash · robots=2|2').runs.length, 1);
   const bySettings = data.groupRuns([run({ settings: '{"k":1}' }), run({})], { x: 'objects', split: '', groupBy: 'settings' });
   assert.deepEqual(bySettings.series, ['lazy-dash', 'lazy-dash k=1']);

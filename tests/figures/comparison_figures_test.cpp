@@ -162,5 +162,39 @@ TEST_F(Figures, SkippedSizesAreDrawnAndAnEmptyBatchIsAnError) {
                InputError);
 }
 
+// Lines are ordered by the values of the parameters that name them, as numbers (robots=4, 8, 16), and
+// within one group by planner in the order the batch ran them.
+TEST(FigureLines, GroupsFollowTheirParameterValuesAsNumbers) {
+  TempDir dir;
+  {
+    log::ResultsDb db(dir.file("r.db"));
+    db.putBatch(log::BatchRecord{.id = "b1", .name = "figs", .spec_json = "{}", .status = "finished"});
+    for (int robots : {16, 4, 8})
+      for (int objects : {2, 4, 8, 14, 16, 64})
+        for (const char* planner : {"lazy-dash", "dash"})
+          addRun(db, "sorting", R"({"robots":)" + std::to_string(robots) + R"(,"objects":)" + std::to_string(objects) + "}",
+                 1, planner, log::RunStatus::Solved, 1);
+    db.flush();
+  }
+  const log::ResultsDb db(dir.file("r.db"), log::OpenMode::ReadOnly);
+  const FigureRuns runs = collectFigureRuns(db, "b1");
+  ASSERT_EQ(runs.families.size(), 1u);
+  std::vector<std::string> names;
+  for (const Line& l : runs.families[0].lines) names.push_back(l.name());
+  EXPECT_EQ(names, (std::vector<std::string>{"lazy-dash robots=4", "dash robots=4", "lazy-dash robots=8", "dash robots=8",
+                                             "lazy-dash robots=16", "dash robots=16"}));
+  // On an axis to 64, 14 and 16 are too close for both labels: 16's is left out, its tick stays.
+  writeComparisonFigures(db, FigureOptions{.batch_id = "b1", .dir = dir.file("figs"), .png = false});
+  const std::string sizes = read(dir.file("figs/sorting-sizes.svg"));
+  auto count = [&](const std::string& text) {
+    std::size_t n = 0;
+    for (auto at = sizes.find(text); at != std::string::npos; at = sizes.find(text, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count(">14</text>"), 4u);  // one per panel
+  EXPECT_EQ(count(">16</text>"), 0u);
+  EXPECT_EQ(count(">64</text>"), 4u);
+}
+
 }  // namespace
 }  // namespace dash::figures

@@ -147,7 +147,7 @@ export function groupRuns(runs, { x, split, groupBy }) {
     if (!cells.has(key)) cells.set(key, { series: label, x: xv, group: groupKey(r, groupBy), splitValue: split ? r[split] : null, runs: [] });
     cells.get(key).runs.push(r);
   }
-  return { series: [...series].sort(), xs: [...xs].sort((a, b) => a - b), cells };
+  return { series: [...series].sort((a, b) => a.localeCompare(b, 'en', { numeric: true })), xs: [...xs].sort((a, b) => a - b), cells };
 }
 
 /// Values of `metric` in a cell: solved runs only unless includeUnsolved.
