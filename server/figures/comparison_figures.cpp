@@ -168,6 +168,7 @@ Figure successFigure(const FamilyData& f) {
   p.x_label = sizeLabel(f);
   p.y_label = "solved / finished runs (%)";
   p.y_range = std::make_pair(0.0, 100.0);
+  p.bars = true;  // rates often coincide (100 %): side by side, none hides another
   const Styles styles(f);
   for (const Line& l : f.lines) {
     Series s = styles.series(l);

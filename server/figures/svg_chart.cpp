@@ -23,6 +23,13 @@ std::string num(double v) {
   return buf;
 }
 
+/// A value as a data attribute: as short as it is exact enough to read back (%g).
+std::string attributeValue(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 std::string tickLabel(double v) {
   char buf[32];
   if (v == 0) return "0";
@@ -69,32 +76,33 @@ std::pair<double, double> dataRange(const std::vector<const Panel*>& panels, boo
   return {lo - pad, hi + pad};
 }
 
-void drawPanel(std::ostringstream& out, const Panel& panel, double x0, double y0) {
-  const double w = kPanelWidth - kLeft - kRight, h = kPanelHeight - kTop - kBottom;
-  const double px = x0 + kLeft, py = y0 + kTop;
-  const auto xr = dataRange({&panel}, false, false);
-  const auto yr = panel.y_range ? *panel.y_range : dataRange({&panel}, panel.log_y, true);
-  const Scale sx{xr.first, xr.second, false}, sy{yr.first, yr.second, panel.log_y};
-  auto X = [&](double v) { return px + sx(v) * w; };
-  auto Y = [&](double v) { return py + h - sy(v) * h; };
-  out << "<g class=\"panel\" data-title=\"" << escapeXml(panel.title) << "\">\n";
-  out << "<text x=\"" << num(px + w / 2) << "\" y=\"" << num(y0 + 18) << "\" text-anchor=\"middle\" font-size=\"13\" "
-      << "font-weight=\"bold\">" << escapeXml(panel.title) << "</text>\n";
-  out << "<rect x=\"" << num(px) << "\" y=\"" << num(py) << "\" width=\"" << num(w) << "\" height=\"" << num(h)
-      << "\" fill=\"none\" stroke=\"#333\"/>\n";
-  // y ticks and grid
-  std::vector<double> yt;
-  if (panel.log_y) {
-    for (double d = std::round(std::log10(yr.first)); d <= std::log10(yr.second) + 1e-9; d += 1) yt.push_back(std::pow(10.0, d));
-  } else {
-    for (int i = 0; i <= kLinearTicks; ++i) yt.push_back(yr.first + (yr.second - yr.first) * i / kLinearTicks);
-  }
-  for (double v : yt) {
-    out << "<line x1=\"" << num(px) << "\" x2=\"" << num(px + w) << "\" y1=\"" << num(Y(v)) << "\" y2=\"" << num(Y(v))
-        << "\" stroke=\"#ddd\"/>\n";
-    out << "<text x=\"" << num(px - 5) << "\" y=\"" << num(Y(v) + 4) << "\" text-anchor=\"end\" font-size=\"10\">"
-        << tickLabel(v) << "</text>\n";
-  }
+/// Pixel geometry of one panel's plotting area.
+struct PlotArea {
+  double px, py, w, h;
+};
+
+void drawCross(std::ostringstream& out, double cx, double cy, const std::string& color) {
+  out << "<path class=\"skipped\" d=\"M" << num(cx - 4) << "," << num(cy - 4) << " L" << num(cx + 4) << ","
+      << num(cy + 4) << " M" << num(cx - 4) << "," << num(cy + 4) << " L" << num(cx + 4) << "," << num(cy - 4)
+      << "\" stroke=\"" << color << "\" stroke-width=\"1.8\"/>\n";
+}
+
+void drawXTick(std::ostringstream& out, const PlotArea& a, double x, const std::string& label, double& last_label_right) {
+  out << "<line x1=\"" << num(x) << "\" x2=\"" << num(x) << "\" y1=\"" << num(a.py + a.h) << "\" y2=\"" << num(a.py + a.h + 4)
+      << "\" stroke=\"#333\"/>\n";
+  // A label that would overlap the last one drawn (sizes 14 and 16 on an axis to 64) is left out;
+  // its tick stays.
+  const double half_width = kTickCharWidth * static_cast<double>(label.size()) / 2;
+  if (x - half_width < last_label_right + kTickLabelGap) return;
+  last_label_right = x + half_width;
+  out << "<text x=\"" << num(x) << "\" y=\"" << num(a.py + a.h + 15) << "\" text-anchor=\"middle\" font-size=\"10\">"
+      << label << "</text>\n";
+}
+
+/// Lines over a linear x axis: a polyline and dots per series, crosses on the axis for skipped sizes.
+template <class X, class Y>
+void drawLines(std::ostringstream& out, const Panel& panel, const PlotArea& a, const std::pair<double, double>& xr,
+               const std::pair<double, double>& yr, X xpos, Y ypos) {
   // x ticks: the distinct x values of the data (problem sizes are few), else a linear spread
   std::set<double> xs;
   for (const Series& s : panel.series) {
@@ -105,23 +113,8 @@ void drawPanel(std::ostringstream& out, const Panel& panel, double x0, double y0
     xs.clear();
     for (int i = 0; i <= kLinearTicks; ++i) xs.insert(xr.first + (xr.second - xr.first) * i / kLinearTicks);
   }
-  // A label that would overlap the last one drawn (sizes 14 and 16 on an axis to 64) is left out;
-  // its tick stays.
   double last_label_right = -1e9;
-  for (double v : xs) {
-    out << "<line x1=\"" << num(X(v)) << "\" x2=\"" << num(X(v)) << "\" y1=\"" << num(py + h) << "\" y2=\""
-        << num(py + h + 4) << "\" stroke=\"#333\"/>\n";
-    const std::string label = tickLabel(v);
-    const double half_width = kTickCharWidth * static_cast<double>(label.size()) / 2;
-    if (X(v) - half_width < last_label_right + kTickLabelGap) continue;
-    last_label_right = X(v) + half_width;
-    out << "<text x=\"" << num(X(v)) << "\" y=\"" << num(py + h + 15) << "\" text-anchor=\"middle\" font-size=\"10\">"
-        << label << "</text>\n";
-  }
-  out << "<text class=\"x-label\" x=\"" << num(px + w / 2) << "\" y=\"" << num(py + h + 34)
-      << "\" text-anchor=\"middle\" font-size=\"11\">" << escapeXml(panel.x_label) << "</text>\n";
-  out << "<text class=\"y-label\" transform=\"translate(" << num(x0 + 14) << "," << num(py + h / 2)
-      << ") rotate(-90)\" text-anchor=\"middle\" font-size=\"11\">" << escapeXml(panel.y_label) << "</text>\n";
+  for (double v : xs) drawXTick(out, a, xpos(v), tickLabel(v), last_label_right);
   for (const Series& s : panel.series) {
     out << "<g class=\"series\" data-name=\"" << escapeXml(s.name) << "\">\n";
     std::vector<std::pair<double, double>> pts;
@@ -131,23 +124,90 @@ void drawPanel(std::ostringstream& out, const Panel& panel, double x0, double y0
     if (pts.size() > 1) {
       out << "<polyline fill=\"none\" stroke=\"" << s.color << "\" stroke-width=\"1.8\""
           << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << " points=\"";
-      for (const auto& [x, y] : pts) out << num(X(x)) << "," << num(Y(std::clamp(y, yr.first, yr.second))) << " ";
+      for (const auto& [x, y] : pts) out << num(xpos(x)) << "," << num(ypos(std::clamp(y, yr.first, yr.second))) << " ";
       out << "\"/>\n";
     }
     for (const auto& [x, y] : pts)
-      out << "<circle cx=\"" << num(X(x)) << "\" cy=\"" << num(Y(std::clamp(y, yr.first, yr.second)))
+      out << "<circle cx=\"" << num(xpos(x)) << "\" cy=\"" << num(ypos(std::clamp(y, yr.first, yr.second)))
           << "\" r=\"3\" fill=\"" << s.color << "\"/>\n";
-    for (double x : s.skipped_x) {
-      const double cx = X(x), cy = py + h - 6;
-      out << "<path class=\"skipped\" d=\"M" << num(cx - 4) << "," << num(cy - 4) << " L" << num(cx + 4) << ","
-          << num(cy + 4) << " M" << num(cx - 4) << "," << num(cy + 4) << " L" << num(cx + 4) << "," << num(cy - 4)
-          << "\" stroke=\"" << s.color << "\" stroke-width=\"1.8\"/>\n";
-    }
+    for (double x : s.skipped_x) drawCross(out, xpos(x), a.py + a.h - 6, s.color);
     out << "</g>\n";
+  }
+}
+
+/// Grouped bars: one slot per distinct x (evenly spaced, labelled), one bar per series in each slot
+/// in series order. A zero is a bar 2 px high (a value, not a gap); a skipped size a cross in its place.
+template <class Y>
+void drawBars(std::ostringstream& out, const Panel& panel, const PlotArea& a, const std::pair<double, double>& yr, Y ypos) {
+  std::set<double> xs;
+  for (const Series& s : panel.series) {
+    for (const auto& p : s.points) xs.insert(p.first);
+    xs.insert(s.skipped_x.begin(), s.skipped_x.end());
+  }
+  if (xs.empty()) return;
+  const std::vector<double> slots(xs.begin(), xs.end());
+  const double slot_width = a.w / static_cast<double>(slots.size());
+  const double bar_width = 0.8 * slot_width / static_cast<double>(std::max<std::size_t>(1, panel.series.size()));
+  auto slotLeft = [&](double x) {
+    const auto at = std::lower_bound(slots.begin(), slots.end(), x) - slots.begin();
+    return a.px + slot_width * static_cast<double>(at);
+  };
+  double last_label_right = -1e9;
+  for (double v : slots) drawXTick(out, a, slotLeft(v) + slot_width / 2, tickLabel(v), last_label_right);
+  const double base = ypos(std::max(yr.first, 0.0));
+  for (std::size_t i = 0; i < panel.series.size(); ++i) {
+    const Series& s = panel.series[i];
+    out << "<g class=\"series\" data-name=\"" << escapeXml(s.name) << "\">\n";
+    auto left = [&](double x) { return slotLeft(x) + 0.1 * slot_width + bar_width * static_cast<double>(i); };
+    for (const auto& [x, y] : s.points) {
+      if (!std::isfinite(y)) continue;
+      const double top = std::min(ypos(std::clamp(y, yr.first, yr.second)), base - 2);
+      out << "<rect class=\"bar\" data-x=\"" << attributeValue(x) << "\" data-y=\"" << attributeValue(y) << "\" x=\"" << num(left(x))
+          << "\" y=\"" << num(top) << "\" width=\"" << num(bar_width) << "\" height=\"" << num(base - top)
+          << "\" fill=\"" << s.color << "\" fill-opacity=\"" << (s.dashed ? "0.35" : "0.9") << "\" stroke=\"" << s.color
+          << "\"/>\n";
+    }
+    for (double x : s.skipped_x) drawCross(out, left(x) + bar_width / 2, a.py + a.h - 6, s.color);
+    out << "</g>\n";
+  }
+}
+
+void drawPanel(std::ostringstream& out, const Panel& panel, double x0, double y0) {
+  const PlotArea a{x0 + kLeft, y0 + kTop, kPanelWidth - kLeft - kRight, kPanelHeight - kTop - kBottom};
+  const auto xr = dataRange({&panel}, false, false);
+  const auto yr = panel.y_range ? *panel.y_range : dataRange({&panel}, panel.log_y, true);
+  const Scale sx{xr.first, xr.second, false}, sy{yr.first, yr.second, panel.log_y};
+  auto X = [&](double v) { return a.px + sx(v) * a.w; };
+  auto Y = [&](double v) { return a.py + a.h - sy(v) * a.h; };
+  out << "<g class=\"panel\" data-title=\"" << escapeXml(panel.title) << "\">\n";
+  out << "<text x=\"" << num(a.px + a.w / 2) << "\" y=\"" << num(y0 + 18) << "\" text-anchor=\"middle\" font-size=\"13\" "
+      << "font-weight=\"bold\">" << escapeXml(panel.title) << "</text>\n";
+  out << "<rect x=\"" << num(a.px) << "\" y=\"" << num(a.py) << "\" width=\"" << num(a.w) << "\" height=\"" << num(a.h)
+      << "\" fill=\"none\" stroke=\"#333\"/>\n";
+  // y ticks and grid
+  std::vector<double> yt;
+  if (panel.log_y) {
+    for (double d = std::round(std::log10(yr.first)); d <= std::log10(yr.second) + 1e-9; d += 1) yt.push_back(std::pow(10.0, d));
+  } else {
+    for (int i = 0; i <= kLinearTicks; ++i) yt.push_back(yr.first + (yr.second - yr.first) * i / kLinearTicks);
+  }
+  for (double v : yt) {
+    out << "<line x1=\"" << num(a.px) << "\" x2=\"" << num(a.px + a.w) << "\" y1=\"" << num(Y(v)) << "\" y2=\"" << num(Y(v))
+        << "\" stroke=\"#ddd\"/>\n";
+    out << "<text x=\"" << num(a.px - 5) << "\" y=\"" << num(Y(v) + 4) << "\" text-anchor=\"end\" font-size=\"10\">"
+        << tickLabel(v) << "</text>\n";
+  }
+  out << "<text class=\"x-label\" x=\"" << num(a.px + a.w / 2) << "\" y=\"" << num(a.py + a.h + 34)
+      << "\" text-anchor=\"middle\" font-size=\"11\">" << escapeXml(panel.x_label) << "</text>\n";
+  out << "<text class=\"y-label\" transform=\"translate(" << num(x0 + 14) << "," << num(a.py + a.h / 2)
+      << ") rotate(-90)\" text-anchor=\"middle\" font-size=\"11\">" << escapeXml(panel.y_label) << "</text>\n";
+  if (panel.bars) {
+    drawBars(out, panel, a, yr, Y);
+  } else {
+    drawLines(out, panel, a, xr, yr, X, Y);
   }
   out << "</g>\n";
 }
-
 }  // namespace
 
 std::string escapeXml(const std::string& text) {
@@ -199,11 +259,18 @@ std::string renderSvg(const Figure& figure) {
   auto slot = [&](int index) {
     return std::make_pair(10 + (index % per_row) * 220.0, kTitleHeight + kPanelHeight + 8 + (index / per_row) * kLegendRow);
   };
+  const bool bars = std::all_of(figure.panels.begin(), figure.panels.end(), [](const Panel& p) { return p.bars; });
   for (const Series* s : legend) {
     const auto [lx, ly] = slot(k++);
-    out << "<line x1=\"" << num(lx) << "\" x2=\"" << num(lx + 24) << "\" y1=\"" << num(ly + 6) << "\" y2=\"" << num(ly + 6)
-        << "\" stroke=\"" << s->color << "\" stroke-width=\"2\"" << (s->dashed ? " stroke-dasharray=\"5,3\"" : "")
-        << "/>\n<text x=\"" << num(lx + 30) << "\" y=\"" << num(ly + 10) << "\" font-size=\"11\">" << escapeXml(s->name)
+    if (bars) {
+      out << "<rect x=\"" << num(lx + 6) << "\" y=\"" << num(ly) << "\" width=\"12\" height=\"12\" fill=\"" << s->color
+          << "\" fill-opacity=\"" << (s->dashed ? "0.35" : "0.9") << "\" stroke=\"" << s->color << "\"/>\n";
+    } else {
+      out << "<line x1=\"" << num(lx) << "\" x2=\"" << num(lx + 24) << "\" y1=\"" << num(ly + 6) << "\" y2=\"" << num(ly + 6)
+          << "\" stroke=\"" << s->color << "\" stroke-width=\"2\"" << (s->dashed ? " stroke-dasharray=\"5,3\"" : "")
+          << "/>\n";
+    }
+    out << "<text x=\"" << num(lx + 30) << "\" y=\"" << num(ly + 10) << "\" font-size=\"11\">" << escapeXml(s->name)
         << "</text>\n";
   }
   if (any_skipped) {

@@ -25,6 +25,9 @@ struct Panel {
   std::string y_label;
   bool log_y = false;
   std::optional<std::pair<double, double>> y_range;  ///< unset: from the data
+  /// Grouped bars instead of lines: one slot per distinct x, one bar per series in it (rates that
+  /// often coincide, such as 100 % solved, stay visible side by side). Dashed series are drawn pale.
+  bool bars = false;
   std::vector<Series> series;
 };
 

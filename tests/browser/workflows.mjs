@@ -162,11 +162,17 @@ async function main() {
 
     await step('A click on a plot point opens its runs', async () => {
       const box = page.locator('[data-testid=chart-success]');
+      // The middle of the first bar that stands for runs (success is drawn as grouped bars).
       const pos = await box.evaluate((b) => {
-        const meta = b._chart.getDatasetMeta(0);
-        const p = meta.data.find((e) => !e.skip);
-        return { x: p.x, y: p.y };
+        const chart = b._chart;
+        for (let i = 0; i < chart.data.datasets.length; ++i) {
+          const meta = chart.getDatasetMeta(i);
+          const k = meta.data.findIndex((e, j) => !e.skip && chart.data.datasets[i].data[j] && chart.data.datasets[i].data[j].filter);
+          if (k >= 0) return { x: meta.data[k].x, y: (meta.data[k].y + meta.data[k].base) / 2 };
+        }
+        return null;
       });
+      expect(pos, 'the success plot has no bar with runs');
       await box.locator('canvas').click({ position: pos });
       await page.waitForFunction(() => location.hash.startsWith('#/runs?q='));
       const q = await page.evaluate(() => decodeURIComponent(new URLSearchParams(location.hash.split('?')[1]).get('q')));

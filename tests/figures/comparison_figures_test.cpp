@@ -105,6 +105,11 @@ TEST_F(Figures, EveryFamilyGetsItsThreeFiguresAsSvgAndPng) {
             (std::vector<std::string>{"construction (task + motion)", "query (task + motion)", "conflict resolution",
                                       "total"}));
   EXPECT_NE(time.find("time (s, log scale)"), std::string::npos);
+  // Success as grouped bars, one per planner and size; DaSH's 0 % at objects=4 is a bar, not a gap.
+  const std::string success = read(dir.file("figs/sorting-success.svg"));
+  EXPECT_EQ(attributes(success, "bar", "data-x").size(), 4u);
+  EXPECT_NE(success.find(R"(class="bar" data-x="4" data-y="0")"), std::string::npos);
+  EXPECT_EQ(attributes(sizes, "bar", "data-x").size(), 0u);  // sizes stay lines
   // Lab's size axis is its containers (objects does not vary there).
   EXPECT_NE(read(dir.file("figs/lab-success.svg")).find("problem size: containers (count)"), std::string::npos);
 }

@@ -165,7 +165,35 @@ export function secondsTick(v) {
   return v >= 1 ? `${fmtNumber(v)}` : fmtNumber(v, 2);
 }
 
-/// (c) Success rate: solved out of finished runs; 0 % is a point on the axis, no runs is a gap.
+/// Skipped sizes in a bar chart: a cross on the axis where the series' bar would stand.
+const skippedCrosses = {
+  id: 'skippedCrosses',
+  afterDatasetsDraw(chart) {
+    const { ctx } = chart;
+    const y = chart.scales.y.getPixelForValue(0) - 7;
+    chart.data.datasets.forEach((ds, i) => {
+      const meta = chart.getDatasetMeta(i);
+      if (meta.hidden) return;
+      meta.data.forEach((bar, k) => {
+        if (!ds.data[k] || !ds.data[k].skippedPoint) return;
+        ctx.save();
+        ctx.strokeStyle = ds.borderColor;
+        ctx.lineWidth = 1.8;
+        ctx.beginPath();
+        ctx.moveTo(bar.x - 4, y - 4);
+        ctx.lineTo(bar.x + 4, y + 4);
+        ctx.moveTo(bar.x - 4, y + 4);
+        ctx.lineTo(bar.x + 4, y - 4);
+        ctx.stroke();
+        ctx.restore();
+      });
+    });
+  },
+};
+
+/// (c) Success rate: solved out of finished runs, as grouped bars (one slot per size, one bar per
+/// series: equal rates such as 100 % stay side by side instead of hiding each other). 0 % is a stub
+/// bar, no runs is a gap, a size the batch skipped a cross on the axis.
 export function drawSuccess(box, ctx) {
   const datasets = [];
   const rows = [];
@@ -173,45 +201,48 @@ export function drawSuccess(box, ctx) {
   for (const label of ctx.grouped.series) {
     const data = ctx.grouped.xs.map((x) => {
       const cell = ctx.grouped.cells.get(`${label}|${x}`);
-      if (!cell) return { x, y: null };
+      if (!cell) return { x: String(x), y: null };
       const s = successOf(cell);
       if (s.rate === null && s.skipped > 0) {
-        // A size the batch skipped (its axis stopped after every seed failed a smaller one): a cross
-        // on the axis, not a line point.
+        // A size the batch skipped (its axis stopped after every seed failed a smaller one).
         rows.push({ series: label, x, finished: 0, solved: 0, skipped: s.skipped, rate: '' });
         points += 1;
-        return { x, y: 0, s, skippedPoint: true, filter: cellFilter(ctx, cell) };
+        return { x: String(x), y: 0, s, skippedPoint: true, filter: cellFilter(ctx, cell) };
       }
-      if (s.rate === null) return { x, y: null };
+      if (s.rate === null) return { x: String(x), y: null };
       rows.push({ series: label, x, finished: s.finished, solved: s.solved, skipped: s.skipped, rate: s.rate });
       points += 1;
-      return { x, y: 100 * s.rate, s, filter: cellFilter(ctx, cell) };
+      return { x: String(x), y: 100 * s.rate, s, filter: cellFilter(ctx, cell) };
     });
     const c = seriesColour(ctx, label);
     datasets.push({
       label,
       data,
       borderColor: c,
-      backgroundColor: c,
-      pointRadius: (p) => (p.raw && p.raw.skippedPoint ? 6 : 4),
-      pointStyle: (p) => (p.raw && p.raw.skippedPoint ? 'crossRot' : 'circle'),
-      segment: { borderDash: (sg) => (sg.p1.raw && sg.p1.raw.skippedPoint ? [2, 3] : undefined) },
-      borderWidth: 2,
-      spanGaps: false,
+      backgroundColor: (p) => (p.raw && p.raw.skippedPoint ? 'rgba(0,0,0,0)' : c),
+      borderWidth: (p) => (p.raw && p.raw.skippedPoint ? 0 : 1),
+      minBarLength: 3,
+      barPercentage: 0.9,
+      categoryPercentage: 0.85,
     });
   }
   drawChart(
     box,
     {
-      type: 'line',
-      data: { datasets },
+      type: 'bar',
+      data: { labels: ctx.grouped.xs.map(String), datasets },
       options: {
-        plugins: { tooltip: { callbacks: { label: (c) => (c.raw.skippedPoint ? `${c.dataset.label}: skipped (${c.raw.s.skipped} runs not run: a smaller size failed on every seed)` : `${c.dataset.label}: ${fmtNumber(c.raw.y)}% (${c.raw.s.solved} of ${c.raw.s.finished} solved)`) } } },
+        interaction: { mode: 'nearest', intersect: true },
+        plugins: {
+          legend: { labels: { usePointStyle: false } },
+          tooltip: { callbacks: { label: (c) => (c.raw.skippedPoint ? `${c.dataset.label}: skipped (${c.raw.s.skipped} runs not run: a smaller size failed on every seed)` : `${c.dataset.label}: ${fmtNumber(c.raw.y)}% (${c.raw.s.solved} of ${c.raw.s.finished} solved)`) } },
+        },
         scales: {
-          x: sizeAxis(`${ctx.x} (count)`, ctx.grouped.xs),
-          y: percentAxis('success rate (% of finished runs)'),
+          x: { type: 'category', title: axisTitle(`${ctx.x} (count)`), ticks: { autoSkip: false } },
+          y: { ...percentAxis('success rate (% of finished runs)'), min: 0 },
         },
       },
+      plugins: [skippedCrosses],
     },
     points,
     'no finished runs for this selection',

@@ -80,7 +80,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       timesBox,
     ),
   };
-  const success = chartPanel({ tall: true, title: 'Success rate', testid: 'chart-success', name: 'success-rate', help: 'Solved runs out of finished runs (timeouts, infeasible and crashed runs count as failures). 0 % is a point on the axis; no runs is a gap; a cross on the axis marks a size the batch skipped.' });
+  const success = chartPanel({ tall: true, title: 'Success rate', testid: 'chart-success', name: 'success-rate', help: 'Solved runs out of finished runs (timeouts, infeasible and crashed runs count as failures). One bar per series and size, side by side so that equal rates never hide each other: 0 % is a stub bar, no runs a gap, a cross on the axis a size the batch skipped.' });
 
   const metricSelect = el('select', { 'data-testid': 'builder-metric' });
   const styleSelect = select('builder-style', [{ value: 'band', text: 'median and interquartile band' }, { value: 'box', text: 'box plots' }], state.style);
