@@ -182,6 +182,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   setup.stop();
   MotionConstraintSet motion_constraints;
   PlanResult result;
+  std::string last_restart;  // why the last restart happened
   auto finish = [&](PlanOutcome outcome, std::string message) {
     fillTaskStats(task, result.stats);
     result.stats.sizes.motion_vertices = motion.motionVertices();
@@ -208,6 +209,10 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
     emitter.counter("motion_hyperarcs_coupled", static_cast<std::int64_t>(motion.hypergraph().coupledHyperarcCount()));
     result.outcome = outcome;
     result.message = std::move(message);
+    // A run that did not solve says what its restarts were for (the lifts log it only when there were
+    // constraints to lift).
+    if (outcome != PlanOutcome::kSolved && task.restarts() > 0)
+      result.message += " (after " + std::to_string(task.restarts()) + " restarts; the last after: " + last_restart + ")";
     emitter.counter("collision_checks_lazy", result.stats.collision_checks_lazy);
     return result;
   };
@@ -227,6 +232,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   auto restart = [&](const std::string& why) {
     if (!params.restart_when_exhausted || deadline.expired()) return false;
     task.restart("restart after: " + why);
+    last_restart = why;
     emitter.counter("restarts", task.restarts());
     if (params.budget_growth && task.restarts() <= kMaxRestartGrowths) motion.scaleBudget(kBudgetGrowth);
     validation_feedbacks = 0;
