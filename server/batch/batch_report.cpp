@@ -11,6 +11,7 @@
 
 #include "engine/scenarios/scenario_registry.h"
 #include "server/batch/batch_store.h"
+#include "server/batch/run_process.h"
 
 namespace dash::batch {
 namespace {
@@ -276,20 +277,25 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
     }
     out << "Time breakdown (s, phase totals)\n" << times.str() << "\n";
 
-    Table success({"params", "planner", "runs", "solved", "timeout", "infeasible", "crashed", "success"}, 2);
+    // A run stopped by its memory limit is stored as crashed with an error that says so (run_process.cpp);
+    // it is counted apart: out of memory is an outcome, a crash a defect.
+    Table success({"params", "planner", "runs", "solved", "timeout", "infeasible", "out of memory", "crashed", "success"},
+                  2);
     for (const Row* row : rows) {
-      int solved = 0, timeout = 0, infeasible = 0, crashed = 0;
+      int solved = 0, timeout = 0, infeasible = 0, out_of_memory = 0, crashed = 0;
       for (const auto* r : row->runs) {
+        const bool oom = r->status == RunStatus::Crashed && r->summary.error.rfind(kOutOfMemoryError, 0) == 0;
         solved += r->status == RunStatus::Solved;
         timeout += r->status == RunStatus::Timeout;
         infeasible += r->status == RunStatus::Infeasible;
-        crashed += r->status == RunStatus::Crashed;
+        out_of_memory += oom;
+        crashed += r->status == RunStatus::Crashed && !oom;
       }
       const std::size_t n = row->runs.size();
       char rate[16];
       std::snprintf(rate, sizeof rate, "%.0f%%", n > 0 ? 100.0 * solved / static_cast<double>(n) : 0.0);
       success.add({row->params_text, row->planner, std::to_string(n), std::to_string(solved), std::to_string(timeout),
-                   std::to_string(infeasible), std::to_string(crashed), rate});
+                   std::to_string(infeasible), std::to_string(out_of_memory), std::to_string(crashed), rate});
     }
     out << "Success rate\n" << success.str() << "\n";
     if (skipped.count(family)) {

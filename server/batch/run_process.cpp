@@ -133,7 +133,8 @@ void withoutResult(const RunEnd& end, log::RunSummary& s) {
                                                : log::RunStatus::Crashed;
   if (end.error && end.error->kind == "out-of-memory") {
     s.status = log::RunStatus::Crashed;
-    s.error = "out of memory (memory limit " + formatNumber(end.run->memory_limit_mb) + " MB): " + end.error->message;
+    s.error = std::string(kOutOfMemoryError) + " (memory limit " + formatNumber(end.run->memory_limit_mb) +
+              " MB): " + end.error->message;
   } else if (end.error) {
     s.error = (end.error->kind == "input" ? "run setup failed: " : "run failed: ") + end.error->message;
   } else {

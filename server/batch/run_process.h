@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "engine/log/results_db.h"
 #include "server/batch/batch_spec.h"
@@ -27,6 +28,9 @@ struct RunProcess {
 /// descriptor closed. Async-signal-safe between fork and exec, so it may be called from a
 /// multi-threaded process (the server). Throws std::system_error if a pipe or fork fails.
 RunProcess spawnRunProcess(const std::string& executable, const RunSpec& run);
+
+/// How the error of a run stopped by its memory limit begins (stored as crashed; reports count it apart).
+inline constexpr std::string_view kOutOfMemoryError = "out of memory";
 
 /// Why the runner signalled a process, if it did.
 enum class StopReason { kNone, kTime, kCancel };

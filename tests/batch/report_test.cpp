@@ -18,7 +18,8 @@ using namespace testing;
 
 /// One finished run with the given task sizes and times.
 void addRun(log::ResultsDb& db, const std::string& batch, int robots, std::uint64_t seed, log::RunStatus status,
-            std::int64_t task_vertices, double task_query, double total, const std::string& planner = "lazy-dash") {
+            std::int64_t task_vertices, double task_query, double total, const std::string& planner = "lazy-dash",
+            const std::string& error = "") {
   const std::string uuid =
       db.beginRun(log::RunMetadata{.batch_id = batch,
                                    .family = "sorting",
@@ -36,6 +37,7 @@ void addRun(log::ResultsDb& db, const std::string& batch, int robots, std::uint6
   sizes.vertices[0] = task_vertices;
   sizes.hyperarcs[0] = 2 * task_vertices;
   s.sizes = sizes;
+  s.error = error;
   db.finishRun(uuid, s);
 }
 
@@ -65,6 +67,8 @@ TEST(Report, MediansAcrossSeedsPerFamilyParamsAndPlanner) {
   addRun(db, "b1", 4, 3, log::RunStatus::Solved, 20, 1.0, 2.0);
   addRun(db, "b1", 4, 4, log::RunStatus::Timeout, 99, 9.0, 9.0);
   addRun(db, "b1", 8, 1, log::RunStatus::Crashed, 0, 0, 0.1);
+  addRun(db, "b1", 6, 1, log::RunStatus::Crashed, 0, 0, 180, "lazy-dash",
+         "out of memory (memory limit 16384 MB): out of memory (std::bad_alloc)");
   addRun(db, "b1", 4, 1, log::RunStatus::Infeasible, 5, 0.25, 0.5, "dash");
   addRun(db, "other", 4, 1, log::RunStatus::Solved, 1000, 100, 100);  // another batch
 
@@ -78,13 +82,17 @@ TEST(Report, MediansAcrossSeedsPerFamilyParamsAndPlanner) {
   const std::string times = lineWith(text, "Time breakdown", "robots=4 objects=8  lazy-dash");
   EXPECT_TRUE(std::regex_search(times, std::regex(R"(lazy-dash\s+3\s+0\.000\s+1\.000\s)"))) << times;
   EXPECT_NE(times.find("2.000"), std::string::npos) << times;
-  // Success: 3 of 4 for lazy-dash at robots=4; dash infeasible; robots=8 crashed.
+  // Success: 3 of 4 for lazy-dash at robots=4; dash infeasible; robots=8 crashed; robots=6 out of
+  // memory (a crash whose error says so, counted apart).
+  EXPECT_NE(text.find("infeasible  out of memory  crashed  success"), std::string::npos) << text;
   const std::string success = lineWith(text, "Success rate", "robots=4 objects=8  lazy-dash");
-  EXPECT_TRUE(std::regex_search(success, std::regex(R"(4\s+3\s+1\s+0\s+0\s+75%)"))) << success;
+  EXPECT_TRUE(std::regex_search(success, std::regex(R"(4\s+3\s+1\s+0\s+0\s+0\s+75%)"))) << success;
   const std::string dash = lineWith(text, "Success rate", "robots=4 objects=8  dash");
-  EXPECT_TRUE(std::regex_search(dash, std::regex(R"(1\s+0\s+0\s+1\s+0\s+0%)"))) << dash;
+  EXPECT_TRUE(std::regex_search(dash, std::regex(R"(1\s+0\s+0\s+1\s+0\s+0\s+0%)"))) << dash;
   const std::string crashed = lineWith(text, "Success rate", "robots=8");
-  EXPECT_TRUE(std::regex_search(crashed, std::regex(R"(1\s+0\s+0\s+0\s+1\s+0%)"))) << crashed;
+  EXPECT_TRUE(std::regex_search(crashed, std::regex(R"(1\s+0\s+0\s+0\s+0\s+1\s+0%)"))) << crashed;
+  const std::string oom = lineWith(text, "Success rate", "robots=6");
+  EXPECT_TRUE(std::regex_search(oom, std::regex(R"(1\s+0\s+0\s+0\s+1\s+0\s+0%)"))) << oom;
   // Rows with no solved run show '-'.
   EXPECT_NE(lineWith(text, "Representation sizes", "robots=4 objects=8  dash").find(" -"), std::string::npos);
 
