@@ -108,15 +108,18 @@ void addToAxisLine(const StoredRun& r, std::map<std::string, std::map<AxisLineKe
 }
 
 // Where each planner breaks: along each stop axis, the largest size every seed solved, the largest
-// some seed solved, the first size no seed solved, the first size skipped, and the sizes still open.
+// some seed solved, the first size no seed solved, the first size skipped, the sizes still open, and
+// every finished size some seed failed (a failure below the largest size solved is a hole the first
+// two columns do not show).
 std::string formatAxisLines(const std::map<AxisLineKey, AxisLine>& lines) {
   Table table({"line", "planner", "axis", "all seeds solved up to", "some seed up to", "none solved at",
-               "skipped from", "sizes open"},
+               "skipped from", "sizes open", "failed (size: solved/seeds)"},
               3);
   auto text = [](std::optional<int> v) { return v ? std::to_string(*v) : std::string("-"); };
   for (const auto& [key, line] : lines) {
     std::optional<int> all, some, none, skip;
     int open = 0;
+    std::string failed;
     for (const auto& [value, size] : line.sizes) {
       if (size.skipped > 0) {
         if (!skip) skip = value;
@@ -129,9 +132,12 @@ std::string formatAxisLines(const std::map<AxisLineKey, AxisLine>& lines) {
       if (size.solved == size.seeds) all = value;
       if (size.solved > 0) some = value;
       if (size.solved == 0 && !none) none = value;
+      if (size.solved < size.seeds)
+        failed += (failed.empty() ? "" : ", ") + std::to_string(value) + ": " + std::to_string(size.solved) + "/" +
+                  std::to_string(size.seeds);
     }
     table.add({line.others.empty() ? "-" : line.others, key.second, line.axis, text(all), text(some), text(none), text(skip),
-               std::to_string(open)});
+               std::to_string(open), failed.empty() ? "-" : failed});
   }
   return "Where each planner breaks (along the stop axis; sizes with every seed finished)\n" + table.str() + "\n";
 }
