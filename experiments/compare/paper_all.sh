@@ -64,7 +64,7 @@ link_dir="$(python3 -c 'import os, sys; print(os.path.relpath(sys.argv[1], sys.a
 status_line="$("$DASHBENCH" batch status --db "$DB" "$BATCH" | awk 'NR == 2')"
 read -r _ _ state runs solved timeout infeasible crashed cancelled skipped running pending created <<< "$status_line"
 echo "Batch \`$BATCH\` ($state, created $created): $runs runs: $solved solved, $timeout timeout,"
-echo "$infeasible infeasible, $crashed crashed, $skipped skipped by the axis stop rule, $((running + pending)) not run yet."
+echo "$infeasible infeasible, $crashed crashed or out of memory, $skipped skipped by the axis stop rule, $((running + pending)) not run yet."
 echo "The full report (sizes, times and success per size and planner): \`$link_dir/report.txt\`."
 echo
 
