@@ -99,16 +99,22 @@ void drawXTick(std::ostringstream& out, const PlotArea& a, double x, const std::
       << label << "</text>\n";
 }
 
-/// Lines over a linear x axis: a polyline and dots per series, crosses on the axis for skipped sizes.
-template <class X, class Y>
-void drawLines(std::ostringstream& out, const Panel& panel, const PlotArea& a, const std::pair<double, double>& xr,
-               const std::pair<double, double>& yr, X xpos, Y ypos) {
-  // x ticks: the distinct x values of the data (problem sizes are few), else a linear spread
+/// The distinct x values of a panel's data: its points and its skipped sizes.
+std::set<double> dataXs(const Panel& panel) {
   std::set<double> xs;
   for (const Series& s : panel.series) {
     for (const auto& p : s.points) xs.insert(p.first);
     xs.insert(s.skipped_x.begin(), s.skipped_x.end());
   }
+  return xs;
+}
+
+/// Lines over a linear x axis: a polyline and dots per series, crosses on the axis for skipped sizes.
+template <class X, class Y>
+void drawLines(std::ostringstream& out, const Panel& panel, const PlotArea& a, const std::pair<double, double>& xr,
+               const std::pair<double, double>& yr, X xpos, Y ypos) {
+  // x ticks: the distinct x values of the data (problem sizes are few), else a linear spread
+  std::set<double> xs = dataXs(panel);
   if (xs.size() > 12 || xs.empty()) {
     xs.clear();
     for (int i = 0; i <= kLinearTicks; ++i) xs.insert(xr.first + (xr.second - xr.first) * i / kLinearTicks);
@@ -139,11 +145,7 @@ void drawLines(std::ostringstream& out, const Panel& panel, const PlotArea& a, c
 /// in series order. A zero is a bar 2 px high (a value, not a gap); a skipped size a cross in its place.
 template <class Y>
 void drawBars(std::ostringstream& out, const Panel& panel, const PlotArea& a, const std::pair<double, double>& yr, Y ypos) {
-  std::set<double> xs;
-  for (const Series& s : panel.series) {
-    for (const auto& p : s.points) xs.insert(p.first);
-    xs.insert(s.skipped_x.begin(), s.skipped_x.end());
-  }
+  const std::set<double> xs = dataXs(panel);
   if (xs.empty()) return;
   const std::vector<double> slots(xs.begin(), xs.end());
   const double slot_width = a.w / static_cast<double>(slots.size());
