@@ -190,8 +190,14 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
     slot.planner_order = planner_order[planner];
     slot.runs.push_back(&r);
   }
-  // Runs the axis stop rule skipped (axis_stop.h): per family, (params, planner) -> count and reason.
-  std::map<std::string, std::map<std::pair<std::string, std::string>, std::pair<int, std::string>>> skipped;
+  // Runs the axis stop rule skipped (axis_stop.h): per family, (params, planner) -> count, reason and the
+  // first ordinal (the spec's order, so sizes read 4, 8, 16 rather than 16, 4, 8).
+  struct Skipped {
+    int runs = 0;
+    std::string why;
+    int first_ordinal = 0;
+  };
+  std::map<std::string, std::map<std::pair<std::string, std::string>, Skipped>> skipped;
   std::map<std::string, std::map<AxisLineKey, AxisLine>> axis_lines;  // family -> line
   if (!options.batch_id.empty()) {
     const BatchStore store(db.path(), log::OpenMode::ReadOnly);
@@ -200,8 +206,9 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
       if (r.skipped.empty()) continue;
       if (!families.count(r.spec.family) && !skipped.count(r.spec.family)) family_order.push_back(r.spec.family);
       auto& slot = skipped[r.spec.family][{r.spec.paramsText(), r.spec.label}];
-      ++slot.first;
-      slot.second = r.skipped;
+      slot.first_ordinal = slot.runs == 0 ? r.spec.ordinal : std::min(slot.first_ordinal, r.spec.ordinal);
+      ++slot.runs;
+      slot.why = r.skipped;
     }
   }
   if (family_order.empty()) {
@@ -305,9 +312,13 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
     }
     out << "Success rate\n" << success.str() << "\n";
     if (skipped.count(family)) {
+      std::vector<std::pair<const std::pair<std::string, std::string>*, const Skipped*>> in_spec_order;
+      for (const auto& [key, value] : skipped[family]) in_spec_order.emplace_back(&key, &value);
+      std::sort(in_spec_order.begin(), in_spec_order.end(),
+                [](const auto& a, const auto& b) { return a.second->first_ordinal < b.second->first_ordinal; });
       Table skips({"params", "planner", "runs", "why"}, 4);
-      for (const auto& [key, value] : skipped[family])
-        skips.add({key.first, key.second, std::to_string(value.first), value.second});
+      for (const auto& [key, value] : in_spec_order)
+        skips.add({key->first, key->second, std::to_string(value->runs), value->why});
       out << "Skipped by the axis stop rule (not run)\n" << skips.str() << "\n";
     }
     if (axis_lines.count(family)) out << formatAxisLines(axis_lines[family]);

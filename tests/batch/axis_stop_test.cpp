@@ -87,12 +87,12 @@ TEST(AxisStop, PlanPrintsADurationEstimate) {
   EXPECT_NE(text.find("duration with 2 workers: at most"), std::string::npos) << text;
 }
 
-/// Forgets the skips of the runs at objects=3 (as if the runner had died before reaching them).
-void forgetSkipsAt3(const std::string& db_path, const std::string& id) {
+/// Forgets the skips of the runs at objects=10 (as if the runner had died before reaching them).
+void forgetSkipsAt10(const std::string& db_path, const std::string& id) {
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(db_path.c_str(), &db), SQLITE_OK);
   const std::string sql =
-      "DELETE FROM dash_batch_skipped WHERE batch_id = '" + id + "' AND run_key LIKE '%objects=3%'";
+      "DELETE FROM dash_batch_skipped WHERE batch_id = '" + id + "' AND run_key LIKE '%objects=10%'";
   EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK);
   EXPECT_EQ(sqlite3_changes(db), 2);
   sqlite3_close(db);
@@ -101,7 +101,8 @@ void forgetSkipsAt3(const std::string& db_path, const std::string& id) {
 TEST(AxisStop, ABatchSkipsWhatTheRuleStopsAndResumeRespectsIt) {
   TempDir dir;
   const std::string db_path = dir.file("results.db");
-  const BatchSpec spec = specOf(stopSpec(std::string("[") + kAborts + "," + kTaskOnly + "]"));
+  // Sizes 1, 2, 10: the report must list them in that order, not as text ("10" before "2").
+  const BatchSpec spec = specOf(stopSpec(std::string("[") + kAborts + "," + kTaskOnly + "]", "[1, 2, 10]"));
   BatchRunner runner;
   const std::string id = runner.start(spec, db_path, testOptions(1));
   const BatchResult result = runner.wait();
@@ -138,20 +139,24 @@ TEST(AxisStop, ABatchSkipsWhatTheRuleStopsAndResumeRespectsIt) {
     const std::string report = formatReport(db, ReportOptions{.batch_id = id});
     const std::size_t section = report.find("Skipped by the axis stop rule");
     ASSERT_NE(section, std::string::npos) << report;
-    EXPECT_NE(report.find("robots=2 objects=3", section), std::string::npos) << report;
+    const std::size_t skipped_2 = report.find("robots=2 objects=2 ", section);
+    const std::size_t skipped_10 = report.find("robots=2 objects=10 ", section);
+    ASSERT_NE(skipped_2, std::string::npos) << report;
+    ASSERT_NE(skipped_10, std::string::npos) << report;
+    EXPECT_LT(skipped_2, skipped_10) << "skipped sizes in the spec's order:\n" << report.substr(section);
     // Where each planner breaks: "aborts" solved no size and was stopped after objects=1; the
-    // task-only planner solved every seed up to objects=3.
+    // task-only planner solved every seed up to objects=10.
     const std::size_t breaks = report.find("Where each planner breaks");
     ASSERT_NE(breaks, std::string::npos) << report;
     // The last column lists every finished size some seed failed, with solved/seeds.
     const std::regex aborts(R"(robots=2\s+aborts\s+objects\s+-\s+-\s+1\s+2\s+0\s+1: 0/2\n)");
-    const std::regex task_only(R"(robots=2\s+lazy-task\s+objects\s+3\s+3\s+-\s+-\s+0\s+-\n)");
+    const std::regex task_only(R"(robots=2\s+lazy-task\s+objects\s+10\s+10\s+-\s+-\s+0\s+-\n)");
     EXPECT_TRUE(std::regex_search(report.substr(breaks), aborts)) << report.substr(breaks);
     EXPECT_TRUE(std::regex_search(report.substr(breaks), task_only)) << report.substr(breaks);
   }
-  // Resume after the skips at objects=3 were lost: the rule, rebuilt from the stored results, skips
+  // Resume after the skips at objects=10 were lost: the rule, rebuilt from the stored results, skips
   // them again instead of running them.
-  forgetSkipsAt3(db_path, id);
+  forgetSkipsAt10(db_path, id);
   BatchRunner again;
   again.resume(id, db_path, testOptions(1));
   const BatchResult resumed = again.wait();
