@@ -291,10 +291,14 @@ std::string formatBatchInfo(const std::vector<BatchInfo>& batches) {
       const auto it = b.by_status.find(s);
       return std::to_string(it == b.by_status.end() ? 0 : it->second);
     };
-    // 'running' rows of a batch whose runner is gone are runs to re-run, not live ones.
+    // 'running' rows of a batch whose runner is gone are runs to re-run, not live ones. The columns add up
+    // to the runs: pending is what has not started (b.pending also holds the live runs, not final yet).
+    const auto live = b.status == "running" ? b.by_status.find("running") : b.by_status.end();
+    const std::int64_t running = live == b.by_status.end() ? 0 : live->second;
     rows.push_back({b.record.id, b.record.name, b.status, std::to_string(b.total), count("solved"), count("timeout"),
                     count("infeasible"), count("crashed"), count("cancelled"), count("skipped"),
-                    b.status == "running" ? count("running") : "0", std::to_string(b.pending), b.record.created});
+                    std::to_string(running), std::to_string(std::max<std::int64_t>(0, b.pending - running)),
+                    b.record.created});
   }
   std::vector<std::size_t> width(rows[0].size(), 0);
   for (const auto& r : rows) {

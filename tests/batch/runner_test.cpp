@@ -9,6 +9,7 @@
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <set>
 #include <thread>
 
@@ -179,6 +180,26 @@ TEST(BatchRunner, TinyBatchEndToEndWithTwoWorkers) {
   EXPECT_EQ(info[0].pending, 0);
   EXPECT_EQ(info[0].by_status.at("solved"), 4);
   EXPECT_NE(formatBatchInfo(info).find(id), std::string::npos);
+}
+
+TEST(BatchStatus, ColumnsAddUpToTheRunsWhileSomeAreLive) {
+  // 10 runs: 3 solved, 1 skipped, 2 running, 4 not started. BatchInfo::pending (6: no final result yet)
+  // holds the live ones too; the table's pending column must not count them twice.
+  BatchInfo b;
+  b.record.id = "b1";
+  b.record.name = "n";
+  b.status = "running";
+  b.total = 10;
+  b.by_status = {{"solved", 3}, {"skipped", 1}, {"running", 2}};
+  b.pending = 6;
+  const std::string live = formatBatchInfo({b});
+  EXPECT_TRUE(std::regex_search(live, std::regex(R"(b1\s+n\s+running\s+10\s+3\s+0\s+0\s+0\s+0\s+1\s+2\s+4\s)")))
+      << live;
+  // Interrupted: the 'running' rows are stale, to re-run: all 6 are pending.
+  b.status = "interrupted";
+  const std::string stale = formatBatchInfo({b});
+  EXPECT_TRUE(std::regex_search(stale, std::regex(R"(b1\s+n\s+interrupted\s+10\s+3\s+0\s+0\s+0\s+0\s+1\s+0\s+6\s)")))
+      << stale;
 }
 
 TEST(BatchRunner, CrashedRunIsRecordedWithItsSignalAndTheBatchGoesOn) {
