@@ -429,11 +429,23 @@ std::string BatchManager::batchJson(const std::string& batch_id) const {
   const batch::BatchStore store(options_.db_path, log::OpenMode::ReadOnly);
   Json runs = Json::array();
   for (const batch::StoredRun& r : store.runs(batch_id)) {
+    // What the run is (family, parameters, seed, configuration), so that a page can place a run that
+    // has no dash_runs row, such as one the axis stop rule skipped, on its figures.
+    Json params = Json::object();
+    for (const auto& [name, value] : r.spec.params) params[name] = value;
+    const char* status = !r.skipped.empty() ? "skipped" : nullptr;
     runs.push_back({{"key", r.spec.key},
                     {"uuid", r.run_uuid.empty() ? Json(nullptr) : Json(r.run_uuid)},
-                    {"status", r.status ? Json(*r.status) : Json("pending")},
+                    {"status", status ? Json(status) : r.status ? Json(*r.status) : Json("pending")},
                     {"attempts", r.attempts},
-                    {"error", r.error}});
+                    {"error", r.error},
+                    {"skipped", r.skipped.empty() ? Json(nullptr) : Json(r.skipped)},
+                    {"family", r.spec.family},
+                    {"params", std::move(params)},
+                    {"seed", r.spec.seed},
+                    {"planner", r.spec.planner},
+                    {"config", r.spec.label},
+                    {"stop_axis", r.spec.stop_axis.empty() ? Json(nullptr) : Json(r.spec.stop_axis)}});
   }
   out["runs"] = std::move(runs);
   return jsonText(out);

@@ -86,6 +86,20 @@ test('success counts finished runs only; skipped and running runs are not failur
   assert.deepEqual(data.successOf(cell), { finished: 2, solved: 1, skipped: 1, rate: 0.5 });
 });
 
+test('a batch\'s skipped runs join the figures on the lines its runs show, labelled as their configuration', () => {
+  const skip = (robots, objects, config = 'dash') => ({ key: `k${robots}-${objects}-${config}`, status: 'skipped', skipped: 'dash solved none of the 3 runs at objects=2', family: 'sorting', params: { robots, objects }, seed: 1, planner: config, config, stop_axis: 'objects' });
+  const fetched = data.labelSettings([run({ config: 'dash', planner: 'dash', robots: 2, objects: 2, status: 'timeout' }), run({ robots: 2, objects: 8 })]);
+  const batchRuns = [skip(2, 8), skip(2, 16), skip(4, 8), { ...skip(2, 8), family: 'wall' }, { ...skip(2, 32), status: 'solved' }];
+  const all = data.skippedRuns(batchRuns, 'sorting', fetched, false);
+  // robots=4 has no run of dash among those fetched (say a filter left it out): not shown.
+  assert.deepEqual(all.map((r) => [r.robots, r.objects, r.status, r.uuid, r.settings_label]), [[2, 8, 'skipped', null, 'dash'], [2, 16, 'skipped', null, 'dash']]);
+  // With a filter, only sizes some fetched run has (objects=8 here): the filter may have cut 16.
+  assert.deepEqual(data.skippedRuns(batchRuns, 'sorting', fetched, true).map((r) => r.objects), [8]);
+  // In the success figure they are skips, not failures.
+  const grouped = data.groupRuns(fetched.concat(all), { x: 'objects', split: 'robots', groupBy: 'config' });
+  assert.deepEqual(data.successOf(grouped.cells.get('dash · robots=2|16')), { finished: 0, solved: 0, skipped: 1, rate: null });
+});
+
 test('solved against time keeps unsolved runs in the denominator and runs on to the time limit', () => {
   const runs = [run({ total_time: 3 }), run({ total_time: 1 }), run({ status: 'timeout', total_time: 10 }), run({ status: 'crashed', total_time: 0.5 }), run({ total_time: 2 })];
   const c = data.solvedCurve(runs);

@@ -407,6 +407,20 @@ async function main() {
       await page.waitForSelector('[data-testid=compare-info][data-runs="1"]');
     });
 
+    await step('Compare: the sizes a batch\'s axis stop rule skipped are crosses in the success figure', async () => {
+      // "aborting" crashes at objects=2, so its objects=3 and 4 are skipped; the task-only planner runs all three.
+      const spec = { name: 'stop', time_limit: 60, memory_limit: 2048, scenarios: [{ family: 'sorting', params: { robots: 2, objects: [2, 3, 4] }, stop_axis: 'objects' }], planners: [{ name: 'lazy-dash', settings: { test_fault: 'abort' }, label: 'aborting' }, { name: 'lazy-dash', settings: { task_only: true }, label: 'lazy-task' }], seeds: [1] };
+      const res = await page.request.post(`${url}/api/batches`, { data: { spec, workers: 1 }, headers: { Authorization: `Bearer ${token}` } });
+      expect(res.ok(), `launch: ${res.status()} ${await res.text()}`);
+      const batch = (await res.json()).batch_id;
+      for (let i = 0; i < 600 && (await api(`/api/batches/${batch}`)).status !== 'finished'; i++) await sleep(100);
+      await page.goto(`${url}/#/compare?family=sorting&batch=${batch}`);
+      await page.waitForSelector('[data-testid=compare-info][data-runs="4"][data-skipped="2"]');
+      await points('chart-success');
+      const crosses = await page.evaluate(() => document.querySelector('[data-testid=chart-success]')._chart.data.datasets.map((d) => [d.label, d.data.filter((p) => p && p.skippedPoint).map((p) => p.x)]));
+      expect(JSON.stringify(crosses) === JSON.stringify([['aborting · robots=2', ['3', '4']], ['lazy-task · robots=2', []]]), `skipped sizes in the success figure: ${JSON.stringify(crosses)}`);
+    });
+
     await step('A run opened while it runs shows its 3D plan when it ends, without a reload', async () => {
       // DaSH on sorting with 4 robots takes seconds to tens of seconds; a larger scene if this
       // machine solved the smaller one before the page could show it running.

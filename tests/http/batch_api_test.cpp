@@ -171,6 +171,33 @@ TEST_F(BatchApiTest, APlannerCrashIsRecordedAndTheServerGoesOn) {
   EXPECT_EQ(http->get("/api/health").status, 200);
 }
 
+TEST_F(BatchApiTest, RunsTheAxisStopRuleSkippedAreListedAsSkippedWithWhatTheyAre) {
+  // "aborting" crashes at objects=2, so the stop rule skips its objects=4; the task-only planner runs both.
+  const std::string spec =
+      R"({"name":"stop","time_limit":20,"memory_limit":2048,"scenarios":[{"family":"sorting",)"
+      R"("params":{"robots":2,"objects":[2,4]},"stop_axis":"objects"}],"planners":[)"
+      R"({"name":"lazy-dash","settings":{"test_fault":"abort"},"label":"aborting"},)" +
+      std::string(kTaskOnlyPlanner) + R"(],"seeds":[1]})";
+  const std::string id = submit(*http, spec);
+  const Json b = waitForBatch(*http, id, "finished", 60);
+  ASSERT_EQ(b["status"], "finished") << b.dump();
+  int skipped = 0;
+  for (const Json& r : b["runs"]) {
+    EXPECT_EQ(r["family"], "sorting");
+    EXPECT_EQ(r["seed"], 1);
+    EXPECT_EQ(r["stop_axis"], "objects");
+    EXPECT_EQ(r["params"]["robots"], 2);
+    if (r["status"] != "skipped") continue;
+    ++skipped;
+    EXPECT_EQ(r["config"], "aborting");
+    EXPECT_EQ(r["planner"], "lazy-dash");
+    EXPECT_EQ(r["params"]["objects"], 4);
+    EXPECT_TRUE(r["uuid"].is_null());
+    EXPECT_NE(r["skipped"].get<std::string>().find("objects=2"), std::string::npos) << r.dump();
+  }
+  EXPECT_EQ(skipped, 1) << b.dump();
+}
+
 struct OneAtATime : BatchApiTest {
   ServerOptions options() override {
     ServerOptions o = testOptions(db_path);

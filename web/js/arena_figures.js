@@ -4,7 +4,7 @@
 import { drawChart, valueAxis, axisTitle, logTicks, percentAxis } from './charts.js';
 import { fmtNumber, fmtSeconds } from './dom.js';
 import { colour } from './palette.js';
-import { summary, solvedCurve } from './compare_data.js';
+import { summary, solvedCurve, isFinished } from './compare_data.js';
 import { secondsTick } from './compare_figures.js';
 
 /// Planner Arena: the share of each series' finished runs solved within t, against t (log scale).
@@ -65,7 +65,7 @@ export function drawTimeToSolve(box, ctx) {
   const rows = [];
   let points = 0;
   const values = labels.map((label) => {
-    const runs = bySeries.get(label);
+    const runs = bySeries.get(label).filter(isFinished); // not the runs a batch skipped
     const v = runs.filter((r) => r.status === 'solved' && r.total_time > 0).map((r) => r.total_time);
     points += v.length;
     rows.push({ series: label, runs: runs.length, solved: v.length, ...summary(v), values: undefined });
@@ -77,7 +77,7 @@ export function drawTimeToSolve(box, ctx) {
     {
       type: 'boxplot',
       data: {
-        labels: labels.map((l, i) => `${l} (${values[i].length}/${bySeries.get(l).length})`),
+        labels: labels.map((l, i) => `${l} (${values[i].length}/${bySeries.get(l).filter(isFinished).length})`),
         datasets: [{ label: 'time to solve', data: values, backgroundColor: colours.map((c) => `${c}55`), borderColor: colours, borderWidth: 1.5, outlierBackgroundColor: colours, outlierRadius: 3, itemRadius: 2, itemStyle: 'circle', itemBackgroundColor: colours, coef: 1.5 }],
       },
       options: {

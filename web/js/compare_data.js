@@ -15,7 +15,9 @@ export const DERIVED_METRICS = [
   { name: 'time_conflicts', label: 'conflict detection and resolution (s)', group: 'time', parts: ['time_task_conflict_detection', 'time_conflict_resolution'] },
 ];
 
-/// Runs of a family (and an optional filter), every column; resolves {runs, truncated}.
+/// Runs of a family (and an optional filter), every column; resolves {runs, truncated, skipped}. With
+/// a batch, the runs its axis stop rule skipped come too, as runs with status 'skipped' and no
+/// uuid (skippedRuns), so that the success figure marks those sizes; `skipped` counts them.
 export async function fetchRuns(family, filter, batch) {
   const clauses = [`family = "${family.replace(/"/g, '')}"`];
   if (batch) clauses.push(`batch = "${batch.replace(/"/g, '')}"`);
@@ -35,7 +37,37 @@ export async function fetchRuns(family, filter, batch) {
     }
   }
   labelSettings(runs);
-  return { runs, truncated: runs.length < total };
+  let skipped = [];
+  if (batch) {
+    try {
+      const b = await api.get(`/api/batches/${encodeURIComponent(batch)}`);
+      skipped = skippedRuns(b.runs || [], family, runs, Boolean(filter));
+    } catch {
+      skipped = []; // a batch name without a stored run list (an imported file): no skips to show
+    }
+  }
+  return { runs: runs.concat(skipped), truncated: runs.length < total, skipped: skipped.length };
+}
+
+/// The runs of a batch's run list (GET /api/batches/ID) that the axis stop rule skipped, as rows like
+/// /api/runs's (family, parameters as columns, seed, planner, config; status 'skipped'), for `family`.
+/// Only those of a line the fetched runs show: the same configuration with the same parameters but
+/// the stop axis; with a filter, also a size some fetched run has (the filter cannot be applied to
+/// runs that never ran). Their series label is the one their configuration's runs have.
+export function skippedRuns(batchRuns, family, fetched, filtered) {
+  const paramsKey = (r, names, except) => names.filter((n) => n !== except).map((n) => `${n}=${r[n]}`).join(' ');
+  const out = [];
+  for (const b of batchRuns) {
+    if (b.status !== 'skipped' || b.family !== family || !b.params || typeof b.params !== 'object') continue;
+    const names = Object.keys(b.params);
+    const row = { uuid: null, family: b.family, seed: b.seed, planner: b.planner, config: b.config, status: 'skipped', skipped: b.skipped, ...b.params };
+    const line = fetched.find((r) => (r.config || r.planner) === b.config && paramsKey(r, names, b.stop_axis) === paramsKey(row, names, b.stop_axis));
+    if (!line) continue;
+    if (filtered && !fetched.some((r) => paramsKey(r, names, null) === paramsKey(row, names, null))) continue;
+    row.settings_label = line.settings_label;
+    out.push(row);
+  }
+  return out;
 }
 
 /// Type-7 quantile (R's default, numpy's linear) of sorted values.

@@ -191,8 +191,10 @@ export function mount(root, args, params = new URLSearchParams()) {
     try {
       data = await fetchRuns(state.family, state.q, state.batch);
       status.textContent = '';
-      info.textContent = `${data.runs.length} runs${data.truncated ? ' (the first ones only: narrow the filter)' : ''}`;
-      info.dataset.runs = String(data.runs.length);
+      const ran = data.runs.length - data.skipped;
+      info.textContent = `${ran} runs${data.skipped ? ` (and ${data.skipped} skipped by the axis stop rule)` : ''}${data.truncated ? ' (the first ones only: narrow the filter)' : ''}`;
+      info.dataset.runs = String(ran);
+      info.dataset.skipped = String(data.skipped);
       drawAll();
     } catch (e) {
       data = null;
