@@ -153,7 +153,8 @@ export function drawTimes(container, ctx, shown) {
     box.dataset.exportName = `${ctx.family}-${label}`;
     // The series is the chart's own title (it goes into the exports too).
     container.append(el('div', { class: 'multiple' }, el('div', { class: 'panel-head' }, el('span', { class: 'grow-space' }), exportButtons(box, testid, 'time-breakdown')), box));
-    medianLines(box, ctx, parts, { yTitle: 'time (s, log scale)', log: true, fmt: secondsTick, empty: 'no times', only: label, yRange });
+    const empty = ctx.includeUnsolved ? `${label}: no times` : `${label}: no solved run`;
+    medianLines(box, ctx, parts, { yTitle: 'time (s, log scale)', log: true, fmt: secondsTick, empty, only: label, yRange });
     points += Number(box.dataset.points);
   });
   container.dataset.points = String(points);
