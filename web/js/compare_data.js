@@ -56,15 +56,33 @@ export async function fetchRuns(family, filter, batch) {
 /// runs that never ran). Their series label is the one their configuration's runs have.
 export function skippedRuns(batchRuns, family, fetched, filtered) {
   const paramsKey = (r, names, except) => names.filter((n) => n !== except).map((n) => `${n}=${r[n]}`).join(' ');
+  // Per (parameter names, stop axis): the fetched runs' lines (configuration + the other parameters,
+  // to one run's settings label) and sizes, built once (batches of thousands of runs).
+  const indexes = new Map();
+  const indexOf = (names, axis) => {
+    const key = `${names.join(',')}|${axis}`;
+    if (!indexes.has(key)) {
+      const lines = new Map();
+      const sizes = new Set();
+      for (const r of fetched) {
+        const line = `${r.config || r.planner}\u0000${paramsKey(r, names, axis)}`;
+        if (!lines.has(line)) lines.set(line, r.settings_label);
+        sizes.add(paramsKey(r, names, null));
+      }
+      indexes.set(key, { lines, sizes });
+    }
+    return indexes.get(key);
+  };
   const out = [];
   for (const b of batchRuns) {
     if (b.status !== 'skipped' || b.family !== family || !b.params || typeof b.params !== 'object') continue;
     const names = Object.keys(b.params);
     const row = { uuid: null, family: b.family, seed: b.seed, planner: b.planner, config: b.config, status: 'skipped', skipped: b.skipped, ...b.params };
-    const line = fetched.find((r) => (r.config || r.planner) === b.config && paramsKey(r, names, b.stop_axis) === paramsKey(row, names, b.stop_axis));
-    if (!line) continue;
-    if (filtered && !fetched.some((r) => paramsKey(r, names, null) === paramsKey(row, names, null))) continue;
-    row.settings_label = line.settings_label;
+    const { lines, sizes } = indexOf(names, b.stop_axis);
+    const line = `${b.config}\u0000${paramsKey(row, names, b.stop_axis)}`;
+    if (!lines.has(line)) continue;
+    if (filtered && !sizes.has(paramsKey(row, names, null))) continue;
+    row.settings_label = lines.get(line);
     out.push(row);
   }
   return out;
