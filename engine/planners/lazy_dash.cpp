@@ -220,6 +220,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
   int home_budget_growths = 0;
   int validation_feedbacks = 0;
   int budget_growths = 0;
+  int task_plans = 0;  // task plans of this attempt (Algorithm 1's outer loop), at most kMaxTaskRounds
   std::unordered_map<std::uint32_t, int> transition_resamples;  // per task hyperarc
   std::int64_t reused_steps = 0;  // steps conflict resolution took from the previous round's schedule
   std::int64_t rechecks = 0;      // schedules built again after the validator found a contact
@@ -238,6 +239,7 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
     validation_feedbacks = 0;
     home_budget_growths = 0;
     budget_growths = 0;
+    task_plans = 0;
     transition_resamples.clear();
     return true;
   };
@@ -377,12 +379,12 @@ PlanResult LazyDash::solve(const Scene& scene, const PlannerSettings& settings, 
                   std::move(why));
   };
   emitter.counter("restarts", 0);
-  for (int task_round = 0;; ++task_round) {  // Algorithm 1, line 3
-    if (task_round == kMaxTaskRounds) {
+  for (;;) {  // Algorithm 1, line 3
+    if (task_plans == kMaxTaskRounds) {
       const std::string why = "gave up after " + std::to_string(kMaxTaskRounds) + " task plans";
       if (!restart(why)) return giveUp(why);
-      task_round = 0;
     }
+    ++task_plans;
     TaskLayerResult layer = task.plan(deadline);  // lines 4-7
     if (layer.status != TaskLayerStatus::kFeasible) {
       const std::string why =

@@ -43,6 +43,16 @@ TEST(LazyDashRestart, AnExhaustedAttemptRestartsUntilTheDeadline) {
             std::string::npos)
       << r.message;
   EXPECT_GE(r.stats.wall_seconds, kDeadlineSeconds * 0.99);
+  // Every attempt makes one task plan (one task query) and restarts on its iteration limit: none
+  // reaches the 200 task plans an attempt may try, a count that starts again at each restart like every
+  // other allowance of an attempt. (Counted over the whole run, it restarted every 201st time with no
+  // task query at all.)
+  int task_queries = 0;
+  for (const log::Event& e : sink.events()) {
+    const auto* p = std::get_if<log::PhaseEvent>(&e.payload);
+    task_queries += p != nullptr && p->phase == log::Phase::TaskQuery && p->boundary == log::PhaseBoundary::Start;
+  }
+  EXPECT_LE(sink.counter("restarts"), task_queries);
 }
 
 TEST(LazyDashRestart, WithRestartsOffTheSameAttemptEndsInfeasible) {
