@@ -206,8 +206,7 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
       if (r.skipped.empty()) continue;
       if (!families.count(r.spec.family) && !skipped.count(r.spec.family)) family_order.push_back(r.spec.family);
       auto& slot = skipped[r.spec.family][{r.spec.paramsText(), r.spec.label}];
-      slot.first_ordinal = slot.runs == 0 ? r.spec.ordinal : std::min(slot.first_ordinal, r.spec.ordinal);
-      ++slot.runs;
+      if (slot.runs++ == 0) slot.first_ordinal = r.spec.ordinal;  // runs() comes in ordinal order
       slot.why = r.skipped;
     }
   }

@@ -433,10 +433,10 @@ std::string BatchManager::batchJson(const std::string& batch_id) const {
     // has no dash_runs row, such as one the axis stop rule skipped, on its figures.
     Json params = Json::object();
     for (const auto& [name, value] : r.spec.params) params[name] = value;
-    const char* status = !r.skipped.empty() ? "skipped" : nullptr;
+    const std::string status = !r.skipped.empty() ? "skipped" : r.status.value_or("pending");
     runs.push_back({{"key", r.spec.key},
                     {"uuid", r.run_uuid.empty() ? Json(nullptr) : Json(r.run_uuid)},
-                    {"status", status ? Json(status) : r.status ? Json(*r.status) : Json("pending")},
+                    {"status", status},
                     {"attempts", r.attempts},
                     {"error", r.error},
                     {"skipped", r.skipped.empty() ? Json(nullptr) : Json(r.skipped)},

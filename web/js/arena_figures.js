@@ -64,8 +64,9 @@ export function drawTimeToSolve(box, ctx) {
   const labels = [...bySeries.keys()].sort();
   const rows = [];
   let points = 0;
-  const values = labels.map((label) => {
-    const runs = bySeries.get(label).filter(isFinished); // not the runs a batch skipped
+  const finished = labels.map((label) => bySeries.get(label).filter(isFinished)); // not the runs a batch skipped
+  const values = labels.map((label, i) => {
+    const runs = finished[i];
     const v = runs.filter((r) => r.status === 'solved' && r.total_time > 0).map((r) => r.total_time);
     points += v.length;
     rows.push({ series: label, runs: runs.length, solved: v.length, ...summary(v), values: undefined });
@@ -77,7 +78,7 @@ export function drawTimeToSolve(box, ctx) {
     {
       type: 'boxplot',
       data: {
-        labels: labels.map((l, i) => `${l} (${values[i].length}/${bySeries.get(l).filter(isFinished).length})`),
+        labels: labels.map((l, i) => `${l} (${values[i].length}/${finished[i].length})`),
         datasets: [{ label: 'time to solve', data: values, backgroundColor: colours.map((c) => `${c}55`), borderColor: colours, borderWidth: 1.5, outlierBackgroundColor: colours, outlierRadius: 3, itemRadius: 2, itemStyle: 'circle', itemBackgroundColor: colours, coef: 1.5 }],
       },
       options: {
