@@ -274,6 +274,24 @@ int segmentSteps(const CollisionWorld& world, int robot, const JointVector& q0, 
   return std::max(1, static_cast<int>(std::ceil(d / resolution)));
 }
 
+void sweptPartBoxes(const CollisionWorld& world, CollisionContext& context, const RobotState& start,
+                    const JointVector& q_end, std::vector<Aabb>& boxes) {
+  const int r = start.robot;
+  const RobotGeometry& rg = world.robot(r);
+  const JointVector dq_abs = (q_end - start.q).cwiseAbs();
+  const auto& posed = context.scratch().robots[at(r)];
+  const int bodies = static_cast<int>(rg.bodies.size());
+  const std::size_t first = boxes.size();
+  detail::poseRobot(world, context, r, start.q, start.held);
+  boxes.insert(boxes.end(), posed.body_aabb.begin(), posed.body_aabb.end());
+  if (start.held.holding()) boxes.push_back(posed.held_aabb);
+  detail::poseRobot(world, context, r, q_end, start.held);
+  for (int b = 0; b < bodies; ++b)
+    boxes[first + at(b)] = grown(boxes[first + at(b)].merged(posed.body_aabb[at(b)]), 0.5 * bodyDisplacement(rg, b, dq_abs));
+  if (start.held.holding())
+    boxes.back() = grown(boxes.back().merged(posed.held_aabb), 0.5 * heldDisplacement(world, r, dq_abs, start.held));
+}
+
 bool segmentInCollision(const CollisionWorld& world, CollisionContext& context, const RobotState& start,
                         const JointVector& q_end, const ObjectLayout& layout, CollisionReport* report,
                         const SegmentOptions& options) {

@@ -13,6 +13,7 @@
 // self pairs that meet a swept box are checked at the intermediate configurations, coarse to fine
 // (midpoint first) so that collisions are found early.
 #include <span>
+#include <vector>
 
 #include "engine/collision/collision_context.h"
 #include "engine/collision/collision_report.h"
@@ -64,6 +65,12 @@ bool segmentInCollision(const CollisionWorld& world, CollisionContext& context, 
 inline constexpr double kAdvanceFloor = 5e-5;  ///< metres
 bool gripperEntersContactBox(const CollisionWorld& world, CollisionContext& context, int robot, const JointVector& q0,
                              const JointVector& q1, const ObjectLayout& layout);
+
+/// Per body of robot start.robot (its model's order), then its held object when it holds one: a world
+/// box containing that part at every configuration of q0 -> q1 (its boxes at both ends grown by half its
+/// displacement bound). Appended to `boxes`.
+void sweptPartBoxes(const CollisionWorld& world, CollisionContext& context, const RobotState& start,
+                    const JointVector& q_end, std::vector<Aabb>& boxes);
 
 /// One robot's part of a simultaneous motion.
 struct RobotMotion {

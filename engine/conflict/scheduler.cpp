@@ -73,7 +73,8 @@ void applySchedulerParameters(SchedulerParams& params, const ParamValues& values
   const std::pair<const char*, bool*> flags[] = {{"staggered_arrivals", &params.staggered_arrivals},
                                                  {"idle_arms_home", &params.idle_arms_home},
                                                  {"parking", &params.parking},
-                                                 {"schedule_memo", &params.schedule_memo}};
+                                                 {"schedule_memo", &params.schedule_memo},
+                                                 {"conflict_replanning", &params.conflict_replanning}};
   for (const auto& [name, field] : flags)
     if (values.contains(name)) *field = paramBool(values, name);
 }
@@ -123,7 +124,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
   ScheduleState state{{}, ObjectTimeline(startLayout(space)), {}, std::vector<double>(plan.steps.size(), 0.0)};
   for (int r = 0; r < robots; ++r) state.timelines.emplace_back(r, scene.robots[r].home);
   ScheduleBuild b{*this, checker_, params_, scene, state, motion, std::vector<std::size_t>(static_cast<std::size_t>(robots), 0),
-                  replan, deadline, result.stats};
+                  replan, deadline, result.stats, plan, constraints_};
   const std::uint64_t checks_before = context_->counters().configuration_checks;
   BuildProgress progress(progress_emitter_, progress_interval_, plan, scene);
   auto fail = [&](int step, std::string why) {
@@ -153,7 +154,12 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
   for (int k = shared; k < static_cast<int>(plan.steps.size()); ++k) {
     progress.before(k);
     StepScheduler step(b, plan, k, transitions[k], space);
-    if (auto why = step.place()) return fail(k, std::move(*why));
+    if (auto why = step.place()) {
+      if (step.lastConflict())
+        result.region = conflictRegion(*world_, *context_, state, plan, k, transitions[k], *step.lastConflict(),
+                                       step.lastConflictOther(), params_.delay_step);
+      return fail(k, std::move(*why));
+    }
     std::string why;
     if (!step.finish(why)) return fail(k, std::move(why));
     memo_.recordStep(plan.steps[k], transitions[k], state);
@@ -193,7 +199,8 @@ std::optional<std::string> Scheduler::bringHome(ScheduleBuild& b) const {
         done = true;
         break;
       }
-      if (conflict->other >= 0 && timelines[conflict->other].end() <= conflict->t && !replanned) {
+      if (params_.conflict_replanning && conflict->other >= 0 && timelines[conflict->other].end() <= conflict->t &&
+          !replanned) {
         replanned = true;
         const MotionContext ctx{{}, b.state.objects.layoutAt(start), b.parkedAt(r, start)};
         if (auto p = b.replan(r, path.front(), path.back(), ctx)) {

@@ -18,11 +18,13 @@
 #include <vector>
 
 #include "engine/conflict/composite_planner.h"
+#include "engine/conflict/conflict_region.h"
 #include "engine/conflict/schedule_checker.h"
 #include "engine/conflict/schedule_memo.h"
 #include "engine/core/deadline.h"
 #include "engine/core/planner_params.h"
 #include "engine/events/event_emitter.h"
+#include "engine/motion/motion_constraints.h"
 #include "engine/motion/motion_layer.h"
 #include "engine/plan/plan.h"
 
@@ -44,6 +46,9 @@ struct SchedulerParams {
   bool idle_arms_home = true;      ///< an idle robot in the way is sent home
   bool parking = true;             ///< robots stepping aside go to a parking configuration, else home
   bool schedule_memo = true;       ///< resume from the last schedule's shared leading steps
+  /// The repairs that replan motions (around the partner or a standing robot, sending an idle robot
+  /// home, ARC's composite subproblem); off: conflict resolution only retimes (an ablation).
+  bool conflict_replanning = true;
 };
 
 /// The scheduler's named parameters (staggered_arrivals, idle_arms_home, parking, schedule_memo) from
@@ -63,6 +68,9 @@ struct ScheduleResult {
   Plan plan;
   int failed_step = -1;
   std::string reason;
+  /// When a step could not be placed because of a conflict nothing resolved: its region (what the
+  /// motion constraint C_M learned from it keeps out of), if one can be learned.
+  std::optional<ConflictRegion> region;
   ScheduleStats stats;
   std::vector<double> step_times;  ///< when each task step's transition happens (when ok)
 };
@@ -78,6 +86,9 @@ class Scheduler {
   ScheduleResult build(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
                        MotionLayerResult motion, const TaskSpace& space, const MoveReplanner& replan,
                        const Deadline& deadline);
+  /// Every later build replans a robot's move into a task step keeping out of the regions of the motion
+  /// constraints on that history (nullptr: none). The set must outlive the scheduler's use of it.
+  void respect(const lazy::MotionConstraintSet* constraints) { constraints_ = constraints; }
   /// The next build schedules again every step whose motions reach time t (see ScheduleMemo).
   void forgetFrom(double t) { memo_.forgetFrom(t); }
   /// Every later build also checks the robots' configurations at exactly t (ScheduleChecker::alsoCheckAt).
@@ -110,6 +121,7 @@ class Scheduler {
   SchedulerParams params_;
   ScheduleChecker checker_;
   ScheduleMemo memo_;  ///< the last schedule built, for the next build of a plan that starts the same
+  const lazy::MotionConstraintSet* constraints_ = nullptr;
   log::EventEmitter* progress_emitter_ = nullptr;
   double progress_interval_ = 0.5;
 };

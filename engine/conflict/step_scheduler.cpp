@@ -22,6 +22,10 @@ const char* toString(ArrivalMode mode) {
 
 // --- ScheduleBuild
 
+std::vector<Aabb> ScheduleBuild::regionsFor(int robot, int step) const {
+  return constraints ? constraints->regionsFor(plan, robot, step) : std::vector<Aabb>{};
+}
+
 std::vector<RobotState> ScheduleBuild::parkedAt(int self, double t) const {
   std::vector<RobotState> parked;
   for (const RobotTimeline& tl : state.timelines)
@@ -242,7 +246,8 @@ void StepScheduler::replanTransits(ArrivalMode mode) {
                           other_is_giver ? other.visit->held_before : HeldObject{}});
       }
     }
-    const MotionContext ctx{timelines[p.robot].heldAt(depart), b_.state.objects.layoutAt(depart), parked};
+    const MotionContext ctx{timelines[p.robot].heldAt(depart), b_.state.objects.layoutAt(depart), parked,
+                            b_.regionsFor(p.robot, k_)};
     auto path = b_.replan(p.robot, p.transit.front(), p.transit.back(), ctx);
     if (!path) continue;
     ++b_.stats.replans;
@@ -266,6 +271,8 @@ StepScheduler::Repair StepScheduler::repair(const ScheduleConflict& conflict, Ar
   const bool internal =
       with_partner || std::find(movers_.begin(), movers_.end(), conflict.other) != movers_.end();
   const bool standing = conflict.other >= 0 && timelines[conflict.other].end() <= conflict.t;
+  // Retiming alone (conflict_replanning off): no repair replans a motion.
+  if (!b_.params.conflict_replanning) return Repair::kNone;
   // 1. The partner in the way: the same arrival mode again, with transits replanned around it.
   if (with_partner && mode != ArrivalMode::kComposite && !parts_[0].staggered_tried[m]) {
     parts_[0].staggered_tried[m] = true;
@@ -335,6 +342,7 @@ std::optional<std::string> StepScheduler::place() {
   double give_up = T + b_.params.max_delay;
   while (T <= give_up) {
     std::optional<ScheduleConflict> round_conflict;
+    std::optional<RobotTimeline> round_other;
     for (int m = 0; m < kArrivalModeCount;) {
       if (b_.deadline.expired()) return std::string("deadline");
       const ArrivalMode mode = static_cast<ArrivalMode>(m);
@@ -361,12 +369,14 @@ std::optional<std::string> StepScheduler::place() {
           break;
         case Repair::kNone:
           round_conflict = conflict;
+          if (conflict->other >= 0) round_other = (*placed)[static_cast<std::size_t>(conflict->other)];
           ++m;
           break;
       }
     }
     if (round_conflict) {
       last_conflict_ = round_conflict;
+      last_other_ = std::move(round_other);
       ++b_.stats.delays;
       // Waiting for a robot that is still busy (moving, or waiting in its own schedule for a later
       // step) does not count against max_delay: once its schedule has ended it stands still, and the

@@ -44,6 +44,11 @@ struct ScheduleBuild {
   const MoveReplanner& replan;
   const Deadline& deadline;
   ScheduleStats& stats;
+  const TaskPlan& plan;
+  const lazy::MotionConstraintSet* constraints;  ///< regions a replanned move into a step keeps out of (or null)
+
+  /// The regions robot's move into `step` keeps out of (MotionConstraintSet::regionsFor).
+  std::vector<Aabb> regionsFor(int robot, int step) const;
 
   /// The other robots standing still from time t on (their schedules end before t), for replanning.
   std::vector<RobotState> parkedAt(int self, double t) const;
@@ -62,6 +67,10 @@ class StepScheduler {
   /// Places the step (its robots' transits, approaches and the transition) in the schedule: nullopt
   /// when placed, else why not.
   std::optional<std::string> place();
+  /// After place() failed: the conflict that retiming and the repairs met last (if any).
+  const std::optional<ScheduleConflict>& lastConflict() const { return last_conflict_; }
+  /// The other robot's timeline in the trial that met lastConflict() (null: no other robot).
+  const RobotTimeline* lastConflictOther() const { return last_other_ ? &*last_other_ : nullptr; }
   /// After place(): the plan events of the transition, and the retreats. False (with `why`) when a
   /// robot has no way on from where it stays.
   bool finish(std::string& why);
@@ -104,6 +113,7 @@ class StepScheduler {
   std::vector<Participant> parts_;
   double T_ = 0.0;  ///< the transition time, once placed
   std::optional<ScheduleConflict> last_conflict_;
+  std::optional<RobotTimeline> last_other_;  ///< the other robot of last_conflict_, as its trial had it
   std::vector<int> blockers_;  ///< robots found standing in the way of this step
   std::vector<int> evicted_;   ///< idle robots sent home to clear the way for this step
   /// ARC's subproblem for this step: the participants first, then robots standing in their way.

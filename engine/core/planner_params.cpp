@@ -14,66 +14,102 @@ namespace {
 /// More validator threads than this is a typing error, not a machine.
 constexpr int kMaxValidationThreads = 1024;
 
-ParamInfo flag(std::string name, bool value, std::string description) {
-  return {std::move(name), ParamType::kBool, value ? "true" : "false", value ? "false" : "true", 0, 0,
-          std::move(description)};
+constexpr const char* kBeyond = "beyond the paper";
+
+/// A switch: default `value`, paper value `paper`.
+ParamInfo flag(std::string name, bool value, bool paper, std::string source, std::string description) {
+  return {std::move(name), ParamType::kBool, value ? "true" : "false", paper ? "true" : "false", 0, 0,
+          std::move(description), std::move(source)};
 }
-ParamInfo count(std::string name, int value, int paper, int max, std::string description) {
+/// A budget the paper has too (its value is not given): --profile paper leaves it alone.
+ParamInfo budget(std::string name, int value, int min, int max, std::string source, std::string description) {
+  return {std::move(name), ParamType::kInt, std::to_string(value), "", static_cast<double>(min),
+          static_cast<double>(max), std::move(description), std::move(source)};
+}
+/// A count with a paper value of its own.
+ParamInfo count(std::string name, int value, int paper, int max, std::string source, std::string description) {
   return {std::move(name), ParamType::kInt, std::to_string(value), std::to_string(paper), 0, static_cast<double>(max),
-          std::move(description)};
+          std::move(description), std::move(source)};
 }
 
 // What both planners share: the clearance of every check (engine/collision/collision_world.h, whose
 // kDefaultPlanningClearance is this default; a test checks they agree), the threads of the validator
-// they run on each schedule, and the conflict resolution extensions (engine/conflict/scheduler.h).
+// they run on each schedule, and conflict resolution (engine/conflict/scheduler.h).
 std::vector<ParamInfo> schedulerParameters() {
+  const std::string arc = "Motion Conflict Resolution and Constraint Feedback (ARC)";
   return {
       {"clearance", ParamType::kReal, "0.002", "", 0.0, 0.05,
-       "metres every check of the planner keeps between parts not in contact by design (0: touching allowed)"},
+       "metres every check of the planner keeps between parts not in contact by design (0: touching allowed)",
+       "beyond the paper (no value given; the validator checks at 0)"},
       {"validation_threads", ParamType::kInt, "0", "", 0, kMaxValidationThreads,
-       "threads of the plan validator run on each schedule (0: the hardware's); the plan is the same for any number"},
-      flag("staggered_arrivals", true,
+       "threads of the plan validator run on each schedule (0: the hardware's); the plan is the same for any number",
+       "beyond the paper (changes no result)"},
+      flag("conflict_replanning", true, true, arc,
+           "conflict resolution replans motions (around robots in the way, ARC's composite subproblem); false: it "
+           "only retimes (an ablation)"),
+      flag("staggered_arrivals", true, false, kBeyond,
            "a handover whose two robots collide on the way also tries one robot in place first, then the other"),
-      flag("idle_arms_home", true, "a robot standing idle in the way is sent home before a step is given up"),
-      flag("parking", true, "robots that step aside in a composite replan go to a parking configuration when home is in the way"),
-      flag("schedule_memo", true, "a task plan that starts like the last one keeps those steps as they were scheduled"),
+      flag("idle_arms_home", true, false, kBeyond, "a robot standing idle in the way is sent home before a step is given up"),
+      flag("parking", true, false, kBeyond,
+           "robots that step aside in a composite replan go to a parking configuration when home is in the way"),
+      flag("schedule_memo", true, false, kBeyond,
+           "a task plan that starts like the last one keeps those steps as they were scheduled"),
   };
 }
 
 std::vector<ParamInfo> lazyDashParameters() {
+  const std::string motion_query = "Query (Motion-extended Hypergraph)";
+  const std::string motion_hg = "Representation Construction (Motion Hypergraph)";
+  const std::string theory = "Theoretical Properties";
   std::vector<ParamInfo> p = {
       // Motion layer.
-      flag("straight_first", true, "try the straight joint-space segment before a roadmap query"),
-      flag("deep_backoffs", true, "back off 0.15-0.35 m along the approach axis when a transit fails (shelf cubbies)"),
-      flag("global_sampling", true,
-           "RRT-Connect from both ends when the roadmap finds no way between valid ends (the paper's global "
-           "sampling in tree form; off: none)"),
-      flag("path_simplification", true, "shortcut roadmap paths (OMPL PathSimplifier)"),
-      flag("keep_tree_paths", true, "a path global sampling finds joins the roadmap (its states as milestones)"),
-      flag("budget_growth", true, "raise the roadmap budgets 4x (at most 3 times) when a failure has no alternative"),
+      flag("straight_first", true, false, kBeyond, "try the straight joint-space segment before a roadmap query"),
+      flag("deep_backoffs", true, false, kBeyond,
+           "back off 0.15-0.35 m along the approach axis when a transit fails (shelf cubbies)"),
+      flag("global_sampling", true, true, motion_query + ": \"additional vertices are sampled globally\"",
+           "RRT-Connect from both ends when the roadmap finds no way between valid ends (global sampling in tree "
+           "form; off: none)"),
+      flag("path_simplification", true, false, kBeyond, "shortcut roadmap paths (OMPL PathSimplifier)"),
+      flag("keep_tree_paths", true, true, motion_query + ": globally sampled vertices join the roadmap",
+           "a path global sampling finds joins the roadmap (its states as milestones)"),
+      flag("budget_growth", true, true, theory + ": \"with increasing budgets\"",
+           "raise the roadmap budgets 4x (at most 3 times) when a failure has no alternative"),
       // Task layer.
-      flag("round_trip_removal", true, "drop task plan round trips (an object taken out and put back for nothing)"),
-      flag("approach_line_preference", true, "side grasps prefer the IK branch whose approach line is free"),
-      flag("handover_class_bans", true,
+      flag("round_trip_removal", true, false, kBeyond,
+           "drop task plan round trips (an object taken out and put back for nothing)"),
+      flag("approach_line_preference", true, false, kBeyond, "side grasps prefer the IK branch whose approach line is free"),
+      flag("handover_class_bans", true, false, kBeyond,
            "a motion failure at a handover bans its class (robots, grasps) instead of the one hyperarc"),
+      budget("move_outs_per_object", 3, 0, 100, "Task Planning Layer: task space expansion",
+             "extra stable poses (move-out states) task space expansion may add per object"),
+      budget("ban_queries", 8, 1, 1000, motion_query + ": \"the invalid motion hyperarc is not permanently excluded\"",
+             "a hyperarc the motion layer failed on is banned for as many task queries as it failed, at most this many"),
+      budget("ban_lifts", 20, 0, 100000, motion_query,
+             "times the temporary bans may all be lifted when no task plan avoids them"),
+      {"handover_base_distance", ParamType::kReal, "1.8", "", 0.1, 100.0,
+       "metres between two arms' bases above which H_T has no handover between them",
+       "Representation Construction (Task Space Hypergraph): reachability by range"},
       // The loop.
-      count("transition_resamples", 2, 0, 100,
-            "transition configurations of one task hyperarc turned down before the hyperarc is banned"),
-      count("validator_rechecks", 3, 0, 100,
+      budget("transition_resamples", 2, 0, 100, motion_hg + ": \"resampling is performed to search for valid alternatives\"",
+             "transition configurations of one task hyperarc turned down before the hyperarc is banned"),
+      count("validator_rechecks", 3, 0, 100, kBeyond,
             "schedule again, checking the instant the validator found a contact at (per round)"),
-      flag("restart_when_exhausted", true,
+      flag("restart_when_exhausted", true, true, theory + ": constraints \"can be lifted when new task or motion samples "
+           "are introduced\"",
            "when nothing is left to try (task query, feedback loop, task rounds), lift every task constraint, "
-           "resample and grow the roadmaps, until the deadline (paper: the run ends \"infeasible\")"),
-      count("validation_feedbacks", 100, 0, 10000,
+           "resample and grow the roadmaps, until the deadline (off: the run ends \"infeasible\")"),
+      count("validation_feedbacks", 100, 0, 10000, kBeyond,
             "contacts the validator finds after the rechecks fed back as task constraints (per attempt; one "
             "more ends the attempt: a restart, or with restarts off the run)"),
-      // Paper parameters (budgets): --profile paper leaves them alone.
-      {"motion_budget", ParamType::kInt, "3", "", 1, 1000,
-       "motion rounds on one task plan (motion constraints, resampling) before its failure becomes a task constraint"},
-      {"roadmap_query_samples", ParamType::kInt, "5000", "", 10, 10000000,
-       "Lazy-PRM samples one roadmap query may add (at most 1000 once a roadmap has 10000 vertices)"},
-      {"roadmap_max_vertices", ParamType::kInt, "30000", "", 1000, 100000000,
-       "a Lazy-PRM roadmap this large stops growing: queries answer from what it has"},
+      budget("motion_budget", 3, 1, 1000, "Algorithm 1, lines 8-15",
+             "motion rounds on one task plan (motion constraints, resampling) before its failure becomes a task "
+             "constraint"),
+      budget("max_task_plans", 200, 1, 1000000, "Algorithm 1, line 3 (a budget of one attempt)",
+             "task plans one attempt tries before it counts as exhausted (then restart_when_exhausted)"),
+      budget("roadmap_query_samples", 5000, 10, 10000000, motion_query + " (Lazy-PRM)",
+             "Lazy-PRM samples one roadmap query may add (at most 1000 once a roadmap has 10000 vertices)"),
+      budget("roadmap_max_vertices", 30000, 1000, 100000000, motion_query + " (Lazy-PRM)",
+             "a Lazy-PRM roadmap this large stops growing: queries answer from what it has"),
   };
   for (ParamInfo& s : schedulerParameters()) p.push_back(std::move(s));
   return p;
@@ -160,6 +196,14 @@ std::string describeParameters(const std::string& planner) {
                   p.extension() ? p.paper_value.c_str() : "same", p.description.c_str());
     out += line;
   }
+  return out;
+}
+
+std::string parametersMarkdown(const std::string& planner) {
+  std::string out = "| parameter | default | paper | source | what it does |\n|---|---|---|---|---|\n";
+  for (const ParamInfo& p : plannerParameters(planner))
+    out += "| `" + p.name + "` | " + p.default_value + " | " + (p.extension() ? p.paper_value : "same (a budget)") +
+           " | " + p.source + " | " + p.description + " |\n";
   return out;
 }
 

@@ -24,6 +24,8 @@ struct ParamInfo {
   std::string paper_value;
   double min = 0.0, max = 0.0;  ///< numbers only, inclusive
   std::string description;
+  /// Where it comes from: the paper's section ("Query (Motion-extended Hypergraph)") or "beyond the paper".
+  std::string source;
 
   bool extension() const { return !paper_value.empty(); }
 };
@@ -41,6 +43,8 @@ ParamValues profileOverrides(const std::string& planner, const std::string& prof
 std::pair<std::string, std::string> parseAssignment(const std::string& text);
 /// The table `dashbench plan --params` prints.
 std::string describeParameters(const std::string& planner);
+/// The same as a Markdown table (parameter, default, paper value, source, what it does): docs/planners.md.
+std::string parametersMarkdown(const std::string& planner);
 /// {"name": value, ...} with booleans and numbers as JSON values, keys sorted.
 std::string parametersJson(const ParamValues& values);
 

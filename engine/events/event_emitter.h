@@ -21,6 +21,13 @@ namespace dash::log {
 /// Seconds spent in each phase, indexed by Phase.
 using PhaseTotals = std::array<double, kPhaseCount>;
 
+/// A run's total time: the sum of its phases (phases are exclusive, so no second counts twice).
+inline double phaseSum(const PhaseTotals& totals) {
+  double sum = 0.0;
+  for (double t : totals) sum += t;
+  return sum;
+}
+
 class EventEmitter {
  public:
   /// `sink` may be nullptr (emit nothing); it must outlive the emitter. The run's clock starts now.
@@ -123,6 +130,8 @@ class EventEmitter {
   }
 
   const PhaseTotals& phaseTotals() const { return totals_; }
+  /// Whether `phase` is the innermost open phase (the one being booked now).
+  bool inPhase(Phase phase) const { return !open_.empty() && open_.back().phase == phase; }
 
  private:
   struct OpenPhase {

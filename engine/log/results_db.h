@@ -64,7 +64,13 @@ struct RunMetadata {
 /// (sizes, phase totals, counters) or left NULL (makespan, path length, memory).
 struct RunSummary {
   RunStatus status = RunStatus::Solved;
-  std::optional<double> total_time;            ///< seconds; unset: wall time since beginRun
+  /// Seconds. With phase_accounting 2: the sum of the phases (phase_seconds); older runs (accounting
+  /// unset): the planner's wall time. Unset: wall time since beginRun.
+  std::optional<double> total_time;
+  std::optional<double> wall_time;             ///< seconds of wall time of the planner's solve, beside total_time
+  /// How phases were booked: 2 = one accounting for both planners, total = sum of the phases
+  /// (docs/planners.md "Phases"); unset = before that (total was the wall time).
+  std::optional<int> phase_accounting;
   std::optional<PhaseTotals> phase_seconds;    ///< unset: summed from phase events
   std::optional<RepresentationSizes> sizes;    ///< unset: counted from representation events
   std::optional<std::int64_t> iterations;      ///< unset: highest iteration number in the events

@@ -292,6 +292,20 @@ void migrateToV6(sqlite3* db) {
   }
 }
 
+// One phase accounting for both planners (docs/planners.md "Phases"): total_time is the sum of the
+// phases, wall_time the solve's wall time beside it, phase_accounting 2 marks such a row. Rows already
+// stored keep their meaning (phase_accounting NULL: total_time was the wall time). Only the columns
+// missing: a file made to look older keeps its columns.
+constexpr std::array<const char*, 2> kSchemaV7Columns = {"wall_time REAL", "phase_accounting INTEGER"};
+
+void migrateToV7(sqlite3* db) {
+  for (const std::string column : kSchemaV7Columns) {
+    const std::string name = column.substr(0, column.find(' '));
+    if (sql::selectInt(db, "SELECT COUNT(*) FROM pragma_table_info('dash_runs') WHERE name = '" + name + "'") == 0)
+      sql::exec(db, "ALTER TABLE dash_runs ADD COLUMN " + column);
+  }
+}
+
 struct Migration {
   int to;  ///< the version after it
   void (*apply)(sqlite3* db);
@@ -305,6 +319,7 @@ constexpr std::array<Migration, kSchemaVersion> kMigrations = {{
     {4, migrateToV4},
     {5, migrateToV5},
     {6, migrateToV6},
+    {7, migrateToV7},
 }};
 
 std::string newerMessage(int version) {

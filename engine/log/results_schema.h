@@ -23,7 +23,7 @@ struct sqlite3;
 
 namespace dash::log {
 
-inline constexpr int kSchemaVersion = 6;
+inline constexpr int kSchemaVersion = 7;
 /// PRAGMA application_id of a dashbench results file ("DaSH").
 inline constexpr int kApplicationId = 0x44615348;
 

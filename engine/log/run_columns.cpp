@@ -10,7 +10,7 @@ const char* const kFinishAssignments =
     "motion_extended_vertices = ?, motion_extended_hyperarcs = ?, roadmap_vertices = ?, roadmap_edges = ?, "
     "constraints_frontier = ?, constraints_history = ?, constraints_motion = ?, constraints_interaction = ?, "
     "task_space_expansions = ?, collision_checks = ?, collision_checks_eager = ?, collision_checks_lazy = ?, "
-    "makespan = ?, path_length = ?, peak_memory = ?, plan = ?, event_count = ?";
+    "makespan = ?, path_length = ?, peak_memory = ?, plan = ?, event_count = ?, wall_time = ?, phase_accounting = ?";
 
 const char* const kRunSelectColumns =
     "r.id, r.uuid, r.batch_id, r.family, r.scene, r.params, r.seed, r.planner, r.planner_settings, "
@@ -22,9 +22,9 @@ const char* const kRunSelectColumns =
     "r.motion_extended_vertices, r.motion_extended_hyperarcs, r.roadmap_vertices, r.roadmap_edges, "
     "r.constraints_frontier, r.constraints_history, r.constraints_motion, r.constraints_interaction, "
     "r.task_space_expansions, r.collision_checks, r.collision_checks_eager, r.collision_checks_lazy, r.makespan, "
-    "r.path_length, r.peak_memory, r.event_count, r.note, "
+    "r.path_length, r.peak_memory, r.event_count, r.note, r.wall_time, r.phase_accounting, "
     "(SELECT group_concat(tag, char(31)) FROM dash_run_tags WHERE run_id = r.id)";
-const int kRunSelectColumnCount = 54;
+const int kRunSelectColumnCount = 56;
 
 RunRecord readRunRecord(const sql::Statement& st) {
   RunRecord r;
@@ -92,6 +92,8 @@ RunRecord readRunRecord(const sql::Statement& st) {
   s.peak_memory_mb = optReal();
   r.event_count = optInt().value_or(0);
   r.note = text();
+  s.wall_time = optReal();
+  if (auto accounting = optInt()) s.phase_accounting = static_cast<int>(*accounting);
   return r;
 }
 

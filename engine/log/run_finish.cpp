@@ -112,7 +112,7 @@ void finishRunLocked(ResultsDb::Impl& m, std::int64_t run_id, const RunSummary& 
   b(roadmap_vertices)(roadmap_edges);
   for (std::int64_t c : constraints) b(c);
   b(s.task_space_expansions.value_or(d.expansions))(checks)(eager)(lazy);
-  b(s.makespan)(s.path_length)(s.peak_memory_mb).orNull(s.plan_json)(d.events)(run_id);
+  b(s.makespan)(s.path_length)(s.peak_memory_mb).orNull(s.plan_json)(d.events)(s.wall_time)(s.phase_accounting)(run_id);
   up.run();
 
   sql::Statement& pr = m.insert_progress;

@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "engine/collision/collision_queries.h"
+#include "engine/collision/region_queries.h"
 #include "engine/collision/segment_queries.h"
 #include "engine/core/stopwatch.h"
 #include "engine/motion/context_lazy_prm.h"
@@ -41,10 +42,12 @@ struct LazyRoadmap::Checker {
 
   bool stateValid(const JointVector& q) const {
     const RobotState self{robot, q, motion.held};
+    if (robotEntersRegions(*world, *context, self, motion.avoid)) return false;
     if (motion.parked.empty()) return !robotInCollision(*world, *context, self, motion.layout);
     return !robotsAmongParked(*world, *context, std::span<const RobotState>(&self, 1), motion.parked, motion.layout);
   }
   bool motionValid(const JointVector& a, const JointVector& b) const {
+    if (segmentEntersRegions(*world, *context, RobotState{robot, a, motion.held}, b, motion.avoid)) return false;
     if (motion.parked.empty())
       return !segmentInCollision(*world, *context, RobotState{robot, a, motion.held}, b, motion.layout);
     const RobotMotion self{RobotState{robot, a, motion.held}, b};
@@ -129,11 +132,13 @@ std::vector<JointVector> LazyRoadmap::finish(og::PathGeometric& path, const Join
   return out;
 }
 
-// Phases (paper, "Planning Time"): the planner's own work (sampling, neighbours, graph search, the
-// trees of global sampling) is roadmap construction and growth, booked as motion construction; its
-// lazy collision checks stay with the phase that asked (motion query or conflict resolution).
+// Phases (docs/planners.md "Phases", one accounting for both planners): inside the motion query, the
+// planner's own work (sampling, neighbours, graph search, the trees of global sampling) is roadmap
+// construction and growth, booked as motion construction, and its lazy collision checks stay with the
+// motion query. A roadmap query asked by conflict resolution (a replan around robots in the way) is
+// booked as conflict resolution whole, as DaSH's replans are.
 void LazyRoadmap::bookConstruction(double seconds, double check_seconds_before) {
-  if (emitter_ != nullptr)
+  if (emitter_ != nullptr && emitter_->inPhase(log::Phase::MotionQuery))
     emitter_->rebook(log::Phase::MotionConstruction, seconds - (checker_->check_seconds - check_seconds_before));
 }
 

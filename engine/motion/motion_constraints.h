@@ -1,38 +1,54 @@
 #pragma once
 // Motion constraints C_M = (Pi_1, Pi_2, p) of Lazy-DaSH (paper, "Query (Motion-extended Hypergraph)"
-// and "Motion Conflict Resolution and Constraint Feedback"): the histories that lead to the motions
-// in conflict (one robot's, or two robots') and the region p where they conflict. Histories are named
-// by their last element, the task step each robot was doing (plus the task plan they belong to, by
-// the round that made them); the region is either configurations to stay out of (a transition
-// configuration the motion query found no way to, a handover that conflict resolution could not
-// schedule) or an instant in time (a contact the validator found between the scheduler's check
-// instants). They are respected by the next motion query on the same task plan (task conflict
-// detection samples other transition configurations outside the region) and by conflict resolution
-// (the scheduler checks the instants of the region from then on).
+// and "Motion Conflict Resolution and Constraint Feedback"): the histories that lead to the motions in
+// conflict and the region p where they conflict. A history is named by its robot and its last element
+// (the task step it ends with) and matched by the robot's own transition history up to that step (the
+// task hyperarcs it took part in), so a constraint applies to any task plan in which that robot got
+// there the same way. Pi_1 is the constrained history: the motion query and conflict resolution plan
+// its move into that step with the region to avoid (MotionContext::avoid). The region is
+//  - world boxes (`region`): what was in the way when conflict resolution could not separate two motions
+//    (the other robot's parts over the conflict's time window, or the resting object), grown by the
+//    planner's clearance; the move is replanned around them;
+//  - transition configurations (`configurations`): a move the motion query found no way to, or a
+//    handover conflict resolution could not schedule; other configurations of the same transition are
+//    sampled outside it;
+//  - a time window alone (a contact the validator found between the scheduler's check instants):
+//    conflict resolution checks those instants from then on.
 #include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "engine/collision/collision_world.h"
 #include "engine/robots/joint_vector.h"
 #include "engine/scene/scene.h"
+#include "engine/task/task_plan.h"
 
-namespace dash {
+// In namespace dash::lazy: DaSH has motion constraints of its own (engine/dash/motion_constraint.h).
+namespace dash::lazy {
 
 struct MotionConstraint {
   struct History {
     int robot = -1;
-    int step = -1;  ///< the task step the robot's history ends with (-1: its way home)
+    int step = -1;                      ///< the task step the robot's history ends with (-1: its way home)
+    std::vector<std::uint32_t> arcs;    ///< the robot's task hyperarcs up to that step (historyOf)
   };
-  std::vector<History> histories;                            ///< Pi_1 (and Pi_2)
+  std::vector<History> histories;                            ///< Pi_1, the constrained one (and Pi_2)
+  std::vector<Aabb> region;                                  ///< region p: world boxes to stay out of
+  int object = -1;                                           ///< the resting object in the way, if any
   std::vector<std::pair<int, JointVector>> configurations;   ///< region p: (robot, configuration)
-  double t_begin = -1.0, t_end = -1.0;                       ///< region p: a time window (validator contact)
+  double t_begin = -1.0, t_end = -1.0;                       ///< the conflict's time window, seconds
   std::string cause;
 
   bool hasTimeRegion() const { return t_begin >= 0.0; }
-  /// "ur5e_0 at step 3, ur5e_1 at step 3; region: 2 configurations" (the constraint event's content).
+  /// "ur5e_0 at step 3 (ur5e_1 at step 2); region: 9 boxes in [x0, x1] x [y0, y1] x [z0, z1] m; t in
+  /// [1.250, 1.500] s" (the constraint event's content).
   std::string describe(const Scene& scene) const;
 };
+
+/// Robot `robot`'s transition history in `plan` up to and including step `step`: the task hyperarcs
+/// of the steps it takes part in (every step when step < 0: its way home).
+MotionConstraint::History historyOf(const TaskPlan& plan, int robot, int step);
 
 /// The motion constraints of a run, in the order they were learned.
 class MotionConstraintSet {
@@ -44,9 +60,14 @@ class MotionConstraintSet {
   }
   const std::vector<MotionConstraint>& all() const { return constraints_; }
   std::size_t size() const { return constraints_.size(); }
+  /// Whether a constraint with the same constrained history (Pi_1) and the same region boxes is known.
+  bool contains(const MotionConstraint& c) const;
+  /// The region boxes of every constraint whose constrained history (Pi_1) is robot `robot`'s history
+  /// up to step `step` of `plan`: what its move into that step keeps out of.
+  std::vector<Aabb> regionsFor(const TaskPlan& plan, int robot, int step) const;
 
  private:
   std::vector<MotionConstraint> constraints_;
 };
 
-}  // namespace dash
+}  // namespace dash::lazy

@@ -16,6 +16,9 @@ bool MotionContext::sameAs(const MotionContext& o) const {
     if (parked[i].robot != o.parked[i].robot || parked[i].q != o.parked[i].q ||
         parked[i].held.object != o.parked[i].held.object)
       return false;
+  if (avoid.size() != o.avoid.size()) return false;
+  for (std::size_t i = 0; i < avoid.size(); ++i)
+    if (avoid[i].min() != o.avoid[i].min() || avoid[i].max() != o.avoid[i].max()) return false;
   return true;
 }
 

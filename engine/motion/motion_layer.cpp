@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "engine/collision/collision_queries.h"
+#include "engine/collision/region_queries.h"
 #include "engine/collision/segment_queries.h"
 #include "engine/robots/kinematics.h"
 
@@ -58,6 +59,15 @@ std::string MotionLayer::collidingEnd(int robot, const JointVector& from, const 
     if (robotInCollision(*world_, *context_, RobotState{robot, *cfg, held}, layout, &report))
       return std::string(name) + " configuration is in collision (" + describe(report, world_->scene()) + ")";
   }
+  return {};
+}
+
+std::string MotionLayer::endInRegion(int robot, const JointVector& from, const JointVector& q_pre,
+                                     const MotionContext& context) const {
+  const std::pair<const char*, const JointVector*> ends[] = {{"start", &from}, {"approach start", &q_pre}};
+  for (const auto& [name, cfg] : ends)
+    if (robotEntersRegions(*world_, *context_, RobotState{robot, *cfg, context.held}, context.avoid))
+      return std::string(name) + " configuration is inside a motion constraint's region";
   return {};
 }
 
@@ -122,7 +132,8 @@ std::optional<std::vector<JointVector>> MotionLayer::connect(int robot, const Jo
   if (jointDistance(from, to) < 1e-9) return std::vector<JointVector>{from};
   // Cheapest check first: the straight segment.
   if (params_.straight_first && motion.parked.empty() &&
-      !segmentInCollision(*world_, *context_, RobotState{robot, from, motion.held}, to, motion.layout))
+      !segmentInCollision(*world_, *context_, RobotState{robot, from, motion.held}, to, motion.layout) &&
+      !segmentEntersRegions(*world_, *context_, RobotState{robot, from, motion.held}, to, motion.avoid))
     return std::vector<JointVector>{from, to};
   return roadmap(robot, motion.held.holding()).query(from, to, motion, deadline);
 }
@@ -260,7 +271,8 @@ MotionLayerResult MotionLayer::trace(const TaskPlan& plan, const std::vector<Tra
       }
       construction.stop();
       log::PhaseTimer query(*emitter_, log::Phase::MotionQuery);
-      const MotionContext context{held.before, layouts[k], {}};
+      const MotionContext context{held.before, layouts[k], {},
+                                  constraints_ ? constraints_->regionsFor(plan, r, k) : std::vector<Aabb>{}};
       auto transit = connect(r, at[r], visit.q_pre, context, deadline);
       // Local refinement: deep in a shelf cubby the short approach and retreat leave the arm where a
       // roadmap hardly reaches. Back off farther along the same axes (the straight segment to the
@@ -286,9 +298,10 @@ MotionLayerResult MotionLayer::trace(const TaskPlan& plan, const std::vector<Tra
         result.failed_robot = r;
         result.failed_q = visit.q;
         const std::string colliding = collidingEnd(r, at[r], visit.q_pre, visit.q, held.before, layouts[k]);
+        const std::string in_region = endInRegion(r, at[r], visit.q_pre, context);
         result.ends_free = colliding.empty();
         result.reason = "no path for " + scene.robots[r].id + " to step " + std::to_string(k) + " (" +
-                        describeStep(plan.steps[k], space) + ")" + whyNoPath(colliding);
+                        describeStep(plan.steps[k], space) + ")" + whyNoPath(colliding.empty() ? in_region : colliding);
         return result;
       }
       visit.transit = *transit;

@@ -13,6 +13,7 @@
 
 #include "engine/events/event_emitter.h"
 #include "engine/motion/lazy_roadmap.h"
+#include "engine/motion/motion_constraints.h"
 #include "engine/motion/motion_hypergraph.h"
 #include "engine/motion/planning_spaces.h"
 #include "engine/task/task_conflict_detection.h"
@@ -73,6 +74,9 @@ class MotionLayer {
 
   MotionLayerResult plan(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
                          const TaskSpace& space, const Deadline& deadline);
+  /// From now on every move into a task step keeps out of the regions of the motion constraints on its
+  /// history (nullptr: none). The set must outlive the layer's use of it.
+  void respect(const lazy::MotionConstraintSet* constraints) { constraints_ = constraints; }
 
   /// Multiplies the roadmap query budgets (existing roadmaps and those created later).
   void scaleBudget(double factor);
@@ -97,6 +101,8 @@ class MotionLayer {
   /// with what; empty when all three are free.
   std::string collidingEnd(int robot, const JointVector& from, const JointVector& q_pre, const JointVector& q,
                            const HeldObject& held, const ObjectLayout& layout) const;
+  /// The end of a move (start, approach start) inside the region of a motion constraint, or empty.
+  std::string endInRegion(int robot, const JointVector& from, const JointVector& q_pre, const MotionContext& context) const;
   /// ": the <end> configuration is in collision (...)", or that the roadmap found no way between valid ends.
   static std::string whyNoPath(const std::string& colliding_end);
   /// q moved so that the TCP goes back along its own approach axis (or along `direction_W`, a world
@@ -124,6 +130,7 @@ class MotionLayer {
   log::EventEmitter* emitter_;
   MotionLayerParams params_;
   PerPlanningSpace<LazyRoadmap> roadmaps_;
+  const lazy::MotionConstraintSet* constraints_ = nullptr;
   lazy::MotionHypergraph graph_;
 };
 

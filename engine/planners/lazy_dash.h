@@ -43,6 +43,8 @@ struct LazyDashParams {
   /// every task constraint lifted, fresh samples and larger roadmap budgets, until the deadline. Off
   /// (the paper): the run ends "infeasible" there, which a sampling-based planner cannot prove.
   bool restart_when_exhausted = true;
+  /// Task plans one attempt tries (Algorithm 1's outer loop) before it counts as exhausted.
+  int max_task_plans = 200;
 };
 
 /// Sets the fields named by `values` (a resolveParameters("lazy-dash", ...) set, or part of one).

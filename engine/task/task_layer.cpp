@@ -40,7 +40,7 @@ TaskLayer::TaskLayer(const Scene& scene, const CollisionWorld& world, CollisionC
       rng_(Rng::derive(seed, 11)),
       space_(scene),
       sampler_(world, context),
-      reachability_(sampler_) {
+      reachability_(sampler_, params_.reachability) {
   // A task that needs an object out of the way (a lid) needs somewhere to put it: one resampleable
   // extra location each, the minimal task space that can express the task.
   for (const SceneTask& task : scene.tasks)

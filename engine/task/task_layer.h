@@ -21,6 +21,7 @@ namespace dash {
 struct TaskLayerParams {
   TaskQueryParams query;
   TaskConflictParams conflicts;
+  ReachabilityParams reachability;
   int max_iterations = 1000;
   int max_extra_locations_per_object = 3;
   /// Times a run may lift the temporary bans when no schedule avoids them (the motion budget is then

@@ -71,7 +71,10 @@ void fromResult(const RunEnd& end, log::RunSummary& s) {
   const PlanStats& st = r.stats;
   s.status = statusOf(r.outcome);
   if (end.stop == StopReason::kTime && s.status != log::RunStatus::Solved) s.status = log::RunStatus::Timeout;
-  s.total_time = r.solve_seconds;
+  // One phase accounting for both planners (docs/planners.md "Phases"): total = sum of the phases.
+  s.total_time = log::phaseSum(st.phase_seconds);
+  s.wall_time = st.wall_seconds;
+  s.phase_accounting = 2;
   s.phase_seconds = st.phase_seconds;
   const RepresentationCounts& z = st.sizes;
   const std::size_t vertices[] = {z.task_vertices, z.task_extended_vertices, z.motion_vertices,
@@ -106,6 +109,7 @@ void fromResult(const RunEnd& end, log::RunSummary& s) {
 /// The outcome of a run whose process ended without a result.
 void withoutResult(const RunEnd& end, log::RunSummary& s) {
   s.total_time = end.wall_seconds;
+  s.wall_time = end.wall_seconds;
   if (!end.spawn_error.empty()) {
     s.status = log::RunStatus::Crashed;
     s.error = "could not start the run's process: " + end.spawn_error;

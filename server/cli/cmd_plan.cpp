@@ -21,13 +21,11 @@ namespace {
 /// The run's figures after the status line, for people comparing runs from a terminal.
 void printRunSummary(const PlanStats& stats) {
   std::fprintf(stderr, "time:");
-  double total = 0.0;
   for (int p = 0; p < log::kPhaseCount; ++p) {
     if (stats.phase_seconds[p] <= 0.0) continue;
     std::fprintf(stderr, "  %s %.2f s", log::toString(static_cast<log::Phase>(p)), stats.phase_seconds[p]);
-    total += stats.phase_seconds[p];
   }
-  std::fprintf(stderr, "  total %.2f s (wall %.2f s)\n", total, stats.wall_seconds);
+  std::fprintf(stderr, "  total %.2f s (wall %.2f s)\n", log::phaseSum(stats.phase_seconds), stats.wall_seconds);
   const RepresentationCounts& n = stats.sizes;
   std::fprintf(stderr, "sizes: H_T %zu/%zu  H_TE %zu/%zu  H_M %zu/%zu  H_ME %zu/%zu  roadmaps %lld/%lld\n",
                n.task_vertices, n.task_hyperarcs, n.task_extended_vertices, n.task_extended_hyperarcs,
@@ -75,6 +73,7 @@ const char* const kPlanHelp =
     "  --profile NAME   paper: every extension beyond the published algorithm off; default: none\n"
     "                   (--set applies after the profile)\n"
     "  --params         list the planner parameters (both planners without --planner) and exit\n"
+    "  --markdown       with --params: as the Markdown table of docs/planners.md\n"
     "Exit codes: 0 solved, 3 not solved in time or infeasible, 2 bad input.\n";
 
 namespace {
@@ -85,13 +84,14 @@ void onPlanInterrupt(int) { g_stop.store(true); }
 int runPlan(const std::vector<std::string>& words) {
   Args args(words, {.options = {"scene", "planner", "seed", "time-limit", "out", "test-fault", "profile", "clearance",
                                 "threads", "progress-every"},
-                    .flags = {"task-only", "json", "quiet", "verbose", "params"},
+                    .flags = {"task-only", "json", "quiet", "verbose", "params", "markdown"},
                     .repeated = {"set"}});
   if (args.has("params")) {
     const auto planner = args.get("planner");
     if (planner) plannerParameters(*planner);  // an unknown name is bad input
     for (const std::string& name : plannerNames())
-      if (!planner || *planner == name) std::printf("%s\n", describeParameters(name).c_str());
+      if (!planner || *planner == name)
+        std::printf("%s\n", (args.has("markdown") ? parametersMarkdown(name) : describeParameters(name)).c_str());
     return kExitOk;
   }
   const std::string planner_name = args.get("planner", "lazy-dash");

@@ -146,7 +146,7 @@ TEST(MotionLayer, RoundsOnTheSamePlanReuseHMAndCoupleEveryHandover) {
   (void)arcs;
 }
 
-TEST(MotionLayer, AMotionConstraintsRegionIsAvoidedByTheNextQueryOnTheSamePlan) {
+TEST(MotionLayer, ARejectedTransitionConfigurationIsResampledAndTheSamePlanQueriedAgain) {
   const OmplSeedScope ompl_seeds(1);
   SortingRun run;
   ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;

@@ -60,23 +60,57 @@ TEST(PlannerParams, BadNamesAndValuesNameTheParameter) {
   EXPECT_EQ(resolveParameters("lazy-dash", {{"straight_first", "off"}}).at("straight_first"), "false");
 }
 
-TEST(PlannerParams, ThePaperProfileTurnsEveryExtensionOff) {
+// --profile paper is the published algorithm: what the paper describes stays on (transition
+// resampling, global sampling after local refinement, its vertices joining the roadmap, growth of the
+// budgets, constraints lifted when new samples come, conflict resolution's replanning), everything
+// beyond it goes off, and budgets the paper has without a value are left alone.
+TEST(PlannerParams, ThePaperProfileIsThePublishedAlgorithm) {
   const ParamValues paper = resolveParameters("lazy-dash", profileOverrides("lazy-dash", "paper"));
   LazyDashParams p;
   applyParameters(p, paper);
+  // Beyond the paper: off.
   EXPECT_FALSE(p.motion.straight_first);
   EXPECT_TRUE(p.motion.deep_approach_distances.empty());
+  EXPECT_FALSE(p.motion.roadmap.simplify);
   EXPECT_FALSE(p.task.query.remove_round_trips);
   EXPECT_FALSE(p.task.handover_class_bans);
+  EXPECT_FALSE(p.task.conflicts.prefer_free_approach);
   EXPECT_FALSE(p.scheduler.staggered_arrivals);
   EXPECT_FALSE(p.scheduler.schedule_memo);
-  EXPECT_EQ(p.max_transition_resamples, 0);
+  EXPECT_FALSE(p.scheduler.idle_arms_home);
+  EXPECT_FALSE(p.scheduler.parking);
   EXPECT_EQ(p.validator_rechecks, 0);
-  EXPECT_FALSE(p.restart_when_exhausted);
+  EXPECT_EQ(p.validation_feedbacks, 0);
+  // Described by the paper: on.
+  EXPECT_EQ(p.max_transition_resamples, 2);  // "resampling is performed to search for valid alternatives"
+  EXPECT_TRUE(p.motion.global_sampling);     // "additional vertices are sampled globally"
+  EXPECT_TRUE(p.motion.roadmap.keep_tree_paths);
+  EXPECT_TRUE(p.budget_growth);              // "with increasing budgets"
+  EXPECT_TRUE(p.restart_when_exhausted);     // constraints "can be lifted when new ... samples are introduced"
+  EXPECT_TRUE(p.scheduler.conflict_replanning);
   EXPECT_EQ(paper.at("motion_budget"), "3");  // a budget of the paper's own: left alone
+  // Every parameter says where it comes from.
+  for (const ParamInfo& info : plannerParameters("lazy-dash")) EXPECT_FALSE(info.source.empty()) << info.name;
   EXPECT_TRUE(profileOverrides("lazy-dash", "default").empty());
   EXPECT_THROW(profileOverrides("lazy-dash", "fast"), InputError);
   EXPECT_EQ(parametersJson({{"a", "true"}, {"b", "3"}}), R"({"a":true,"b":3})");
+}
+
+// The heuristics that had no name are named parameters now, applied where they act.
+TEST(PlannerParams, FormerlyHiddenHeuristicsAreNamedAndApplied) {
+  LazyDashParams p;
+  applyParameters(p, resolveParameters("lazy-dash", {{"move_outs_per_object", "5"}, {"ban_queries", "2"},
+                                                     {"ban_lifts", "7"}, {"handover_base_distance", "1.2"},
+                                                     {"max_task_plans", "9"}, {"conflict_replanning", "false"}}));
+  EXPECT_EQ(p.task.max_extra_locations_per_object, 5);
+  EXPECT_EQ(p.task.max_ban_queries, 2);
+  EXPECT_EQ(p.task.max_ban_lifts, 7);
+  EXPECT_EQ(p.task.reachability.max_handover_base_distance, 1.2);
+  EXPECT_EQ(p.max_task_plans, 9);
+  EXPECT_FALSE(p.scheduler.conflict_replanning);
+  const std::string table = parametersMarkdown("lazy-dash");
+  EXPECT_NE(table.find("| `handover_base_distance` | 1.8 | same (a budget) |"), std::string::npos) << table;
+  EXPECT_NE(table.find("| `straight_first` | true | false | beyond the paper |"), std::string::npos) << table;
 }
 
 int run(const std::string& args, std::string* out) {

@@ -1,0 +1,87 @@
+#include "engine/conflict/conflict_region.h"
+
+#include <algorithm>
+
+#include "engine/collision/segment_queries.h"
+
+namespace dash {
+
+namespace {
+
+Aabb grownBy(const Aabb& box, double margin) { return Aabb(box.min().array() - margin, box.max().array() + margin); }
+
+bool takesPart(const TaskArc& a, int robot) { return a.robot == robot || a.robot2 == robot; }
+
+/// Per part of robot `other` (bodies, then its held object): a box containing it over [t0, t1] of its
+/// timeline, cut at the timeline's breakpoints.
+std::vector<Aabb> sweptParts(const CollisionWorld& world, CollisionContext& context, const RobotTimeline& timeline,
+                             double t0, double t1) {
+  std::vector<double> cuts{t0};
+  timeline.breakpoints(t0, t1, cuts);
+  cuts.push_back(t1);
+  std::vector<Aabb> parts, piece;
+  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+    piece.clear();
+    sweptPartBoxes(world, context, RobotState{timeline.robot(), timeline.at(cuts[i]), timeline.heldAt(cuts[i])},
+                   timeline.at(cuts[i + 1]), piece);
+    if (parts.size() < piece.size()) parts.resize(piece.size(), Aabb());  // a grasp adds the held part
+    for (std::size_t p = 0; p < piece.size(); ++p) parts[p].extend(piece[p]);
+  }
+  std::erase_if(parts, [](const Aabb& b) { return b.isEmpty(); });
+  return parts;
+}
+
+Aabb objectBox(const CollisionWorld& world, int object, const Pose& X_WO) {
+  return boxAabb(X_WO, 0.5 * world.scene().objects[static_cast<std::size_t>(object)].shape.size);
+}
+
+}  // namespace
+
+int stepOfRobotAt(const TaskPlan& plan, const std::vector<double>& step_times, int robot, double t) {
+  int after = -1, before = -1;
+  for (int k = 0; k < static_cast<int>(plan.steps.size()) && k < static_cast<int>(step_times.size()); ++k) {
+    if (!takesPart(plan.steps[k].action, robot)) continue;
+    if (step_times[k] >= t && (after < 0 || step_times[k] < step_times[after])) after = k;
+    if (step_times[k] < t && (before < 0 || step_times[k] > step_times[before])) before = k;
+  }
+  return after >= 0 ? after : before;
+}
+
+std::optional<ConflictRegion> conflictRegion(const CollisionWorld& world, CollisionContext& context,
+                                             const ScheduleState& state, const TaskPlan& plan, int failed_step,
+                                             const TransitionConfig& tc, const ScheduleConflict& conflict,
+                                             const RobotTimeline* other_timeline, double window) {
+  // Only the steps placed so far have times.
+  const std::vector<double> placed(state.step_time.begin(), state.step_time.begin() + failed_step);
+  ConflictRegion region;
+  region.t_begin = conflict.t;
+  region.t_end = conflict.t + window;
+  region.object = conflict.object;
+  const TaskArc& failed = plan.steps[static_cast<std::size_t>(failed_step)].action;
+  if (conflict.robot >= 0) {  // a move of a robot being placed met another robot or a resting object
+    region.robot = conflict.robot;
+    region.step = takesPart(failed, conflict.robot) ? failed_step : stepOfRobotAt(plan, placed, conflict.robot, conflict.t);
+    if (conflict.other >= 0) {
+      region.other = conflict.other;
+      region.other_step = takesPart(failed, conflict.other) ? failed_step : stepOfRobotAt(plan, placed, conflict.other, conflict.t);
+      // The other robot where the trial that met it had it (a handover's partner moves with the step).
+      const RobotTimeline& other =
+          other_timeline != nullptr ? *other_timeline : state.timelines[static_cast<std::size_t>(conflict.other)];
+      region.boxes = sweptParts(world, context, other, region.t_begin, region.t_end);
+    } else if (conflict.object >= 0) {
+      const ObjectLayout layout = state.objects.layoutAt(conflict.t);
+      if (!layout.isPresent(conflict.object)) return std::nullopt;
+      region.boxes = {objectBox(world, conflict.object, layout.X_WO[static_cast<std::size_t>(conflict.object)])};
+    }
+  } else if (conflict.other >= 0 && failed.type == TaskArcType::kPlace && conflict.object == failed.object) {
+    // The object placed by the failed step is where robot `other` passes: that robot goes around it.
+    region.robot = conflict.other;
+    region.step = stepOfRobotAt(plan, placed, conflict.other, conflict.t);
+    region.boxes = {objectBox(world, conflict.object, tc.X_WO)};
+  }
+  if (region.robot < 0 || region.step < 0 || region.boxes.empty()) return std::nullopt;
+  for (Aabb& box : region.boxes) box = grownBy(box, world.clearance());
+  return region;
+}
+
+}  // namespace dash

@@ -1,0 +1,128 @@
+// A motion constraint's region p is respected by the motion query: the move of the constrained history
+// (robot, task step) is planned around it, every configuration and every segment of its path out of the
+// region, while the moves of other histories are left as they were. Regions are tested conservatively
+// (engine/collision/region_queries.h): a box that contains a body meets a region box.
+#include <gtest/gtest.h>
+
+#include "engine/collision/region_queries.h"
+#include "engine/events/memory_sink.h"
+#include "engine/motion/motion_constraints.h"
+#include "engine/motion/motion_layer.h"
+#include "engine/motion/seeded_ompl.h"
+#include "engine/robots/kinematics.h"
+#include "engine/scenarios/scenario_registry.h"
+#include "engine/task/task_layer.h"
+
+namespace dash {
+namespace {
+
+using lazy::historyOf;
+using lazy::MotionConstraint;
+using lazy::MotionConstraintSet;
+
+struct SortingRun {
+  Scene scene = generateScenario("sorting", {{"robots", "2"}, {"objects", "4"}}, 1, RobotLibrary::loadDefault());
+  CollisionWorld world{scene};
+  CollisionContext context{world};
+  log::MemorySink sink;
+  log::EventEmitter emitter{&sink};
+  TaskLayer task{scene, world, context, emitter, 1};
+  MotionLayer motion{world, context, emitter};
+  TaskLayerResult layer = task.plan(Deadline(120));
+};
+
+bool pathEntersRegion(const CollisionWorld& world, CollisionContext& context, int robot, const HeldObject& held,
+                      const std::vector<JointVector>& path, const std::vector<Aabb>& region) {
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    if (robotEntersRegions(world, context, RobotState{robot, path[i], held}, region)) return true;
+    if (i + 1 < path.size() && segmentEntersRegions(world, context, RobotState{robot, path[i], held}, path[i + 1], region))
+      return true;
+  }
+  return false;
+}
+
+/// A 6 cm cube around the TCP halfway along a straight transit: in its way, away from both ends.
+std::optional<Aabb> boxInTheWay(const SortingRun& run, int robot, const StepVisit& visit) {
+  if (visit.transit.size() != 2) return std::nullopt;
+  const SceneRobot& r = run.scene.robots[robot];
+  const JointVector mid = 0.5 * (visit.transit.front() + visit.transit.back());
+  const Vec3 c = forwardKinematics(*r.model, r.X_WB, mid).X_WT.translation();
+  const Aabb box(c - Vec3::Constant(0.03), c + Vec3::Constant(0.03));
+  const std::vector<Aabb> region{box};
+  CollisionContext context(run.world);
+  for (const JointVector* q : {&visit.transit.front(), &visit.transit.back()})
+    if (robotEntersRegions(run.world, context, RobotState{robot, *q, visit.held_before}, region)) return std::nullopt;
+  return box;
+}
+
+TEST(MotionConstraintRegion, TheConstrainedHistorysMoveIsReplannedOutOfTheRegionAndOthersStay) {
+  const OmplSeedScope ompl_seeds(1);
+  SortingRun run;
+  ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
+  const MotionLayerResult before = run.motion.plan(run.layer.plan, run.layer.transitions, run.task.space(), Deadline(120));
+  ASSERT_EQ(before.status, MotionStatus::kOk) << before.reason;
+  // The first straight transit long enough to have a box in its way, away from its ends.
+  int robot = -1;
+  std::size_t visit_index = 0;
+  std::optional<Aabb> box;
+  for (int r = 0; r < static_cast<int>(before.robots.size()) && !box; ++r)
+    for (std::size_t i = 0; i < before.robots[r].visits.size() && !box; ++i)
+      if ((box = boxInTheWay(run, r, before.robots[r].visits[i]))) {
+        robot = r;
+        visit_index = i;
+      }
+  ASSERT_TRUE(box.has_value()) << "no straight transit with room for a region";
+  const StepVisit& old_visit = before.robots[robot].visits[visit_index];
+  ASSERT_TRUE(pathEntersRegion(run.world, run.context, robot, old_visit.held_before, old_visit.transit, {*box}));
+
+  MotionConstraintSet constraints;
+  MotionConstraint c;
+  c.histories = {historyOf(run.layer.plan, robot, old_visit.step)};
+  c.region = {*box};
+  constraints.add(c);
+  EXPECT_EQ(constraints.regionsFor(run.layer.plan, robot, old_visit.step).size(), 1u);
+  EXPECT_TRUE(constraints.regionsFor(run.layer.plan, 1 - robot, old_visit.step).empty());
+  run.motion.respect(&constraints);
+  const MotionLayerResult after = run.motion.plan(run.layer.plan, run.layer.transitions, run.task.space(), Deadline(120));
+  ASSERT_EQ(after.status, MotionStatus::kOk) << after.reason;
+  const StepVisit& new_visit = after.robots[robot].visits[visit_index];
+  ASSERT_EQ(new_visit.step, old_visit.step);
+  EXPECT_GT(new_visit.transit.size(), 2u);  // around the region, not straight through it
+  EXPECT_FALSE(pathEntersRegion(run.world, run.context, robot, new_visit.held_before, new_visit.transit, {*box}));
+  EXPECT_EQ((new_visit.transit.front() - old_visit.transit.front()).norm(), 0.0);
+  EXPECT_EQ((new_visit.transit.back() - old_visit.transit.back()).norm(), 0.0);
+  // The other robot's moves are the same (its histories have no constraint).
+  const int other = 1 - robot;
+  ASSERT_EQ(after.robots[other].visits.size(), before.robots[other].visits.size());
+  for (std::size_t i = 0; i < before.robots[other].visits.size(); ++i)
+    EXPECT_EQ(after.robots[other].visits[i].transit.size(), before.robots[other].visits[i].transit.size());
+}
+
+TEST(MotionConstraintRegion, AHistoryIsMatchedByTheRobotsOwnTransitionsNotByTheStepNumber) {
+  TaskPlan plan;
+  for (int k = 0; k < 3; ++k) {
+    TaskStep s;
+    s.arc = HyperarcId(static_cast<std::uint32_t>(10 + k));
+    s.action.robot = k == 1 ? 1 : 0;
+    plan.steps.push_back(s);
+  }
+  const MotionConstraint::History h = historyOf(plan, 0, 2);
+  EXPECT_EQ(h.arcs, (std::vector<std::uint32_t>{10, 12}));
+  MotionConstraintSet set;
+  MotionConstraint c;
+  c.histories = {h};
+  c.region = {Aabb(Vec3::Zero(), Vec3::Ones())};
+  set.add(c);
+  EXPECT_EQ(set.regionsFor(plan, 0, 2).size(), 1u);
+  EXPECT_TRUE(set.regionsFor(plan, 0, 0).empty());  // another history of the same robot
+  // The same robot history in a plan where another robot's step comes first: still the same history.
+  TaskPlan shifted;
+  TaskStep first;
+  first.arc = HyperarcId(99);
+  first.action.robot = 1;
+  shifted.steps = {first, plan.steps[0], plan.steps[2]};
+  EXPECT_EQ(set.regionsFor(shifted, 0, 2).size(), 1u);
+}
+
+}  // namespace
+}  // namespace dash
