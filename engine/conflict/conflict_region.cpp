@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "engine/collision/region_queries.h"
 #include "engine/collision/segment_queries.h"
 
 namespace dash {
@@ -31,6 +32,25 @@ std::vector<Aabb> sweptParts(const CollisionWorld& world, CollisionContext& cont
   return parts;
 }
 
+/// The parts of `other` whose boxes (grown by the clearance) meet one of `self`'s; all of them if none do.
+std::vector<Aabb> collidingParts(std::vector<Aabb> other, const std::vector<Aabb>& self, double clearance) {
+  std::vector<Aabb> meeting;
+  for (const Aabb& o : other)
+    for (const Aabb& s : self)
+      if (grownBy(o, clearance).intersects(s)) {
+        meeting.push_back(o);
+        break;
+      }
+  return meeting.empty() ? other : meeting;
+}
+
+/// Whether robot r, where its schedule in `state` ends (where its next move starts), may be inside `boxes`.
+bool startsInside(const CollisionWorld& world, CollisionContext& context, const ScheduleState& state, int r,
+                  const std::vector<Aabb>& boxes) {
+  const RobotTimeline& t = state.timelines[static_cast<std::size_t>(r)];
+  return robotEntersRegions(world, context, RobotState{r, t.last(), t.heldAtEnd()}, boxes);
+}
+
 Aabb objectBox(const CollisionWorld& world, int object, const Pose& X_WO) {
   return boxAabb(X_WO, 0.5 * world.scene().objects[static_cast<std::size_t>(object)].shape.size);
 }
@@ -50,7 +70,7 @@ int stepOfRobotAt(const TaskPlan& plan, const std::vector<double>& step_times, i
 std::optional<ConflictRegion> conflictRegion(const CollisionWorld& world, CollisionContext& context,
                                              const ScheduleState& state, const TaskPlan& plan, int failed_step,
                                              const TransitionConfig& tc, const ScheduleConflict& conflict,
-                                             const RobotTimeline* other_timeline, double window) {
+                                             TrialTimelines trial, double window) {
   // Only the steps placed so far have times.
   const std::vector<double> placed(state.step_time.begin(), state.step_time.begin() + failed_step);
   ConflictRegion region;
@@ -64,10 +84,24 @@ std::optional<ConflictRegion> conflictRegion(const CollisionWorld& world, Collis
     if (conflict.other >= 0) {
       region.other = conflict.other;
       region.other_step = takesPart(failed, conflict.other) ? failed_step : stepOfRobotAt(plan, placed, conflict.other, conflict.t);
-      // The other robot where the trial that met it had it (a handover's partner moves with the step).
+      // Both robots where the trial that met the conflict had them (a handover's partner moves with it).
       const RobotTimeline& other =
-          other_timeline != nullptr ? *other_timeline : state.timelines[static_cast<std::size_t>(conflict.other)];
-      region.boxes = sweptParts(world, context, other, region.t_begin, region.t_end);
+          trial.other != nullptr ? *trial.other : state.timelines[static_cast<std::size_t>(conflict.other)];
+      const RobotTimeline& self =
+          trial.robot != nullptr ? *trial.robot : state.timelines[static_cast<std::size_t>(conflict.robot)];
+      const std::vector<Aabb> other_parts = sweptParts(world, context, other, region.t_begin, region.t_end);
+      const std::vector<Aabb> self_parts = sweptParts(world, context, self, region.t_begin, region.t_end);
+      region.boxes = collidingParts(other_parts, self_parts, world.clearance());
+      // A robot that stands where the other came to (its move starts inside the region) cannot go
+      // around it: when the other is the step's partner, its move goes around this one's parts instead.
+      if (takesPart(failed, conflict.other) && startsInside(world, context, state, conflict.robot, region.boxes)) {
+        std::vector<Aabb> swapped = collidingParts(self_parts, other_parts, world.clearance());
+        if (!startsInside(world, context, state, conflict.other, swapped)) {
+          std::swap(region.robot, region.other);
+          std::swap(region.step, region.other_step);
+          region.boxes = std::move(swapped);
+        }
+      }
     } else if (conflict.object >= 0) {
       const ObjectLayout layout = state.objects.layoutAt(conflict.t);
       if (!layout.isPresent(conflict.object)) return std::nullopt;

@@ -37,13 +37,20 @@ struct ConflictRegion {
 /// is at or after t, else its last step before t; -1 when it has none. `step_times` per step of `plan`.
 int stepOfRobotAt(const TaskPlan& plan, const std::vector<double>& step_times, int robot, double t);
 
+/// The conflict's two robots as the trial that met it had them (null: as `state` has them, or none).
+struct TrialTimelines {
+  const RobotTimeline* robot = nullptr;
+  const RobotTimeline* other = nullptr;
+};
+
 /// The region of `conflict`, met while placing step `failed_step` of `plan` with transition
-/// configuration `tc` in the schedule `state`; `other_timeline`, when given, is the other robot's
-/// timeline in the trial that met the conflict (a handover's partner, which moves with the step), else
-/// its timeline in `state`. nullopt when nothing can be learned (an obstacle, or no step to constrain).
+/// configuration `tc` in the schedule `state`. Between two robots the region is the other robot's parts
+/// that meet the robot's over the window (the colliding parts; all of them when the window's boxes
+/// miss, the contact lying between its instants). nullopt when nothing can be learned (an obstacle, or
+/// no step to constrain).
 std::optional<ConflictRegion> conflictRegion(const CollisionWorld& world, CollisionContext& context,
                                              const ScheduleState& state, const TaskPlan& plan, int failed_step,
                                              const TransitionConfig& tc, const ScheduleConflict& conflict,
-                                             const RobotTimeline* other_timeline, double window);
+                                             TrialTimelines trial, double window);
 
 }  // namespace dash

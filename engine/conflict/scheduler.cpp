@@ -157,7 +157,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
     if (auto why = step.place()) {
       if (step.lastConflict())
         result.region = conflictRegion(*world_, *context_, state, plan, k, transitions[k], *step.lastConflict(),
-                                       step.lastConflictOther(), params_.delay_step);
+                                       {step.lastConflictRobot(), step.lastConflictOther()}, params_.delay_step);
       return fail(k, std::move(*why));
     }
     std::string why;

@@ -342,7 +342,7 @@ std::optional<std::string> StepScheduler::place() {
   double give_up = T + b_.params.max_delay;
   while (T <= give_up) {
     std::optional<ScheduleConflict> round_conflict;
-    std::optional<RobotTimeline> round_other;
+    std::optional<RobotTimeline> round_robot, round_other;
     for (int m = 0; m < kArrivalModeCount;) {
       if (b_.deadline.expired()) return std::string("deadline");
       const ArrivalMode mode = static_cast<ArrivalMode>(m);
@@ -369,6 +369,7 @@ std::optional<std::string> StepScheduler::place() {
           break;
         case Repair::kNone:
           round_conflict = conflict;
+          if (conflict->robot >= 0) round_robot = (*placed)[static_cast<std::size_t>(conflict->robot)];
           if (conflict->other >= 0) round_other = (*placed)[static_cast<std::size_t>(conflict->other)];
           ++m;
           break;
@@ -376,6 +377,7 @@ std::optional<std::string> StepScheduler::place() {
     }
     if (round_conflict) {
       last_conflict_ = round_conflict;
+      last_robot_ = std::move(round_robot);
       last_other_ = std::move(round_other);
       ++b_.stats.delays;
       // Waiting for a robot that is still busy (moving, or waiting in its own schedule for a later

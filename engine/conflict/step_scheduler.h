@@ -69,7 +69,8 @@ class StepScheduler {
   std::optional<std::string> place();
   /// After place() failed: the conflict that retiming and the repairs met last (if any).
   const std::optional<ScheduleConflict>& lastConflict() const { return last_conflict_; }
-  /// The other robot's timeline in the trial that met lastConflict() (null: no other robot).
+  /// The timelines of lastConflict()'s robot and other robot in the trial that met it (null: none).
+  const RobotTimeline* lastConflictRobot() const { return last_robot_ ? &*last_robot_ : nullptr; }
   const RobotTimeline* lastConflictOther() const { return last_other_ ? &*last_other_ : nullptr; }
   /// After place(): the plan events of the transition, and the retreats. False (with `why`) when a
   /// robot has no way on from where it stays.
@@ -113,6 +114,7 @@ class StepScheduler {
   std::vector<Participant> parts_;
   double T_ = 0.0;  ///< the transition time, once placed
   std::optional<ScheduleConflict> last_conflict_;
+  std::optional<RobotTimeline> last_robot_;  ///< the robot of last_conflict_, as its trial had it
   std::optional<RobotTimeline> last_other_;  ///< the other robot of last_conflict_, as its trial had it
   std::vector<int> blockers_;  ///< robots found standing in the way of this step
   std::vector<int> evicted_;   ///< idle robots sent home to clear the way for this step

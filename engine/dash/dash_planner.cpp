@@ -116,6 +116,9 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   }
   const OmplSeedScope ompl_seeds(settings.seed);
   log::EventEmitter emitter(sink);
+  // Every second of the solve is in one phase: setup and the loop's bookkeeping are "other", so the
+  // phases add up to the wall time, as for Lazy-DaSH (docs/planners.md "Phases").
+  log::PhaseTimer other(emitter, log::Phase::Other);
   const CollisionWorld world(scene, {.clearance = clearance});
   CollisionContext context(world);
   Rng rng(Rng::derive(settings.seed, 23));
@@ -150,6 +153,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   int queries = 0;
   auto finish = [&](PlanOutcome outcome, std::string message) {
     PlanStats& st = result.stats;
+    other.stop();
     st.phase_seconds = emitter.phaseTotals();
     st.wall_seconds = emitter.now();
     st.sizes.task_vertices = task_graph.vertexCount();
@@ -334,7 +338,11 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
         }
         plan = std::move(schedule.plan);
         plan.planner = name();
-        const ValidationReport report = validatePlan(scene, plan, {.threads = validation_threads});
+        ValidationReport report;
+        {
+          log::PhaseTimer validation(emitter, log::Phase::Validation);  // booked as Lazy-DaSH books it
+          report = validatePlan(scene, plan, {.threads = validation_threads});
+        }
         if (report.valid()) break;
         const ValidationProblem& problem = report.problems.front();
         if (recheck < kMaxRechecksPerNode && isContact(problem)) {

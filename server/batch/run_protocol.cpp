@@ -167,7 +167,7 @@ void appendResult(std::string& out, const ChildResult& r) {
   }
   w.i64(s.iterations).i64(s.collision_checks_eager).i64(s.collision_checks_lazy).i64(s.roadmap_vertices);
   w.i64(s.roadmap_edges).i64(s.task_constraints).i64(s.motion_constraints).i64(s.task_space_expansions);
-  w.f64(s.makespan).f64(s.path_length).f64(r.solve_seconds).f64(r.peak_memory_mb);
+  w.f64(s.makespan).f64(s.path_length).f64(s.wall_seconds).f64(r.solve_seconds).f64(r.peak_memory_mb);
 }
 
 void appendError(std::string& out, const ChildError& e) { Writer(out, MessageType::kError).str(e.kind).str(e.message); }
@@ -310,6 +310,7 @@ ChildResult decodeResult(const std::string& payload) {
   s.task_space_expansions = r.i64();
   s.makespan = r.f64();
   s.path_length = r.f64();
+  s.wall_seconds = r.f64();
   out.solve_seconds = r.f64();
   out.peak_memory_mb = r.f64();
   r.end();

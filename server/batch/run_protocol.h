@@ -23,7 +23,7 @@
 
 namespace dash::batch::proto {
 
-inline constexpr std::uint32_t kProtocolVersion = 2;  // 2: progress events (payload 5)
+inline constexpr std::uint32_t kProtocolVersion = 3;  // 2: progress events (payload 5); 3: wall_seconds
 inline constexpr std::uint32_t kMaxFrameBytes = 512u << 20;  ///< a plan JSON can be large
 
 enum class MessageType : char { kHello = 'H', kStarted = 'S', kEvent = 'E', kResult = 'R', kError = 'X' };
