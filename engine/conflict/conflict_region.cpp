@@ -69,8 +69,9 @@ int stepOfRobotAt(const TaskPlan& plan, const std::vector<double>& step_times, i
 
 std::optional<ConflictRegion> conflictRegion(const CollisionWorld& world, CollisionContext& context,
                                              const ScheduleState& state, const TaskPlan& plan, int failed_step,
-                                             const TransitionConfig& tc, const ScheduleConflict& conflict,
-                                             TrialTimelines trial, double window) {
+                                             const std::vector<TransitionConfig>& transitions,
+                                             const ScheduleConflict& conflict, TrialTimelines trial, double window) {
+  const TransitionConfig& tc = transitions[static_cast<std::size_t>(failed_step)];
   // Only the steps placed so far have times.
   const std::vector<double> placed(state.step_time.begin(), state.step_time.begin() + failed_step);
   ConflictRegion region;
@@ -114,6 +115,9 @@ std::optional<ConflictRegion> conflictRegion(const CollisionWorld& world, Collis
     region.boxes = {objectBox(world, conflict.object, tc.X_WO)};
   }
   if (region.robot < 0 || region.step < 0 || region.boxes.empty()) return std::nullopt;
+  const TaskArc& at = plan.steps[static_cast<std::size_t>(region.step)].action;
+  const TransitionConfig& at_tc = transitions[static_cast<std::size_t>(region.step)];
+  region.q = at.robot2 == region.robot ? at_tc.q2 : at_tc.q;
   for (Aabb& box : region.boxes) box = grownBy(box, world.clearance());
   return region;
 }

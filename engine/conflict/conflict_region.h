@@ -25,6 +25,7 @@ namespace dash {
 struct ConflictRegion {
   int robot = -1;        ///< whose move goes around the region (the constrained history, Pi_1)
   int step = -1;         ///< the task step that move leads into
+  JointVector q;         ///< the robot's transition configuration at that step
   int other = -1;        ///< the robot in the way (Pi_2), or -1
   int other_step = -1;   ///< its task step at the conflict's time
   int object = -1;       ///< the resting object in the way, or -1
@@ -44,13 +45,13 @@ struct TrialTimelines {
 };
 
 /// The region of `conflict`, met while placing step `failed_step` of `plan` with transition
-/// configuration `tc` in the schedule `state`. Between two robots the region is the other robot's parts
+/// configurations `transitions` (one per step) in the schedule `state`. Between two robots the region is the other robot's parts
 /// that meet the robot's over the window (the colliding parts; all of them when the window's boxes
 /// miss, the contact lying between its instants). nullopt when nothing can be learned (an obstacle, or
 /// no step to constrain).
 std::optional<ConflictRegion> conflictRegion(const CollisionWorld& world, CollisionContext& context,
                                              const ScheduleState& state, const TaskPlan& plan, int failed_step,
-                                             const TransitionConfig& tc, const ScheduleConflict& conflict,
-                                             TrialTimelines trial, double window);
+                                             const std::vector<TransitionConfig>& transitions,
+                                             const ScheduleConflict& conflict, TrialTimelines trial, double window);
 
 }  // namespace dash

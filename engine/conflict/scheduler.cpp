@@ -156,7 +156,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
     StepScheduler step(b, plan, k, transitions[k], space);
     if (auto why = step.place()) {
       if (step.lastConflict())
-        result.region = conflictRegion(*world_, *context_, state, plan, k, transitions[k], *step.lastConflict(),
+        result.region = conflictRegion(*world_, *context_, state, plan, k, transitions, *step.lastConflict(),
                                        {step.lastConflictRobot(), step.lastConflictOther()}, params_.delay_step);
       return fail(k, std::move(*why));
     }

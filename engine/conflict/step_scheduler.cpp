@@ -22,8 +22,8 @@ const char* toString(ArrivalMode mode) {
 
 // --- ScheduleBuild
 
-std::vector<Aabb> ScheduleBuild::regionsFor(int robot, int step) const {
-  return constraints ? constraints->regionsFor(plan, robot, step) : std::vector<Aabb>{};
+std::vector<Aabb> ScheduleBuild::regionsFor(int robot, int step, const JointVector& q) const {
+  return constraints ? constraints->regionsFor(plan, robot, step, q) : std::vector<Aabb>{};
 }
 
 std::vector<RobotState> ScheduleBuild::parkedAt(int self, double t) const {
@@ -247,7 +247,7 @@ void StepScheduler::replanTransits(ArrivalMode mode) {
       }
     }
     const MotionContext ctx{timelines[p.robot].heldAt(depart), b_.state.objects.layoutAt(depart), parked,
-                            b_.regionsFor(p.robot, k_)};
+                            b_.regionsFor(p.robot, k_, p.visit->q)};
     auto path = b_.replan(p.robot, p.transit.front(), p.transit.back(), ctx);
     if (!path) continue;
     ++b_.stats.replans;

@@ -47,8 +47,9 @@ struct ScheduleBuild {
   const TaskPlan& plan;
   const lazy::MotionConstraintSet* constraints;  ///< regions a replanned move into a step keeps out of (or null)
 
-  /// The regions robot's move into `step` keeps out of (MotionConstraintSet::regionsFor).
-  std::vector<Aabb> regionsFor(int robot, int step) const;
+  /// The regions robot's move into `step` (at transition configuration q) keeps out of
+  /// (MotionConstraintSet::regionsFor).
+  std::vector<Aabb> regionsFor(int robot, int step, const JointVector& q) const;
 
   /// The other robots standing still from time t on (their schedules end before t), for replanning.
   std::vector<RobotState> parkedAt(int self, double t) const;

@@ -74,21 +74,30 @@ bool sameBoxes(const std::vector<Aabb>& a, const std::vector<Aabb>& b) {
 
 bool MotionConstraintSet::contains(const MotionConstraint& c) const {
   if (c.histories.empty()) return false;
-  for (const MotionConstraint& known : constraints_)
-    if (!known.histories.empty() && known.histories.front().robot == c.histories.front().robot &&
+  for (std::size_t i = lifted_; i < constraints_.size(); ++i)
+    if (const MotionConstraint& known = constraints_[i]; !known.histories.empty() && known.histories.front().robot == c.histories.front().robot &&
         known.histories.front().arcs == c.histories.front().arcs && sameBoxes(known.region, c.region))
       return true;
   return false;
 }
 
-std::vector<Aabb> MotionConstraintSet::regionsFor(const TaskPlan& plan, int robot, int step) const {
+std::size_t MotionConstraintSet::liftAll() {
+  const std::size_t n = constraints_.size() - lifted_;
+  lifted_ = constraints_.size();
+  return n;
+}
+
+std::vector<Aabb> MotionConstraintSet::regionsFor(const TaskPlan& plan, int robot, int step,
+                                                  const JointVector& q) const {
   std::vector<Aabb> out;
   std::vector<std::uint32_t> arcs;
   bool computed = false;
-  for (const MotionConstraint& c : constraints_) {
+  for (std::size_t i = lifted_; i < constraints_.size(); ++i) {
+    const MotionConstraint& c = constraints_[i];
     if (c.region.empty() || c.histories.empty()) continue;
     const MotionConstraint::History& h = c.histories.front();
     if (h.robot != robot) continue;
+    if (h.q.size() > 0 && (h.q.size() != q.size() || (h.q - q).cwiseAbs().maxCoeff() > 1e-9)) continue;
     if (!computed) {
       arcs = historyOf(plan, robot, step).arcs;
       computed = true;

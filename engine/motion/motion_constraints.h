@@ -32,6 +32,9 @@ struct MotionConstraint {
     int robot = -1;
     int step = -1;                      ///< the task step the robot's history ends with (-1: its way home)
     std::vector<std::uint32_t> arcs;    ///< the robot's task hyperarcs up to that step (historyOf)
+    /// The transition configuration the history ends at, when known: a constraint learned for one
+    /// transition sample is lifted when another is drawn (paper, "Theoretical Properties").
+    JointVector q;
   };
   std::vector<History> histories;                            ///< Pi_1, the constrained one (and Pi_2)
   std::vector<Aabb> region;                                  ///< region p: world boxes to stay out of
@@ -63,11 +66,15 @@ class MotionConstraintSet {
   /// Whether a constraint with the same constrained history (Pi_1) and the same region boxes is known.
   bool contains(const MotionConstraint& c) const;
   /// The region boxes of every constraint whose constrained history (Pi_1) is robot `robot`'s history
-  /// up to step `step` of `plan`: what its move into that step keeps out of.
-  std::vector<Aabb> regionsFor(const TaskPlan& plan, int robot, int step) const;
+  /// up to step `step` of `plan`, ending at transition configuration q: what its move into that step
+  /// keeps out of.
+  std::vector<Aabb> regionsFor(const TaskPlan& plan, int robot, int step, const JointVector& q) const;
+  /// Lifts every constraint (a restart: new samples); returns how many there were.
+  std::size_t liftAll();
 
  private:
   std::vector<MotionConstraint> constraints_;
+  std::size_t lifted_ = 0;  ///< constraints_[0, lifted_) were lifted (kept for the record)
 };
 
 }  // namespace dash::lazy

@@ -272,7 +272,7 @@ MotionLayerResult MotionLayer::trace(const TaskPlan& plan, const std::vector<Tra
       construction.stop();
       log::PhaseTimer query(*emitter_, log::Phase::MotionQuery);
       const MotionContext context{held.before, layouts[k], {},
-                                  constraints_ ? constraints_->regionsFor(plan, r, k) : std::vector<Aabb>{}};
+                                  constraints_ ? constraints_->regionsFor(plan, r, k, visit.q) : std::vector<Aabb>{}};
       auto transit = connect(r, at[r], visit.q_pre, context, deadline);
       // Local refinement: deep in a shelf cubby the short approach and retreat leave the arm where a
       // roadmap hardly reaches. Back off farther along the same axes (the straight segment to the

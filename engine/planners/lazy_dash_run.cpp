@@ -187,6 +187,7 @@ MotionRound LazyDashRun::conflictFailure(const TaskLayerResult& layer, const Sch
   f.constraint.cause = "conflict resolution: " + schedule.reason;
   if (const auto& region = schedule.region) {  // C_M = (Pi_1, Pi_2, p): a region to replan around
     f.constraint.histories = {lazy::historyOf(layer.plan, region->robot, region->step)};
+    f.constraint.histories.front().q = region->q;  // lifted when another transition sample is drawn
     if (region->other >= 0) f.constraint.histories.push_back(lazy::historyOf(layer.plan, region->other, region->other_step));
     f.constraint.region = region->boxes;
     f.constraint.object = region->object;
@@ -314,6 +315,10 @@ std::optional<bool> LazyDashRun::validationFeedback(const MotionFailure& f, Task
 bool LazyDashRun::restart(const std::string& why) {
   if (!params_.restart_when_exhausted || deadline_.expired()) return false;
   task_.restart("restart after: " + why);
+  // New samples lift the motion constraints too (paper, "Theoretical Properties").
+  if (const std::size_t lifted = motion_constraints_.liftAll(); lifted > 0)
+    emitter_.constraint(log::ConstraintKind::Motion, log::ConstraintAction::Lifted, 0,
+                        std::to_string(lifted) + " motion constraints", {}, "restart after: " + why);
   last_restart_ = why;
   emitter_.counter("restarts", task_.restarts());
   if (params_.budget_growth && task_.restarts() <= kMaxRestartGrowths) motion_.scaleBudget(kBudgetGrowth);

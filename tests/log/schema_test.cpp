@@ -258,6 +258,10 @@ TEST(Schema, AVersion1FileIsMigratedAndKeepsItsRuns) {
   EXPECT_EQ(db.select("SELECT COUNT(*) FROM dash_timeline WHERE run_id = 1").rows.at(0).at(0),
             SqlValue(std::int64_t{3}));
   EXPECT_FALSE(old->summary.exit_signal.has_value());
+  // Version 7: a run stored before one phase accounting keeps its meaning (total = its wall time) and
+  // says so: no accounting mark, no separate wall time.
+  EXPECT_FALSE(old->summary.phase_accounting.has_value());
+  EXPECT_FALSE(old->summary.wall_time.has_value());
   // Version 2's additions work on the migrated file.
   db.addTag("old-run-0001", "baseline");
   db.setNote("old-run-0001", "from 2025");
@@ -384,8 +388,9 @@ TEST(Schema, ANewerVersionGivesAClearError) {
   testing::TempDir dir;
   const std::string path = dir.file("future.db");
   { ResultsDb db(path); }
-  setUserVersion(path, 7);
-  const std::string expected = "database schema version 7 is newer than this dashbench (" +
+  setUserVersion(path, kSchemaVersion + 1);
+  const std::string expected = "database schema version " + std::to_string(kSchemaVersion + 1) +
+                               " is newer than this dashbench (" +
                                std::to_string(kSchemaVersion) + "); upgrade dashbench";
   for (OpenMode mode : {OpenMode::ReadWrite, OpenMode::ReadOnly}) {
     try {

@@ -80,8 +80,8 @@ TEST(MotionConstraintRegion, TheConstrainedHistorysMoveIsReplannedOutOfTheRegion
   c.histories = {historyOf(run.layer.plan, robot, old_visit.step)};
   c.region = {*box};
   constraints.add(c);
-  EXPECT_EQ(constraints.regionsFor(run.layer.plan, robot, old_visit.step).size(), 1u);
-  EXPECT_TRUE(constraints.regionsFor(run.layer.plan, 1 - robot, old_visit.step).empty());
+  EXPECT_EQ(constraints.regionsFor(run.layer.plan, robot, old_visit.step, old_visit.q).size(), 1u);
+  EXPECT_TRUE(constraints.regionsFor(run.layer.plan, 1 - robot, old_visit.step, old_visit.q).empty());
   run.motion.respect(&constraints);
   const MotionLayerResult after = run.motion.plan(run.layer.plan, run.layer.transitions, run.task.space(), Deadline(120));
   ASSERT_EQ(after.status, MotionStatus::kOk) << after.reason;
@@ -113,15 +113,27 @@ TEST(MotionConstraintRegion, AHistoryIsMatchedByTheRobotsOwnTransitionsNotByTheS
   c.histories = {h};
   c.region = {Aabb(Vec3::Zero(), Vec3::Ones())};
   set.add(c);
-  EXPECT_EQ(set.regionsFor(plan, 0, 2).size(), 1u);
-  EXPECT_TRUE(set.regionsFor(plan, 0, 0).empty());  // another history of the same robot
+  const JointVector q = JointVector::Zero(6);
+  EXPECT_EQ(set.regionsFor(plan, 0, 2, q).size(), 1u);
+  EXPECT_TRUE(set.regionsFor(plan, 0, 0, q).empty());  // another history of the same robot
   // The same robot history in a plan where another robot's step comes first: still the same history.
   TaskPlan shifted;
   TaskStep first;
   first.arc = HyperarcId(99);
   first.action.robot = 1;
   shifted.steps = {first, plan.steps[0], plan.steps[2]};
-  EXPECT_EQ(set.regionsFor(shifted, 0, 2).size(), 1u);
+  EXPECT_EQ(set.regionsFor(shifted, 0, 2, q).size(), 1u);
+  // A constraint learned at one transition configuration is lifted when another one is drawn.
+  MotionConstraint at_q = c;
+  at_q.histories.front().q = JointVector::Constant(6, 0.5);
+  MotionConstraintSet scoped;
+  scoped.add(at_q);
+  EXPECT_EQ(scoped.regionsFor(plan, 0, 2, JointVector::Constant(6, 0.5)).size(), 1u);
+  EXPECT_TRUE(scoped.regionsFor(plan, 0, 2, q).empty());
+  // A restart lifts them all.
+  EXPECT_EQ(scoped.liftAll(), 1u);
+  EXPECT_TRUE(scoped.regionsFor(plan, 0, 2, JointVector::Constant(6, 0.5)).empty());
+  EXPECT_EQ(scoped.size(), 1u);  // kept for the record
 }
 
 }  // namespace

