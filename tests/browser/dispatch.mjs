@@ -284,9 +284,9 @@ async function main() {
       // the page to settle (two animation frames with the button in one place) before it.
       const t0 = Date.now();
       const clicked = (async () => {
-        const box = await page.locator('[data-testid=abort]').boundingBox();
+        const box = await page.locator('[data-testid=abort]').boundingBox({ timeout: 120000 });
         await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
-      })();
+      })().catch((e) => e); // a page too busy to answer is a failure below, not a crash
       let stoppedAfter = -1;
       for (;;) {
         s = await status();
@@ -297,8 +297,9 @@ async function main() {
         if (Date.now() - t0 > 120000) break;
         await sleep(20);
       }
-      await clicked;
+      const clickError = await clicked;
       const clickedAfter = Date.now() - t0;
+      expect(!(clickError instanceof Error), `the click on Abort did not happen: ${clickError && clickError.message}`);
       const renderer = await page.evaluate(() => {
         const canvas = document.querySelector('[data-testid=dispatch-viewer] canvas');
         const gl = canvas && canvas.getContext('webgl2');
