@@ -7,7 +7,9 @@
 // pre-flight check from the page, starts, shows live progress per arm (numbers, and the 3D view's
 // planned ghosts), and finishes with every arm SUCCESSFUL; the history records it; with one arm
 // away from the plan's start the check refuses; with it put back, Abort stops a running dispatch and
-// every arm reports CANCELLED; on the run's own page, "Dispatch this plan" passes its pre-flight
+// every arm reports CANCELLED (Abort by the Esc key); during a long live dispatch with the 3D view
+// drawn by software WebGL (SwiftShader), a click on "Abort every arm" a few seconds in stops every
+// arm within 1 s of the click, and the live view is on screen without scrolling; on the run's own page, "Dispatch this plan" passes its pre-flight
 // check (the table shows every check), enables Dispatch and starts a dispatch that succeeds. No
 // console errors.
 // Exit: 0 passed, 1 failed, 77 skipped (Chromium cannot start here).
@@ -234,17 +236,96 @@ async function main() {
         return s.dataset.state === 'running' && s.dataset.id !== first;
       }, firstId, { timeout: 60000 });
       await page.waitForFunction(() => [...document.querySelectorAll('[data-testid=arms-table] tbody tr')].some((r) => Number(r.dataset.progress) > 0.01));
-      await page.locator('[data-testid=abort]').click();
+      await page.keyboard.press('Escape');
       await page.waitForSelector('[data-testid=abort-result]:has-text("aborted")');
       await page.waitForSelector('[data-testid=dispatch-status][data-final="1"]', { timeout: 30000 });
       const state = await page.getAttribute('[data-testid=dispatch-status]', 'data-state');
       expect(state === 'aborted', `ended ${state}`);
       for (const id of robots) await page.waitForSelector(`[data-testid=arms-table] tr[data-robot="${id}"][data-result=CANCELLED]`);
       const reason = await page.locator('[data-testid=dispatch-reason]').textContent();
-      expect(/abort from the dashboard \(browser\)/.test(reason), `reason: ${reason}`);
+      expect(/abort from the dashboard \(browser\) by the Esc key/.test(reason), `reason: ${reason}`);
       const secondId = await page.getAttribute('[data-testid=dispatch-status]', 'data-id');
       await page.waitForSelector(`[data-testid=dispatch-history] tr[data-dispatch="${secondId}"][data-state=aborted]`);
       await page.screenshot({ path: path.join(ARTIFACTS, 'dispatch-aborted.png'), fullPage: true });
+    });
+
+    await step('Dispatch: with software WebGL, Abort clicked 3 s into a live dispatch stops every arm within 1 s', async () => {
+      for (let i = 0; i < robots.length; i++) await restart(i, plan.robots[robots[i]].points[0].q);
+      // A fresh page, as someone opens it to dispatch: the 3D view is built while the arms move.
+      const scale = Math.max(1, Math.ceil(40 / Math.max(0.1, Number(run.makespan)))); // 40 s or more of motion
+      // The page's long tasks (main thread busy over 50 ms), to say what held a slow click up.
+      await page.addInitScript(() => {
+        window.longTasks = [];
+        new PerformanceObserver((list) => {
+          for (const e of list.getEntries()) window.longTasks.push([Math.round(performance.timeOrigin + e.startTime), Math.round(e.duration)]);
+        }).observe({ type: 'longtask', buffered: true });
+      });
+      await page.goto('about:blank');
+      await page.goto(`${url}/#/dispatch?run=${run.uuid}&scale=${scale}`);
+      await page.waitForSelector('[data-testid=dispatch-status][data-id]');
+      const before = await page.getAttribute('[data-testid=dispatch-status]', 'data-id');
+      await page.locator('[data-testid=preflight]').click();
+      await page.waitForSelector('[data-testid=preflight-result][data-passed]', { timeout: 60000 });
+      expect((await page.getAttribute('[data-testid=preflight-result]', 'data-passed')) === '1', `pre-flight: ${await page.locator('[data-testid=preflight-result]').textContent()}`);
+      await page.locator('[data-testid=start]').click();
+      // Watch the arms: the live view (after the status line on both the old and the new layout) in view.
+      await page.evaluate(() => document.querySelector('[data-testid=dispatch-status]').scrollIntoView({ block: 'start' }));
+      const status = async () => (await fetch(`${url}/api/dispatch`, { headers: auth })).json();
+      let s = null;
+      for (let n = 0; ; n++) {
+        s = await status();
+        if (s.id !== before && s.state === 'running' && s.elapsed > 0) break;
+        expect(n < 600, `the dispatch did not start moving: ${JSON.stringify(s)}`);
+        await sleep(100);
+      }
+      const id = s.id;
+      await sleep(3000);
+      // A person's click: the mouse pressed where the button is, with none of Playwright's waits for
+      // the page to settle (two animation frames with the button in one place) before it.
+      const t0 = Date.now();
+      const clicked = (async () => {
+        const box = await page.locator('[data-testid=abort]').boundingBox({ timeout: 120000 });
+        await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+      })().catch((e) => e); // a page too busy to answer is a failure below, not a crash
+      let stoppedAfter = -1;
+      for (;;) {
+        s = await status();
+        if (s.id === id && s.final && (s.arms || []).every((a) => a.done)) {
+          stoppedAfter = Date.now() - t0;
+          break;
+        }
+        if (Date.now() - t0 > 120000) break;
+        await sleep(20);
+      }
+      const clickError = await clicked;
+      const clickedAfter = Date.now() - t0;
+      expect(!(clickError instanceof Error), `the click on Abort did not happen: ${clickError && clickError.message}`);
+      const renderer = await page.evaluate(() => {
+        const canvas = document.querySelector('[data-testid=dispatch-viewer] canvas');
+        const gl = canvas && canvas.getContext('webgl2');
+        const info = gl && gl.getExtension('WEBGL_debug_renderer_info');
+        return gl ? String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER)) : 'no WebGL canvas';
+      });
+      const drawn = await page.evaluate(() => ({ ...document.querySelector('[data-testid=dispatch-viewer]').dataset }));
+      console.log(`  3D view drawn by: ${renderer}; ${drawn.frames} frames, the last held the page ${drawn.drawMs} ms`);
+      console.log(`  every arm stopped ${stoppedAfter} ms after the click (the click returned after ${clickedAfter} ms); the dispatch was ${s.state}`);
+      const longTasks = await page.evaluate(() => window.longTasks || []);
+      const near = longTasks.filter(([start, ms]) => start + ms >= t0 - 2000 && start <= t0 + Math.max(stoppedAfter, 0)).map(([start, ms]) => `${start - t0} ms: ${ms} ms`);
+      console.log(`  ${longTasks.length} long tasks on the page, the longest ${Math.max(0, ...longTasks.map((t) => t[1]))} ms; around the click: ${near.join(', ') || 'none'}`);
+      expect(/SwiftShader/.test(renderer), `the 3D view is not drawn by SwiftShader: ${renderer}`);
+      expect(stoppedAfter >= 0, `the arms had not stopped 120 s after the click: ${JSON.stringify(s)}`);
+      expect(s.state === 'aborted' && s.arms.every((a) => a.result.name === 'CANCELLED'), `ended ${s.state}: ${JSON.stringify(s.arms.map((a) => a.result))}`);
+      expect(stoppedAfter <= 1000, `the arms stopped ${stoppedAfter} ms after the click on Abort (at most 1000 ms)`);
+      await page.screenshot({ path: path.join(ARTIFACTS, 'dispatch-abort-live.png') });
+    });
+
+    await step('Dispatch: the live view is on screen without scrolling past the pre-flight checks', async () => {
+      const fold = await page.evaluate(() => {
+        window.scrollTo(0, 0);
+        const r = document.querySelector('[data-testid=dispatch-viewer]').getBoundingClientRect();
+        return { top: r.top, height: innerHeight };
+      });
+      expect(fold.top < fold.height - 200, `the live view starts ${fold.top} px down a ${fold.height} px window: scroll needed to watch the arms`);
     });
 
     await step('Run page: "Dispatch this plan" checks, shows the checks, enables Dispatch and starts it', async () => {

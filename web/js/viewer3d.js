@@ -1,6 +1,10 @@
 // The 3D view of a run: its scene (obstacles, support surfaces, objects and their goals) and its
 // robots drawn from their collision bodies (capsules and boxes posed by forward kinematics, exactly
 // the geometry the planner checks), played back over the plan's time. World frame: z up, metres.
+// Drawing is on demand: every change asks for a frame, and the scene is drawn at most once per
+// animation frame, only while the view is on screen, and never more than a quarter of the time
+// (software WebGL can hold the page most of a second per frame; drawing every update froze the
+// Dispatch page so that Abort could not be clicked, issue 41).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
 import { collisionBodies, poseMatrix, tcpPose } from './kinematics.js';
@@ -30,12 +34,22 @@ function placeCapsule(mesh, a, b) {
 }
 
 export class PlanViewer {
-  /// container: an element; scene, plan (or null), models: as PlanPlayer takes them.
-  constructor(container, scene, plan, models) {
+  /// container: an element; scene, plan (or null), models: as PlanPlayer takes them. live: a view
+  /// redrawn continuously (the Dispatch page): no antialiasing and no kept drawing buffer, the two
+  /// costliest parts of a frame in software WebGL.
+  constructor(container, scene, plan, models, { live = false } = {}) {
     this.container = container;
     this.player = new PlanPlayer(scene, plan, models);
     this.time = 0;
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.frame = 0; // the pending animation frame, 0 when none
+    this.dirty = false;
+    this.onScreen = true; // until the IntersectionObserver says otherwise
+    this.disposed = false;
+    this.frames = 0;
+    this.timer = 0; // a frame put off to keep the page free
+    this.drawCost = 0; // ms the last frame held the page
+    this.drawnAt = 0;
+    this.renderer = new THREE.WebGLRenderer({ antialias: !live, preserveDrawingBuffer: !live });
     this.renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
     container.append(this.renderer.domElement);
     this.scene3 = new THREE.Scene();
@@ -53,6 +67,11 @@ export class PlanViewer {
     this.frameCamera(scene);
     this.resizeObserver = new ResizeObserver(() => this.resize());
     this.resizeObserver.observe(container);
+    this.visibility = new IntersectionObserver((entries) => {
+      this.onScreen = entries[entries.length - 1].isIntersecting;
+      if (this.onScreen && this.dirty) this.render();
+    });
+    this.visibility.observe(container);
     this.resize();
     this.setTime(0);
   }
@@ -225,11 +244,39 @@ export class PlanViewer {
     this.render();
   }
 
+  /// Asks for the scene to be drawn: once at the next animation frame however often it is asked,
+  /// and not while the view is off screen (it is drawn when it comes back).
   render() {
-    this.renderer.render(this.scene3, this.camera);
+    this.dirty = true;
+    if (this.frame || this.timer || this.disposed || !this.onScreen) return;
+    // A frame at most every 4 times what the last one held the page: 3/4 of the time stays free for
+    // clicks and keys however slow the drawing is.
+    const wait = this.drawnAt + 4 * this.drawCost - performance.now();
+    if (wait > 1) {
+      this.timer = setTimeout(() => {
+        this.timer = 0;
+        this.render();
+      }, wait);
+      return;
+    }
+    this.frame = requestAnimationFrame(() => {
+      this.frame = 0;
+      if (this.disposed || !this.dirty || !this.onScreen) return;
+      this.dirty = false;
+      const start = performance.now();
+      this.renderer.render(this.scene3, this.camera);
+      this.drawnAt = performance.now();
+      this.drawCost = this.drawnAt - start;
+      this.frames += 1;
+      Object.assign(this.container.dataset, { frames: String(this.frames), drawMs: this.drawCost.toFixed(1) });
+    });
   }
 
   dispose() {
+    this.disposed = true;
+    cancelAnimationFrame(this.frame);
+    clearTimeout(this.timer);
+    this.visibility.disconnect();
     this.resizeObserver.disconnect();
     this.controls.dispose();
     this.renderer.dispose();

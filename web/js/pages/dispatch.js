@@ -1,49 +1,21 @@
 // Dispatch: the controller agents connected to this server (one per arm), the pre-flight checks and
 // Start for a solved run's plan, the live progress of the current dispatch per arm (planned against
 // actual: numbers, and a 3D view with a ghost of the planned configuration next to the measured one),
-// the Abort button, and the recorded history. Live data comes from the server's dispatch stream
-// (GET /api/dispatch/stream, read with fetch because it needs the token). Only when the server was
-// built with the dispatch library; otherwise the page says so.
+// Abort, and the recorded history. Abort stays on screen (a bar that sticks under the top bar) and
+// answers the Esc key; its handler sends the request before anything is drawn, and the live view is
+// drawn at most once per animation frame (dispatch_live.js), so a busy 3D view cannot delay it.
+// Only when the server was built with the dispatch library; otherwise the page says so.
 import { api, getToken, query } from '../api.js';
 import { writeState } from '../url_state.js';
 import { el, clear, badge, fmtNumber, fmtSeconds, errorBox, table } from '../dom.js';
+import { readSse, latestPerFrame, statusLine, armsTable, historyTable } from './dispatch_live.js';
 
 const USER_KEY = 'dashbench.dispatch.user';
 
-/// Reads server-sent events from a fetch response body; calls onEvent(name, data) per event.
-async function readSse(response, onEvent) {
-  const reader = response.body.getReader();
-  const decoder = new TextDecoder();
-  let buffer = '';
-  for (;;) {
-    const { value, done } = await reader.read();
-    if (done) return;
-    buffer += decoder.decode(value, { stream: true });
-    let end;
-    while ((end = buffer.indexOf('\n\n')) >= 0) {
-      const frame = buffer.slice(0, end);
-      buffer = buffer.slice(end + 2);
-      let name = 'message';
-      let data = '';
-      for (const line of frame.split('\n')) {
-        if (line.startsWith('event: ')) name = line.slice(7);
-        else if (line.startsWith('data: ')) data += line.slice(6);
-      }
-      if (data) onEvent(name, data);
-    }
-  }
-}
-
-function pct(v) {
-  return `${Math.round(100 * Math.max(0, Math.min(1, v)))} %`;
-}
-
-function progressBar(fraction, cls) {
-  return el('div', { class: 'progress' }, el('div', { class: cls, style: `width:${(100 * Math.max(0, Math.min(1, fraction))).toFixed(1)}%` }));
-}
-
 export function mount(root, args, params = new URLSearchParams()) {
   root.append(el('h1', { text: 'Dispatch to arms' }));
+  const topbar = document.querySelector('.topbar'); // the abort bar sticks just under it
+  if (topbar) root.style.setProperty('--topbar-height', `${topbar.offsetHeight}px`);
   const body = el('div', {});
   root.append(body);
   let stopped = false;
@@ -53,6 +25,7 @@ export function mount(root, args, params = new URLSearchParams()) {
 
   (async () => {
     const health = await api.get('/api/health');
+    if (stopped) return;
     if (!health.dispatch) {
       body.append(
         el(
@@ -70,7 +43,8 @@ export function mount(root, args, params = new URLSearchParams()) {
     const user = el('input', { type: 'text', size: 12, placeholder: 'your name', value: localStorage.getItem(USER_KEY) || '', 'data-testid': 'dispatch-user' });
     const check = el('button', { type: 'button', class: 'secondary', 'data-testid': 'preflight' }, 'Pre-flight check');
     const start = el('button', { type: 'button', disabled: true, 'data-testid': 'start' }, 'Start');
-    const abort = el('button', { type: 'button', class: 'danger', 'data-testid': 'abort' }, 'Abort every arm');
+    const abort = el('button', { type: 'button', class: 'danger', 'data-testid': 'abort', title: 'Esc', 'aria-keyshortcuts': 'Escape' }, 'Abort every arm (Esc)');
+    const abortMessage = el('span', { 'data-testid': 'abort-message' });
     const preflightBox = el('div', { 'data-testid': 'preflight-result' });
     const message = el('div', { 'data-testid': 'dispatch-message' });
     const statusBox = el('div', { 'data-testid': 'dispatch-status' }, el('div', { class: 'muted', text: 'No dispatch yet.' }));
@@ -78,20 +52,42 @@ export function mount(root, args, params = new URLSearchParams()) {
     const viewerNote = el('div', { class: 'muted' });
     const viewerBox = el('div', { class: 'viewer', 'data-testid': 'dispatch-viewer', hidden: true });
     const historyBox = el('div', { 'data-testid': 'dispatch-history' });
+    // Abort first and sticky; then what is moving (the 3D view high up), then the checks and the rest.
     body.append(
-      el('div', { class: 'panel' }, el('h2', { text: 'Controllers' }), el('div', { class: 'muted', text: 'Agents started with `dashbench controller --server URL --robot ID --token-file ...` appear here.' }), controllersBox),
+      el('div', { class: 'abort-bar', 'data-testid': 'abort-bar' }, abort, el('span', { class: 'muted', text: 'stops every arm now; Esc does the same anywhere on this page' }), abortMessage),
       el(
         'div',
         { class: 'panel' },
         el('h2', { text: 'Dispatch a plan' }),
         el('div', { class: 'muted', text: 'Dry-run with --driver sim agents first. Check, then Start; a time scale > 1 slows every arm alike.' }),
-        el('div', { class: 'toolbar' }, runInput, runList, el('label', {}, 'time scale', scale), el('label', {}, 'who', user), check, start, abort),
+        el('div', { class: 'toolbar' }, runInput, runList, el('label', {}, 'time scale', scale), el('label', {}, 'who', user), check, start),
         preflightBox,
         message,
       ),
-      el('div', { class: 'panel' }, el('h2', { text: 'Current dispatch' }), statusBox, armsBox, viewerNote, viewerBox),
+      el('div', { class: 'panel', 'data-testid': 'current-dispatch' }, el('h2', { text: 'Current dispatch' }), statusBox, viewerNote, viewerBox, armsBox),
+      el('div', { class: 'panel' }, el('h2', { text: 'Controllers' }), el('div', { class: 'muted', text: 'Agents started with `dashbench controller --server URL --robot ID --token-file ...` appear here.' }), controllersBox),
       el('div', { class: 'panel' }, el('h2', { text: 'History' }), historyBox),
     );
+
+    // ---------------------------------------------------------------- abort
+    // The request leaves before anything is drawn; the answer is shown when it comes.
+    function sendAbort(how) {
+      const who = user.value.trim();
+      const sent = api.post('/api/dispatch/abort', { reason: `abort from the dashboard${who ? ` (${who})` : ''}${how}` });
+      abort.dataset.sent = String((Number(abort.dataset.sent) || 0) + 1);
+      sent.then(
+        (r) => clear(abortMessage).append(el('span', { class: 'ok', 'data-testid': 'abort-result', text: r.aborted ? `aborted (${r.controllers_notified} controllers told)` : 'nothing was moving' })),
+        (e) => clear(abortMessage).append(errorBox(e.message)),
+      );
+    }
+    abort.addEventListener('click', () => sendAbort(''));
+    const onKey = (e) => {
+      if (e.key !== 'Escape' || e.repeat) return;
+      e.preventDefault();
+      sendAbort(' by the Esc key');
+    };
+    document.addEventListener('keydown', onKey);
+    cleanups.push(() => document.removeEventListener('keydown', onKey));
 
     // ---------------------------------------------------------------- requests
     function requestBody() {
@@ -100,13 +96,22 @@ export function mount(root, args, params = new URLSearchParams()) {
       return { run_id: runInput.value.trim(), options: { time_scale: Number(scale.value) || 1 }, user: label || undefined };
     }
 
+    // The verdict in one line; the table of checks (one row per check and arm) folded away when they
+    // passed, open when one failed, so that it does not push the live view off the screen.
     function showChecks(report) {
       clear(preflightBox);
       if (!report) return;
       preflightBox.dataset.passed = report.passed ? '1' : '0';
+      const checks = report.checks || [];
+      const failed = checks.filter((c) => !c.passed).length;
       preflightBox.append(
         el('div', { class: report.passed ? 'ok' : 'error', text: report.passed ? 'Pre-flight checks passed.' : `Pre-flight refused: ${report.reason}` }),
-        table(['name', 'robot', 'passed', 'message'], report.checks || [], { cell: (c, v) => (c === 'passed' ? (v ? '✓' : '✗') : v) }),
+        el(
+          'details',
+          { 'data-testid': 'preflight-details', open: !report.passed || undefined },
+          el('summary', { text: `${checks.length} checks${failed ? `, ${failed} failed` : ', all passed'}` }),
+          table(['name', 'robot', 'passed', 'message'], checks, { cell: (c, v) => (c === 'passed' ? (v ? '✓' : '✗') : v) }),
+        ),
       );
     }
 
@@ -161,15 +166,6 @@ export function mount(root, args, params = new URLSearchParams()) {
       }
     });
 
-    abort.addEventListener('click', async () => {
-      try {
-        const r = await api.post('/api/dispatch/abort', { reason: `abort from the dashboard${user.value.trim() ? ` (${user.value.trim()})` : ''}` });
-        clear(message).append(el('div', { class: 'ok', 'data-testid': 'abort-result', text: r.aborted ? `aborted (${r.controllers_notified} controllers told)` : 'nothing was moving' }));
-      } catch (e) {
-        clear(message).append(errorBox(e.message));
-      }
-    });
-
     // ---------------------------------------------------------------- live view
     function renderControllers(list) {
       clear(controllersBox);
@@ -199,7 +195,7 @@ export function mount(root, args, params = new URLSearchParams()) {
         const [scene, plan, models] = await Promise.all([api.get(`/api/runs/${runId}/scene`), api.get(`/api/runs/${runId}/plan`), api.get('/api/robots')]);
         const { PlanViewer } = await import('../viewer3d.js');
         if (stopped || viewerRun !== runId) return;
-        viewer = new PlanViewer(viewerBox, scene, plan, models.models);
+        viewer = new PlanViewer(viewerBox, scene, plan, models.models, { live: true });
         viewerBox.dataset.ready = '1';
         viewerNote.textContent = 'Solid: where each arm is (measured). Orange ghost: where the plan wants it now.';
         if (lastStatus) drawLive(lastStatus);
@@ -222,38 +218,8 @@ export function mount(root, args, params = new URLSearchParams()) {
     function renderStatus(s) {
       lastStatus = s;
       Object.assign(statusBox.dataset, { state: s.state, id: s.id, final: s.final ? '1' : '0' });
-      const overall = s.duration > 0 ? Math.max(0, s.elapsed) / s.duration : 0;
-      clear(statusBox).append(
-        el(
-          'div',
-          { class: 'toolbar' },
-          badge(s.state),
-          el('span', { class: 'mono', text: s.id }),
-          el('span', { text: `${fmtNumber(Math.max(0, s.elapsed))} s of ${fmtNumber(s.duration)} s` }),
-          progressBar(overall, s.state === 'succeeded' ? 'solved' : s.final ? 'failed' : 'running'),
-          s.requested_by ? el('span', { class: 'muted', text: `by ${s.requested_by}` }) : null,
-          s.run_id ? el('a', { href: `#/run/${s.run_id}`, text: 'run' }) : null,
-        ),
-        ...(s.reason ? [el('div', { class: s.state === 'succeeded' ? 'muted' : 'error', 'data-testid': 'dispatch-reason', text: s.reason })] : []),
-      );
-      const head = ['robot', 'driver', 'status', 'progress', 'joint error', 'max error', 'samples', 'result'];
-      const rows = (s.arms || []).map((a) => {
-        const progress = a.duration > 0 ? Math.max(0, a.t) / a.duration : a.done ? 1 : 0;
-        const tolerance = (s.tolerances && s.tolerances.path) || 0;
-        return el(
-          'tr',
-          { 'data-robot': a.robot, 'data-status': a.status, 'data-result': a.done ? a.result.name : '', 'data-progress': progress.toFixed(3) },
-          el('td', { text: a.robot }),
-          el('td', { text: a.driver }),
-          el('td', {}, badge(a.status)),
-          el('td', {}, el('div', { class: 'toolbar', style: 'margin:0' }, progressBar(progress, 'running'), el('span', { text: pct(progress) }))),
-          el('td', { class: `num${tolerance && a.deviation > 0.5 * tolerance ? ' error' : ''}`, text: `${a.deviation.toFixed(4)} rad` }),
-          el('td', { class: 'num', text: `${a.max_deviation.toFixed(4)} rad` }),
-          el('td', { class: 'num', text: String(a.samples) }),
-          el('td', { text: a.done ? `${a.result.name}${a.result.message ? `: ${a.result.message}` : ''}` : '' }),
-        );
-      });
-      clear(armsBox).append(el('table', { class: 'data', 'data-testid': 'arms-table' }, el('thead', {}, el('tr', {}, head.map((h) => el('th', { text: h })))), el('tbody', {}, rows)));
+      clear(statusBox).append(...statusLine(s));
+      clear(armsBox).append(armsTable(s));
       if ((s.run_id || '') !== viewerRun) loadViewer(s.run_id || '');
       drawLive(s);
       if (s.id !== lastSeenId) {
@@ -265,6 +231,9 @@ export function mount(root, args, params = new URLSearchParams()) {
         setTimeout(loadHistory, 300); // the record is written just after the end
       }
     }
+    const statusFrames = latestPerFrame(renderStatus);
+    const controllerFrames = latestPerFrame(renderControllers);
+    cleanups.push(() => statusFrames.cancel(), () => controllerFrames.cancel());
 
     async function loadHistory() {
       if (stopped || !getToken()) return;
@@ -275,39 +244,8 @@ export function mount(root, args, params = new URLSearchParams()) {
           historyBox.append(el('div', { class: 'muted', text: 'No dispatch recorded yet.' }));
           return;
         }
-        const head = ['created', 'id', 'state', 'who', 'client', 'run', 'elapsed', 'arms', 'reason'];
         historyBox.dataset.total = String(h.total);
-        historyBox.append(
-          el('div', { class: 'muted', text: `${h.total} recorded; newest first.` }),
-          el(
-            'div',
-            { class: 'table-wrap', style: 'max-height:360px' },
-            el(
-              'table',
-              { class: 'data' },
-              el('thead', {}, el('tr', {}, head.map((c) => el('th', { text: c })))),
-              el(
-                'tbody',
-                {},
-                h.dispatches.map((d) =>
-                  el(
-                    'tr',
-                    { 'data-dispatch': d.id, 'data-state': d.state },
-                    el('td', { text: d.created.replace('T', ' ').replace('Z', '') }),
-                    el('td', { class: 'mono', text: d.id }),
-                    el('td', {}, badge(d.state)),
-                    el('td', { text: d.requested_by }),
-                    el('td', { text: d.client }),
-                    el('td', {}, d.run_id ? el('a', { href: `#/run/${d.run_id}`, text: d.run_id.slice(0, 8) }) : ''),
-                    el('td', { class: 'num', text: d.started ? fmtSeconds(d.elapsed) : '' }),
-                    el('td', { text: d.arms.map((a) => `${a.robot}: ${a.result ? a.result.name : 'not started'}`).join(', ') }),
-                    el('td', { text: d.reason }),
-                  ),
-                ),
-              ),
-            ),
-          ),
-        );
+        historyBox.append(el('div', { class: 'muted', text: `${h.total} recorded; newest first.` }), historyTable(h));
       } catch (e) {
         clear(historyBox).append(errorBox(e.message));
       }
@@ -337,12 +275,13 @@ export function mount(root, args, params = new URLSearchParams()) {
         if (!res.ok) throw new Error(`${res.status} ${res.statusText}`);
         await readSse(res, (name, data) => {
           const value = JSON.parse(data);
-          if (name === 'dispatch') renderStatus(value);
-          else if (name === 'controllers') renderControllers(value.controllers);
+          if (name === 'dispatch') statusFrames.push(value);
+          else if (name === 'controllers') controllerFrames.push(value.controllers);
         });
       } catch (e) {
         if (controller.signal.aborted || stopped) return;
-        clear(controllersBox).append(errorBox(`live stream: ${e.message}; reconnecting`));
+        const why = e instanceof TypeError ? "the dashboard's server does not answer (is `dashbench serve` still running?)" : e.message;
+        clear(controllersBox).append(errorBox(`live stream: ${why}; reconnecting every second`));
       }
       if (!stopped && !controller.signal.aborted) retryTimer = setTimeout(stream, 1000);
     }
