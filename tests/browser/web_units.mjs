@@ -14,6 +14,7 @@ const data = await import(pathToFileURL(path.join(WEB, 'compare_data.js')));
 const svg = await import(pathToFileURL(path.join(WEB, 'svg_context.js')));
 const url = await import(pathToFileURL(path.join(WEB, 'url_state.js')));
 const dom = await import(pathToFileURL(path.join(WEB, 'dom.js')));
+const batchEta = await import(pathToFileURL(path.join(WEB, 'batch_eta.js')));
 const csv = await import(pathToFileURL(path.join(WEB, 'csv.js')));
 const stats = await import(pathToFileURL(path.join(WEB, 'paired_stats.js')));
 const CASES = JSON.parse(fs.readFileSync(path.join(WEB, '..', '..', 'tests', 'figures', 'paired_stats_cases.json'), 'utf8'));
@@ -243,6 +244,17 @@ test('CSV numbers: floating-point noise rounded off, measured digits and integer
   assert.equal(csv.csvNumber(1234567890123), '1234567890123');
   assert.equal(csv.csvNumber(NaN), '');
   assert.equal(csv.toCsv(['a', 'b'], [{ a: 619.6950000000055, b: 'x,y' }]), 'a,b\r\n619.695,"x,y"\r\n');
+});
+
+test('a batch\u2019s time left counts down while a long run works and is re-estimated when a run ends', () => {
+  const p = { done: 1, remaining: 3, elapsed: 10, eta: 30 };
+  assert.equal(batchEta.steadyEta('b', p), 30);
+  // The runner's estimate grows while nothing ends (issue 41: 23 s left became 119 s); this one falls.
+  assert.equal(batchEta.steadyEta('b', { ...p, elapsed: 20, eta: 60 }), 20);
+  assert.equal(batchEta.steadyEta('b', { ...p, elapsed: 45, eta: 135 }), null, 'past its estimate: unknown');
+  assert.equal(batchEta.steadyEta('b', { done: 2, remaining: 2, elapsed: 50, eta: 50 }), 50);
+  assert.equal(batchEta.steadyEta('other', { done: 0, remaining: 4, elapsed: 3, eta: null }), null);
+  assert.equal(batchEta.steadyEta('b', { done: 4, remaining: 0, elapsed: 90, eta: 0 }), 0);
 });
 
 console.log(failed ? `${failed} failed` : 'all passed');
