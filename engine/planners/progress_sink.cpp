@@ -15,7 +15,10 @@ void ProgressSink::onEvent(const log::Event& event) {
     auto& n = counts_[static_cast<int>(r->layer)][static_cast<int>(r->kind)];
     n = r->change == log::ElementChange::Added ? n + 1 : (n > 0 ? n - 1 : 0);
   } else if (const auto* p = std::get_if<log::PhaseEvent>(&event.payload)) {
-    if (p->boundary == log::PhaseBoundary::Start) phase_ = p->phase;
+    if (p->boundary == log::PhaseBoundary::Start) {
+      phase_ = p->phase;
+      phase_started_ = clock_.seconds();
+    }
   } else if (const auto* c = std::get_if<log::ConstraintEvent>(&event.payload)) {
     ++constraints_;
     if (verbose_)
@@ -81,14 +84,25 @@ std::string ProgressSink::formatWork(const log::ProgressEvent& p) {
   return out + buf;
 }
 
+std::string ProgressSink::formatLayer(const char* name, std::size_t vertices, std::size_t hyperarcs, bool building) {
+  // A layer still empty while its construction phase runs (DaSH builds H_M whole, then reports it):
+  // "building", not a 0/0 that reads as stuck.
+  if (building && vertices == 0 && hyperarcs == 0) return std::string(name) + " building";
+  return std::string(name) + " " + std::to_string(vertices) + "/" + std::to_string(hyperarcs);
+}
+
 void ProgressSink::print() {
   last_print_ = clock_.seconds();
   const std::string work = working_ ? "  " + formatWork(work_) : std::string();
   shown_ = shown_ || working_;
-  std::fprintf(out_,
-               "[%7.2fs] iter %-3d %-24s H_T %zu/%zu  H_TE %zu/%zu  H_M %zu/%zu  H_ME %zu/%zu  constraints %zu%s\n",
-               last_print_, iteration_, log::toString(phase_), counts_[0][0], counts_[0][1], counts_[1][0],
-               counts_[1][1], counts_[2][0], counts_[2][1], counts_[3][0], counts_[3][1], constraints_, work.c_str());
+  char phase[64];
+  std::snprintf(phase, sizeof phase, "%s %.1fs", log::toString(phase_), last_print_ - phase_started_);
+  const bool task = phase_ == log::Phase::TaskConstruction, motion = phase_ == log::Phase::MotionConstruction;
+  std::fprintf(out_, "[%7.2fs] iter %-3d %-30s %s  %s  %s  %s  constraints %zu%s\n", last_print_, iteration_, phase,
+               formatLayer("H_T", counts_[0][0], counts_[0][1], task).c_str(),
+               formatLayer("H_TE", counts_[1][0], counts_[1][1], false).c_str(),
+               formatLayer("H_M", counts_[2][0], counts_[2][1], motion).c_str(),
+               formatLayer("H_ME", counts_[3][0], counts_[3][1], false).c_str(), constraints_, work.c_str());
   std::fflush(out_);
 }
 

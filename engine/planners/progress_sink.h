@@ -1,6 +1,7 @@
 #pragma once
-// Progress for people on a terminal: phase, iteration, representation sizes and elapsed time, at most
-// a few lines per second. Fed by the planner's event stream like any other sink. While a long phase
+// Progress for people on a terminal: phase (and how long it has run), iteration, representation sizes
+// ("building" for a layer its construction phase has not reported yet) and elapsed time, at most a few
+// lines per second. Fed by the planner's event stream like any other sink. While a long phase
 // reports its progress (events.h ProgressEvent: conflict resolution's steps scheduled of the plan's,
 // the step's robots, steps per second) the line carries it too. A ticker thread (startTicker) prints
 // the latest line again when nothing was printed for a while, so a single long step still shows the
@@ -34,6 +35,9 @@ class ProgressSink final : public log::EventSink {
   /// The progress part of the line ("steps 37/146 (ur5e_3, ur5e_7) 4.2 steps/s"), empty when no long
   /// phase is reporting. For tests.
   static std::string formatWork(const log::ProgressEvent& p);
+  /// "H_M 12/40", or "H_M building" for a layer still empty while `building` (its construction phase
+  /// runs). For tests.
+  static std::string formatLayer(const char* name, std::size_t vertices, std::size_t hyperarcs, bool building);
 
  private:
   void print();
@@ -46,6 +50,7 @@ class ProgressSink final : public log::EventSink {
   double last_print_ = -1e9;
   int iteration_ = 0;
   log::Phase phase_ = log::Phase::Other;
+  double phase_started_ = 0;  ///< clock_ time the current phase started
   std::size_t counts_[log::kLayerCount][2] = {};
   std::size_t constraints_ = 0;
   log::ProgressEvent work_;  ///< the latest progress event

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/scenarios/scenario_registry.h"
+#include "server/figures/paired_stats.h"
 #include "server/batch/batch_store.h"
 #include "server/batch/run_process.h"
 
@@ -140,6 +141,82 @@ std::string formatAxisLines(const std::map<AxisLineKey, AxisLine>& lines) {
                std::to_string(open), failed.empty() ? "-" : failed});
   }
   return "Where each planner breaks (along the stop axis; sizes with every seed finished)\n" + table.str() + "\n";
+}
+
+std::string fmtPercent(std::optional<double> v) {
+  if (!v) return "-";
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%.0f%%", 100 * *v);
+  return buf;
+}
+
+std::string fmtInterval(const figures::RateInterval& r) {
+  return r.rate ? "[" + fmtPercent(r.low) + ", " + fmtPercent(r.high) + "]" : "-";
+}
+
+/// Three significant digits, without an exponent from 0.001 up ("1130", not "1.13e+03").
+std::string fmtRatio(std::optional<double> v) {
+  if (!v) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, *v >= 1000 ? "%.0f" : *v >= 0.001 ? "%.3g" : "%.2e", *v);
+  return buf;
+}
+
+/// One row of the paired table: `a` and `b` are the two planners' runs of some scenes, by seed.
+void addPairedRow(Table& table, const std::string& params, const std::string& a, const std::string& b,
+                  const std::vector<std::pair<figures::Observation, figures::Observation>>& pairs) {
+  const figures::PairedStats s = figures::pairedStats(pairs);
+  std::string p = "-";
+  if (s.p_value) p = *s.p_value < 0.001 ? "<0.001" : fmtRatio(s.p_value);
+  const std::string ci = s.ratio_low ? "[" + fmtRatio(s.ratio_low) + ", " + fmtRatio(s.ratio_high) + "]" : "-";
+  auto rate = [&](int solved, const figures::RateInterval& r) {
+    return std::to_string(solved) + "/" + std::to_string(s.pairs) + " " + fmtInterval(r);
+  };
+  table.add({params, a + " / " + b, std::to_string(s.pairs), std::to_string(s.both_solved), fmtRatio(s.ratio), ci,
+             std::to_string(s.a_faster), std::to_string(s.b_faster), std::to_string(s.undecided), p,
+             rate(s.a_solved, s.a_success), rate(s.b_solved, s.b_success)});
+}
+
+// Every two planner configurations of a family on the same scenes and seeds (paired_stats.h): per
+// parameters and over all of them. A scene's run of a configuration is its first finished one.
+std::string formatPaired(const std::vector<const Row*>& rows) {
+  std::map<int, std::string> by_order;  // the report's planner order
+  std::vector<std::string> params;       // in the rows' order
+  std::map<std::string, std::map<std::string, std::map<std::uint64_t, const log::RunRecord*>>> runs;
+  for (const Row* row : rows) {
+    by_order.emplace(row->planner_order, row->planner);
+    if (std::find(params.begin(), params.end(), row->params_text) == params.end()) params.push_back(row->params_text);
+    auto& by_seed = runs[row->params_text][row->planner];
+    for (const log::RunRecord* r : row->runs) by_seed.try_emplace(r->meta.seed, r);
+  }
+  std::vector<std::string> planners;
+  for (const auto& [order, name] : by_order) planners.push_back(name);
+  Table table({"params", "a / b", "pairs", "both solved", "time ratio a/b", "95% CI", "a faster", "b faster",
+               "undecided", "sign test p", "a solved [95% CI]", "b solved [95% CI]"},
+              2);
+  bool any = false;
+  for (std::size_t i = 0; i < planners.size(); ++i) {
+    for (std::size_t j = i + 1; j < planners.size(); ++j) {
+      std::vector<std::pair<figures::Observation, figures::Observation>> all;
+      for (const std::string& p : params) {
+        std::vector<std::pair<figures::Observation, figures::Observation>> pairs;
+        const auto& a = runs[p][planners[i]];
+        const auto& b = runs[p][planners[j]];
+        for (const auto& [seed, run] : a)
+          if (b.count(seed)) pairs.emplace_back(figures::observe(*run), figures::observe(*b.at(seed)));
+        if (pairs.empty()) continue;
+        addPairedRow(table, p.empty() ? "-" : p, planners[i], planners[j], pairs);
+        all.insert(all.end(), pairs.begin(), pairs.end());
+      }
+      if (!all.empty()) addPairedRow(table, "all", planners[i], planners[j], all);
+      any = any || !all.empty();
+    }
+  }
+  if (!any) return "";
+  return "Paired comparison (same scenes and seeds; time ratio: geometric mean of a/b over the pairs both solved,\n"
+         "95% t interval on the log ratios; sign test: two-sided exact, Gehan's pair scores, a run that did not\n"
+         "solve censored at its time limit; success: 95% Wilson interval)\n" +
+         table.str() + "\n";
 }
 
 }  // namespace
@@ -291,7 +368,8 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
 
     // A run stopped by its memory limit is stored as crashed with an error that says so (run_process.cpp);
     // it is counted apart: out of memory is an outcome, a crash a defect.
-    Table success({"params", "planner", "runs", "solved", "timeout", "infeasible", "out of memory", "crashed", "success"},
+    Table success({"params", "planner", "runs", "solved", "timeout", "infeasible", "out of memory", "crashed", "success",
+                   "95% CI (Wilson)"},
                   2);
     for (const Row* row : rows) {
       int solved = 0, timeout = 0, infeasible = 0, out_of_memory = 0, crashed = 0;
@@ -307,9 +385,11 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
       char rate[16];
       std::snprintf(rate, sizeof rate, "%.0f%%", n > 0 ? 100.0 * solved / static_cast<double>(n) : 0.0);
       success.add({row->params_text, row->planner, std::to_string(n), std::to_string(solved), std::to_string(timeout),
-                   std::to_string(infeasible), std::to_string(out_of_memory), std::to_string(crashed), rate});
+                   std::to_string(infeasible), std::to_string(out_of_memory), std::to_string(crashed), rate,
+                   fmtInterval(figures::wilson(solved, static_cast<int>(n)))});
     }
     out << "Success rate\n" << success.str() << "\n";
+    out << formatPaired(rows);
     if (skipped.count(family)) {
       std::vector<std::pair<const std::pair<std::string, std::string>*, const Skipped*>> in_spec_order;
       for (const auto& [key, value] : skipped[family]) in_spec_order.emplace_back(&key, &value);

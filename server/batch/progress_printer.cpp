@@ -7,6 +7,24 @@
 
 namespace dash::batch {
 
+namespace {
+constexpr double kQuietRunLineSeconds = 10.0;  // lines mode: a run without reported progress, this often
+constexpr double kWorkLineSeconds = 2.0;       // lines mode: a run reporting a long phase's progress
+constexpr double kBarRunSeconds = 5.0;         // bar: the longest-running run shown from this age
+constexpr std::size_t kBarKeyChars = 48;       // bar: a longer run key keeps its end
+}  // namespace
+
+double SteadyEta::operator()(const BatchProgress& p) {
+  if (p.done != done_ || (eta_ < 0 && p.eta >= 0)) {
+    done_ = p.done;
+    eta_ = p.eta;
+    at_ = p.elapsed;
+  }
+  if (eta_ < 0 || p.remaining <= 0) return eta_ < 0 ? -1.0 : 0.0;
+  const double left = eta_ - (p.elapsed - at_);
+  return left > 0 ? left : -1.0;
+}
+
 ProgressPrinter::Mode ProgressPrinter::autoMode(std::FILE* out, bool quiet) {
   if (quiet) return Mode::kQuiet;
   return isatty(fileno(out)) ? Mode::kBar : Mode::kLines;
@@ -48,6 +66,12 @@ std::string ProgressPrinter::formatBar(const BatchProgress& p, int width) {
     if (!a.work || a.work->current.empty()) continue;
     work += (work.empty() ? "  | steps " : ", ") + std::to_string(a.work->done) + "/" + std::to_string(a.work->total);
   }
+  // Otherwise the run that has been running longest (the list is oldest first), once it is not quick.
+  if (work.empty() && !p.active.empty() && p.active.front().seconds >= kBarRunSeconds) {
+    const ActiveRun& a = p.active.front();
+    const std::string key = a.key.size() > kBarKeyChars ? "..." + a.key.substr(a.key.size() - kBarKeyChars) : a.key;
+    work = "  | " + key + " " + formatDuration(a.seconds);
+  }
   return bar + work;
 }
 
@@ -66,7 +90,8 @@ std::string ProgressPrinter::formatWork(const ActiveRun& run) {
 }
 
 std::string ProgressPrinter::formatActiveLine(const ActiveRun& run) {
-  return "[running]  " + run.key + "  " + formatWork(run) + "  " + formatDuration(run.seconds);
+  const std::string work = formatWork(run);
+  return "[running]  " + run.key + "  " + (work.empty() ? "" : work + "  ") + formatDuration(run.seconds);
 }
 
 std::string ProgressPrinter::formatLine(const BatchProgress& p, const FinishedRun& run) {
@@ -85,7 +110,9 @@ std::string ProgressPrinter::formatLine(const BatchProgress& p, const FinishedRu
   return line;
 }
 
-void ProgressPrinter::operator()(const BatchProgress& p) {
+void ProgressPrinter::operator()(const BatchProgress& progress) {
+  BatchProgress p = progress;
+  p.eta = eta_(progress);
   switch (mode_) {
     case Mode::kQuiet:
       return;
@@ -95,7 +122,11 @@ void ProgressPrinter::operator()(const BatchProgress& p) {
       for (const ActiveRun& a : p.active) {
         const auto last = active_printed_.find(a.uuid);
         double at = last == active_printed_.end() ? -1e9 : last->second;
-        if (!formatWork(a).empty() && p.elapsed - at >= 2.0) {
+        const bool working = !formatWork(a).empty();
+        // A run reporting progress every 2 s; one that reports none (a DaSH construction) every
+        // 10 s once it has run 10 s, so that a long run never leaves the log silent.
+        if ((working && p.elapsed - at >= kWorkLineSeconds) ||
+            (!working && a.seconds >= kQuietRunLineSeconds && p.elapsed - at >= kQuietRunLineSeconds)) {
           std::fprintf(out_, "%s\n", formatActiveLine(a).c_str());
           at = p.elapsed;
         }

@@ -1,11 +1,16 @@
 #pragma once
 // The terminal side of a batch's progress callback (`dashbench batch run|resume`):
 //   bar   : one line redrawn in place on a terminal: a bar, runs done, failed, running and left,
-//           an ETA, and the conflict-resolution steps of the running runs that are scheduling;
+//           an ETA, the conflict-resolution steps of the running runs that are scheduling, and the
+//           longest-running run with its time (a DaSH construction of minutes shows which run works);
 //           crashed runs also get a line of their own above it;
-//   lines : a line per finished run (stderr is not a terminal: logs, CI), and every 2 s a line per
-//           running run whose planner reports a long phase's progress (conflict resolution's steps);
+//   lines : a line per finished run (stderr is not a terminal: logs, CI), every 2 s a line per
+//           running run whose planner reports a long phase's progress (conflict resolution's steps),
+//           and every 10 s a line per run that has run that long without reporting any;
 //   quiet : nothing.
+// The ETA is re-estimated when a run ends (the runner's: time per finished run times the runs left)
+// and counts down between (SteadyEta), so it never counts up while a long run works.
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -13,6 +18,19 @@
 #include "server/batch/batch_runner.h"
 
 namespace dash::batch {
+
+/// The runner's ETA taken when a run ends, counted down by the batch's clock until the next one ends;
+/// unknown (-1) once the countdown ran out with runs still to finish (the current runs take longer
+/// than the runs so far did).
+class SteadyEta {
+ public:
+  double operator()(const BatchProgress& p);
+
+ private:
+  std::int64_t done_ = -1;
+  double eta_ = -1.0;
+  double at_ = 0.0;
+};
 
 class ProgressPrinter {
  public:
@@ -42,6 +60,7 @@ class ProgressPrinter {
   Mode mode_;
   bool bar_drawn_ = false;
   std::map<std::string, double> active_printed_;  ///< lines mode: uuid -> batch time of its last line
+  SteadyEta eta_;
 };
 
 }  // namespace dash::batch

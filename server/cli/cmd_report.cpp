@@ -1,5 +1,6 @@
 // dashbench report: the paper's tables (representation sizes, time breakdown, success rates) from
-// a results database, per scenario family, medians across seeds.
+// a results database, per scenario family, medians across seeds, and paired statistics of every two
+// planner configurations that count failures (server/figures/paired_stats.h).
 #include <cstdio>
 #include <string>
 
@@ -19,7 +20,12 @@ const char* const kReportHelp =
     "  - time breakdown from the phase totals: task construction, task query, task conflict\n"
     "    detection, motion construction, motion query, conflict resolution, and the total;\n"
     "  - success rate: solved runs of the finished ones, with timeouts, infeasible, out of memory\n"
-    "    and crashed.\n"
+    "    and crashed, and its 95% Wilson interval;\n"
+    "  - paired comparison of every two planner configurations on the same scenes and seeds, per\n"
+    "    parameters and over all: the time ratio a/b (geometric mean over the pairs both solved,\n"
+    "    95% t interval on the log ratios), a sign test on which solved faster where a run that did\n"
+    "    not solve is censored at its time limit (two-sided exact p), and each side's solved pairs\n"
+    "    with 95% Wilson intervals (docs/comparison-figures.md);\n"
     "  - with --batch: runs the axis stop rule skipped, and where each planner breaks along each\n"
     "    stop axis (largest size all seeds / some seed solved, first size none solved, skipped from,\n"
     "    every size some seed failed)\n"

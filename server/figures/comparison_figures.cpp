@@ -17,9 +17,10 @@ namespace dash::figures {
 
 namespace {
 
-constexpr const char* kPalette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
-                                    "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
-constexpr int kPaletteSize = 10;
+// The dashboard's palette (web/js/palette.js): Okabe & Ito's colour-blind-safe colours, in its order.
+constexpr const char* kPalette[] = {"#0072B2", "#E69F00", "#009E73", "#CC79A7",
+                                    "#56B4E9", "#D55E00", "#F0E442", "#000000"};
+constexpr int kPaletteSize = 8;
 
 double median(std::vector<double> v) {
   if (v.empty()) return std::numeric_limits<double>::quiet_NaN();

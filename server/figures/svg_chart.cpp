@@ -9,6 +9,32 @@
 
 namespace dash::figures {
 
+std::string tickLabel(double v) {
+  if (v == 0) return "0";
+  const double a = std::fabs(v);
+  char buf[64];
+  if (a >= 1e4) {
+    std::snprintf(buf, sizeof buf, "%.0f", a);
+    std::string digits = buf, out;
+    for (std::size_t i = 0; i < digits.size(); ++i) {
+      if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+      out += digits[i];
+    }
+    return (v < 0 ? "-" : "") + out;
+  }
+  if (a >= 1e-2) {
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+  }
+  // Three significant digits at most, in fixed notation, trailing zeros dropped.
+  const int decimals = std::min(15, static_cast<int>(std::ceil(-std::log10(a))) + 2);
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string out = buf;
+  while (out.back() == '0') out.pop_back();
+  if (out.back() == '.') out.pop_back();
+  return out;
+}
+
 namespace {
 
 constexpr double kPanelWidth = 330, kPanelHeight = 270;
@@ -27,19 +53,6 @@ std::string num(double v) {
 std::string attributeValue(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
-std::string tickLabel(double v) {
-  char buf[32];
-  if (v == 0) return "0";
-  const double a = std::fabs(v);
-  if (a >= 1e4 || a < 1e-2) {
-    std::snprintf(buf, sizeof buf, "1e%d", static_cast<int>(std::lround(std::log10(a))));
-    if (std::fabs(std::log10(a) - std::round(std::log10(a))) > 1e-9) std::snprintf(buf, sizeof buf, "%.1e", v);
-  } else {
-    std::snprintf(buf, sizeof buf, "%g", v);
-  }
   return buf;
 }
 

@@ -42,6 +42,9 @@ std::string renderSvg(const Figure& figure);
 /// The y range covering every point of `panels` (log: positive values only, padded to decades).
 std::pair<double, double> sharedRange(const std::vector<Panel>& panels, bool log_y);
 
+/// A tick label as people write numbers, never in exponent form: "0.001", "0.25", "40", "10,000".
+std::string tickLabel(double v);
+
 /// Escapes &, <, >, " for SVG text and attributes.
 std::string escapeXml(const std::string& text);
 

@@ -108,6 +108,46 @@ std::pair<int, std::string> cli(const std::string& args) {
   return {r.exit_code, std::move(r.output)};
 }
 
+/// A finished run of `planner` on sorting robots=2 objects=2, seed `seed`, with a 10 s time limit.
+void addTimedRun(log::ResultsDb& db, const std::string& planner, std::uint64_t seed, log::RunStatus status, double total) {
+  const std::string uuid = db.beginRun(log::RunMetadata{.batch_id = "p",
+                                                        .family = "sorting",
+                                                        .params_json = R"({"robots":2,"objects":2})",
+                                                        .seed = seed,
+                                                        .planner = "lazy-dash",
+                                                        .planner_config_name = planner,
+                                                        .time_limit = 10.0});
+  log::RunSummary s;
+  s.status = status;
+  s.total_time = total;
+  db.finishRun(uuid, s);
+}
+
+TEST(Report, PairedComparisonKeepsFailuresAsCensoredPairsWithIntervals) {
+  // The "mixed" case of tests/figures/paired_stats_cases.json, as a batch: seeds 1-3 both solved
+  // (ratios 1/2, 1, 1/4), seed 4 a solved against b's timeout, seed 5 both timed out, seed 6 the
+  // other way round.
+  TempDir dir;
+  log::ResultsDb db(dir.file("r.db"));
+  db.putBatch(log::BatchRecord{.id = "p", .name = "paired"});
+  const double a[] = {2, 3, 1, 5, 10.1, 10.1}, b[] = {4, 3, 4, 10.2, 10.3, 8};
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    addTimedRun(db, "fast", seed, a[seed - 1] > 10 ? log::RunStatus::Timeout : log::RunStatus::Solved, a[seed - 1]);
+    addTimedRun(db, "slow", seed, b[seed - 1] > 10 ? log::RunStatus::Timeout : log::RunStatus::Solved, b[seed - 1]);
+  }
+  const std::string text = formatReport(db, ReportOptions{.batch_id = "p"});
+  const std::string all = lineWith(text, "Paired comparison", "  all ");
+  // pairs 6, both solved 3, geometric mean ratio 0.5 with t(0.975; 2) interval [0.0894, 2.80], 3 / 1 / 2
+  // decided for a / b / undecided, sign test p = 2 * 5 / 16, success 4 of 6 with Wilson [30%, 90%].
+  EXPECT_TRUE(std::regex_search(
+      all, std::regex(R"(fast / slow\s+6\s+3\s+0\.5\s+\[0\.0894, 2\.8\]\s+3\s+1\s+2\s+0\.625\s+4/6 \[30%, 90%\]\s+4/6 \[30%, 90%\])")))
+      << all << "\n" << text;
+  EXPECT_NE(lineWith(text, "Paired comparison", "robots=2 objects=2  fast / slow"), "") << text;
+  // The success table gives each configuration's Wilson interval.
+  const std::string success = lineWith(text, "Success rate", "robots=2 objects=2  fast");
+  EXPECT_TRUE(std::regex_search(success, std::regex(R"(67%\s+\[30%, 90%\])"))) << success;
+}
+
 TEST(BatchCli, PlanRunStatusAndReport) {
   TempDir dir;
   const std::string spec = dir.write("tiny.json", sortingSpec("[4, 6]", "[1]", std::string("[") + kTaskOnly + "]"));

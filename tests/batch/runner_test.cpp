@@ -495,5 +495,53 @@ TEST(ProgressPrinter, ShowsTheStepsOfTheRunsThatAreScheduling) {
   EXPECT_EQ(ProgressPrinter::formatBar(p).find("steps"), std::string::npos);
 }
 
+TEST(ProgressPrinter, TheEtaCountsDownWhileALongRunWorksAndIsReestimatedWhenARunEnds) {
+  SteadyEta eta;
+  BatchProgress p;
+  p.total = 4;
+  p.done = 1;
+  p.remaining = 3;
+  p.elapsed = 10;
+  p.eta = 30;  // the runner's: 10 s per finished run, 3 left
+  EXPECT_DOUBLE_EQ(eta(p), 30);
+  p.elapsed = 20;
+  p.eta = 60;  // the runner's grows while nothing ends (issue 41: 23 s left became 119 s)
+  EXPECT_DOUBLE_EQ(eta(p), 20);
+  p.elapsed = 45;
+  p.eta = 135;
+  EXPECT_LT(eta(p), 0) << "past its estimate the ETA is unknown, not 0 s and not the runner's larger one";
+  p.done = 2;
+  p.remaining = 2;
+  p.elapsed = 50;
+  p.eta = 50;
+  EXPECT_DOUBLE_EQ(eta(p), 50);
+}
+
+TEST(ProgressPrinter, ALongRunWithoutProgressEventsGetsLinesAndTheBarNamesIt) {
+  BatchProgress p;
+  p.total = 2;
+  p.running = 1;
+  p.remaining = 2;
+  const std::string key = "sorting/robots=4,objects=8/seed=1/dash";
+  p.active.push_back({key, "u1", 0.0, std::nullopt});  // a DaSH construction: no progress events
+  char* text = nullptr;
+  std::size_t size = 0;
+  std::FILE* out = open_memstream(&text, &size);
+  ASSERT_NE(out, nullptr);
+  ProgressPrinter printer(out, ProgressPrinter::Mode::kLines);
+  for (double elapsed : {5.0, 12.0, 18.0, 26.0}) {
+    p.elapsed = elapsed;
+    p.active[0].seconds = elapsed;
+    printer(p);
+  }
+  std::fclose(out);
+  const std::string lines(text, size);
+  std::free(text);
+  EXPECT_EQ(lines, "[running]  " + key + "  12s\n[running]  " + key + "  26s\n");
+  EXPECT_NE(ProgressPrinter::formatBar(p).find("| " + key + " 26s"), std::string::npos) << ProgressPrinter::formatBar(p);
+  p.active[0].seconds = 2.0;  // a quick run is not named
+  EXPECT_EQ(ProgressPrinter::formatBar(p).find(key), std::string::npos) << ProgressPrinter::formatBar(p);
+}
+
 }  // namespace
 }  // namespace dash::batch

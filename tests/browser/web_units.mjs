@@ -5,6 +5,7 @@
 // the planner line's settings text, and the SVG recorder's colour and path output.
 //   node tests/browser/web_units.mjs
 import assert from 'node:assert/strict';
+import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 
@@ -13,6 +14,10 @@ const data = await import(pathToFileURL(path.join(WEB, 'compare_data.js')));
 const svg = await import(pathToFileURL(path.join(WEB, 'svg_context.js')));
 const url = await import(pathToFileURL(path.join(WEB, 'url_state.js')));
 const dom = await import(pathToFileURL(path.join(WEB, 'dom.js')));
+const batchEta = await import(pathToFileURL(path.join(WEB, 'batch_eta.js')));
+const csv = await import(pathToFileURL(path.join(WEB, 'csv.js')));
+const stats = await import(pathToFileURL(path.join(WEB, 'paired_stats.js')));
+const CASES = JSON.parse(fs.readFileSync(path.join(WEB, '..', '..', 'tests', 'figures', 'paired_stats_cases.json'), 'utf8'));
 
 let failed = 0;
 function test(name, fn) {
@@ -193,6 +198,63 @@ test('a long phase\'s progress reads as steps scheduled of the plan\'s', () => {
   assert.equal(dom.fmtWork({ ...w, done: 146, current: null }, { ended: true }), 'conflict resolution: steps 146/146 · 4.2 steps/s');
   assert.equal(dom.fmtWork({ phase: null, done: null, total: null }), '');
   assert.equal(dom.fmtWork(null), '');
+});
+
+test('the default x axis is the one the runs vary: objects when they do, else the parameter with the most values', () => {
+  const params = ['robots', 'objects'];
+  assert.equal(data.defaultAxis([run({ robots: 2 }), run({ robots: 3 })], params), 'robots');
+  assert.equal(data.defaultAxis([run({ objects: 2 }), run({ objects: 4, robots: 3 })], params), 'objects');
+  assert.equal(data.defaultAxis([run({ walls: 1 }), run({ walls: 2, robots: 4 })], ['robots', 'walls']), 'robots', 'a tie goes to the first by name, as report picks');
+  assert.equal(data.defaultAxis([], params), null);
+});
+
+const near = (actual, expected, what) => {
+  if (expected === null) return assert.equal(actual, null, what);
+  assert.ok(Math.abs(actual - expected) <= 1e-9 * Math.max(1, Math.abs(expected)), `${what}: ${actual}, expected ${expected}`);
+};
+
+test('Student t quantiles match the table', () => {
+  for (const [p, df, t] of CASES.t_quantiles) near(stats.studentQuantile(p, df), t, `t(${p}; ${df})`);
+});
+
+test('paired statistics on the hand-checked cases: ratio with its t interval, sign test on censored pairs, Wilson intervals', () => {
+  for (const c of CASES.cases) {
+    const got = stats.pairedStats(c.pairs.map(([a, b]) => ({ a: stats.observation(a), b: stats.observation(b) })));
+    const e = c.expected;
+    for (const k of ['pairs', 'both_solved', 'a_faster', 'b_faster', 'undecided', 'a_solved', 'b_solved']) assert.equal(got[k], e[k], `${c.name}: ${k}`);
+    for (const k of ['ratio', 'ratio_low', 'ratio_high', 'p_value']) near(got[k], e[k], `${c.name}: ${k}`);
+    near(got.a_success.low, e.a_low, `${c.name}: a low`);
+    near(got.a_success.high, e.a_high, `${c.name}: a high`);
+    near(got.b_success.low, e.b_low, `${c.name}: b low`);
+    near(got.b_success.high, e.b_high, `${c.name}: b high`);
+  }
+});
+
+test('sign test p stays finite for thousands of pairs', () => {
+  assert.equal(stats.signTestP(5000, 10000), 1);
+  const p = stats.signTestP(4900, 10000); // the normal approximation gives 0.0466
+  assert.ok(p > 0.044 && p < 0.049, `p = ${p}`);
+  assert.equal(stats.signTestP(0, 0), null);
+});
+
+test('CSV numbers: floating-point noise rounded off, measured digits and integers kept', () => {
+  assert.equal(csv.csvNumber(619.6950000000055), '619.695');
+  assert.equal(csv.csvNumber(0.1 + 0.2), '0.3');
+  assert.equal(csv.csvNumber(0.009797123456), '0.00979712346');
+  assert.equal(csv.csvNumber(1234567890123), '1234567890123');
+  assert.equal(csv.csvNumber(NaN), '');
+  assert.equal(csv.toCsv(['a', 'b'], [{ a: 619.6950000000055, b: 'x,y' }]), 'a,b\r\n619.695,"x,y"\r\n');
+});
+
+test('a batch\u2019s time left counts down while a long run works and is re-estimated when a run ends', () => {
+  const p = { done: 1, remaining: 3, elapsed: 10, eta: 30 };
+  assert.equal(batchEta.steadyEta('b', p), 30);
+  // The runner's estimate grows while nothing ends (issue 41: 23 s left became 119 s); this one falls.
+  assert.equal(batchEta.steadyEta('b', { ...p, elapsed: 20, eta: 60 }), 20);
+  assert.equal(batchEta.steadyEta('b', { ...p, elapsed: 45, eta: 135 }), null, 'past its estimate: unknown');
+  assert.equal(batchEta.steadyEta('b', { done: 2, remaining: 2, elapsed: 50, eta: 50 }), 50);
+  assert.equal(batchEta.steadyEta('other', { done: 0, remaining: 4, elapsed: 3, eta: null }), null);
+  assert.equal(batchEta.steadyEta('b', { done: 4, remaining: 0, elapsed: 90, eta: 0 }), 0);
 });
 
 console.log(failed ? `${failed} failed` : 'all passed');

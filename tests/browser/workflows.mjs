@@ -106,7 +106,7 @@ async function main() {
       expect(size.width === 1050 && Math.abs(size.height - 780) <= 2, `PNG of ${size.width} x ${size.height} px, expected 3.5 x 2.6 in at 300 dpi`);
       const csv = await downloadOf(page, () => page.locator('[data-testid=chart-success-csv]').click());
       const lines = csvRows(csv.bytes.toString('utf8'));
-      expect(lines[0] === 'series,x,finished,solved,skipped,rate' && lines.length > 3, `success CSV: ${lines.slice(0, 3).join(' / ')}`);
+      expect(lines[0] === 'series,x,finished,solved,skipped,rate,rate_low,rate_high' && lines.length > 3, `success CSV: ${lines.slice(0, 3).join(' / ')}`);
       const panels = await page.evaluate(() => [...document.querySelectorAll('[data-testid=chart-times] .chart-box')].filter((b) => Number(b.dataset.points) > 0).length);
       const figure = (await downloadOf(page, () => page.locator('[data-testid=figure-times-svg]').click())).bytes.toString('utf8');
       const nested = (figure.match(/<svg x="/g) || []).length;

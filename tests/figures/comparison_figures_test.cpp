@@ -201,5 +201,33 @@ TEST(FigureLines, GroupsFollowTheirParameterValuesAsNumbers) {
   EXPECT_EQ(count(">64</text>"), 4u);
 }
 
+
+TEST_F(Figures, CommandLineFiguresUseTheDashboardsPalette) {
+  const log::ResultsDb db(dir.file("r.db"), log::OpenMode::ReadOnly);
+  writeComparisonFigures(db, FigureOptions{.batch_id = "b1", .dir = dir.file("figs"), .png = false});
+  const std::string sizes = read(dir.file("figs/sorting-sizes.svg"));
+  // Okabe & Ito's first two colours, as web/js/palette.js has them; not matplotlib's.
+  EXPECT_NE(sizes.find("\"#0072B2\""), std::string::npos);
+  EXPECT_NE(sizes.find("\"#E69F00\""), std::string::npos);
+  EXPECT_EQ(sizes.find("#1f77b4"), std::string::npos);
+}
+
+TEST(SvgChart, TickLabelsAreWrittenWithoutExponents) {
+  Figure f;
+  Panel p;
+  p.title = "t";
+  p.log_y = true;
+  p.series.push_back(Series{.name = "s", .points = {{1, 0.001}, {2, 20000}}});
+  f.panels.push_back(p);
+  const std::string svg = renderSvg(f);
+  for (const char* label : {">0.001</text>", ">0.01</text>", ">1</text>", ">10,000</text>", ">100,000</text>"})
+    EXPECT_NE(svg.find(label), std::string::npos) << label << "\n" << svg;
+  EXPECT_EQ(svg.find(">1e"), std::string::npos) << svg;
+  EXPECT_EQ(tickLabel(0.0005), "0.0005");
+  EXPECT_EQ(tickLabel(0.00123), "0.00123");
+  EXPECT_EQ(tickLabel(0.25), "0.25");
+  EXPECT_EQ(tickLabel(1234567), "1,234,567");
+}
+
 }  // namespace
 }  // namespace dash::figures

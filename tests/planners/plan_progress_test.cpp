@@ -89,6 +89,27 @@ TEST(ProgressSink, TheTickerPrintsWhenNoEventComes) {
     EXPECT_NE(line.find("steps 7/146 (ur5e_3, ur5e_7)"), std::string::npos) << line;
 }
 
+TEST(ProgressSink, ALayerStillBeingBuiltReadsBuildingNotZero) {
+  test::TempDir dir;
+  const std::string path = dir.file("progress.txt");
+  std::FILE* out = std::fopen(path.c_str(), "w");
+  ASSERT_NE(out, nullptr);
+  {
+    ProgressSink sink(out, false, 1e9);
+    // DaSH's motion construction: a phase start, then nothing for H_M until the hypergraph is whole.
+    sink.onEvent(log::Event{0.1, 0, log::PhaseEvent{log::Phase::MotionConstruction, log::PhaseBoundary::Start, 0.0}});
+    sink.flush();
+  }
+  std::fclose(out);
+  const std::string text = readFile(path);
+  EXPECT_NE(text.find("motion_construction 0."), std::string::npos) << text;  // the time in the phase
+  EXPECT_NE(text.find("H_M building"), std::string::npos) << text;
+  EXPECT_EQ(text.find("H_M 0/0"), std::string::npos) << text;
+  EXPECT_NE(text.find("H_T 0/0"), std::string::npos) << text;  // not being built now: its count
+  EXPECT_EQ(ProgressSink::formatLayer("H_M", 0, 0, true), "H_M building");
+  EXPECT_EQ(ProgressSink::formatLayer("H_M", 12, 40, true), "H_M 12/40");
+}
+
 TEST(PlanCli, PrintsConflictResolutionProgressAndThePeakMemory) {
   test::TempDir dir;
   const std::string scene = dir.file("s.json");

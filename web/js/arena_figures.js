@@ -22,16 +22,20 @@ export function drawSolvedCurve(box, ctx) {
   const labels = [...bySeries.keys()].sort();
   const curves = new Map(labels.map((label) => [label, solvedCurve(bySeries.get(label))]));
   const starts = [...curves.values()].filter((c) => c.points.length).map((c) => c.points[0].x).filter((x) => x > 0);
-  const start = starts.length ? Math.min(...starts) : null;
+  // Every curve starts at 0 % at the left edge of the (log) time axis, below the first solve of all.
+  const start = starts.length ? Math.min(...starts) / 1.3 : null;
   for (const label of labels) {
     const curve = curves.get(label);
+    if (curve.finished === 0 || start === null) continue;
     // A series that solved nothing is a line at 0 % (it must not vanish from the plot).
-    if (!curve.points.length && curve.finished > 0 && start !== null && curve.end > start) curve.points = [{ x: start, y: 0 }, { x: curve.end, y: 0 }];
-    if (!curve.points.length) continue;
-    points += curve.points.length;
-    for (const p of curve.points) rows.push({ series: label, time: p.x, percent_solved: p.y, finished: curve.finished });
+    curve.points = [{ x: start, y: 0 }, ...(curve.points.length ? curve.points : [{ x: Math.max(curve.end, start), y: 0 }])];
+    points += curve.points.length - 1;
+    rows.push({ series: label, time: 0, percent_solved: 0, finished: curve.finished });
+    for (const p of curve.points.slice(1)) rows.push({ series: label, time: p.x, percent_solved: p.y, finished: curve.finished });
     const c = colour(ctx.grouped.series.includes(label) ? ctx.grouped.series.indexOf(label) : labels.indexOf(label));
-    datasets.push({ label: `${label} (${curve.solved} of ${curve.finished})`, data: curve.points, borderColor: c, backgroundColor: c, stepped: 'after', pointRadius: 0, borderWidth: 2 });
+    // 'before' (Chart.js: along at the old value, then up at the new point): the share holds until the
+    // next solve; 'after' would rise at the previous point, a solve early.
+    datasets.push({ label: `${label} (${curve.solved} of ${curve.finished})`, data: curve.points, borderColor: c, backgroundColor: c, stepped: 'before', pointRadius: 0, borderWidth: 2 });
   }
   const all = datasets.flatMap((d) => d.data.map((p) => p.x)).filter((v) => v > 0);
   drawChart(
@@ -42,7 +46,7 @@ export function drawSolvedCurve(box, ctx) {
       options: {
         plugins: { tooltip: { callbacks: { label: (c) => `${c.dataset.label}: ${fmtNumber(c.raw.y)}% solved by ${fmtSeconds(c.raw.x)}` } } },
         scales: {
-          x: { ...valueAxis('time (s, log scale)', { log: true }), min: all.length ? Math.min(...all) / 1.3 : undefined, afterBuildTicks: (scale) => (scale.ticks = logTicks(scale.min, scale.max).map((value) => ({ value }))) },
+          x: { ...valueAxis('time (s, log scale)', { log: true, fmt: secondsTick }), min: all.length ? Math.min(...all) : undefined, afterBuildTicks: (scale) => (scale.ticks = logTicks(scale.min, scale.max).map((value) => ({ value }))) },
           y: percentAxis('runs solved (% of finished runs)'),
         },
       },

@@ -43,8 +43,16 @@ export function logTicks(min, max) {
     for (let k = Math.floor(Math.log10(min)); k <= Math.ceil(Math.log10(max)); k++) {
       for (const m of mantissas) if (inRange(m * 10 ** k)) out.push(Number((m * 10 ** k).toPrecision(12)));
     }
-    if (decades > 5) return out.filter((v, i) => i % Math.ceil(decades / 5) === 0);
-    if (out.length >= 2) return out;
+    // Thinned from the top down, so that the power of ten nearest the top keeps its label.
+    const kept = decades > 5 ? out.filter((v, i) => (out.length - 1 - i) % Math.ceil(decades / 5) === 0) : out;
+    // Powers of ten only: the space between the last labelled power and the top of the axis (1 to
+    // 9 s, say) gets a 5 or a 2 where it fits at least an eighth of the axis away from that power.
+    if (mantissas.length === 1 && kept.length) {
+      const top = kept[kept.length - 1];
+      const m = [5, 2].find((k) => inRange(k * top) && Math.log10(k) >= 0.125 * decades);
+      if (m) kept.push(Number((m * top).toPrecision(12)));
+    }
+    if (kept.length >= 2) return kept;
   }
   // Below a decade: round numbers evenly spaced, the widest 1-2-5 step that still gives 4 ticks.
   let step = 10 ** Math.ceil(Math.log10(max - min));

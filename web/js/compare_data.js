@@ -177,6 +177,25 @@ export function labelSettings(runs) {
   return runs;
 }
 
+/// The x axis the runs call for, picked as `dashbench report --figures` picks it
+/// (server/figures/figure_data.cpp): objects when they take more than one value, else the parameter
+/// with the most distinct values (the first by name on a tie); null without runs. A batch that
+/// varies robots opens on robots, not on a column of points at one object count.
+export function defaultAxis(runs, params) {
+  const distinct = (p) => new Set(runs.map((r) => r[p]).filter((v) => typeof v === 'number')).size;
+  if (params.includes('objects') && distinct('objects') > 1) return 'objects';
+  let best = null;
+  let most = 0;
+  for (const p of [...params].sort()) {
+    const n = distinct(p);
+    if (n > most) {
+      best = p;
+      most = n;
+    }
+  }
+  return best;
+}
+
 /// Scenario parameters that some run of the list has (the family's parameters).
 export function parametersOf(runs, columns) {
   return columns.filter((c) => c.group === 'param' && runs.some((r) => r[c.name] !== null && r[c.name] !== undefined)).map((c) => c.name);
@@ -232,6 +251,24 @@ export function ratios(runs, { metric, numerator, denominator, x, split, groupBy
     s.uuids.push(r.uuid);
   }
   return [...byScene.values()].filter((s) => typeof s.a === 'number' && typeof s.b === 'number' && typeof s.x === 'number').map((s) => ({ ...s, ratio: s.a / s.b }));
+}
+
+/// Per scene (family, parameters, seed) where both configurations have a finished run: {scene, x,
+/// split, a, b} with the numerator's and the denominator's run (the first finished one of each, by
+/// id). Unsolved runs stay in: the paired statistics (paired_stats.js) censor them.
+export function scenePairs(runs, { numerator, denominator, x, split, groupBy, params }) {
+  const byScene = new Map();
+  for (const r of runs) {
+    if (!isFinished(r)) continue;
+    const g = groupKey(r, groupBy);
+    const side = g === numerator ? 'a' : g === denominator ? 'b' : null;
+    if (!side || numerator === denominator) continue;
+    const key = sceneKey(r, params);
+    if (!byScene.has(key)) byScene.set(key, { scene: key, x: r[x], split: split ? r[split] : null });
+    const s = byScene.get(key);
+    if (!s[side] || r.id < s[side].id) s[side] = r;
+  }
+  return [...byScene.values()].filter((s) => s.a && s.b);
 }
 
 /// Planner Arena's "fraction of runs solved against time": for each series, the share of its finished

@@ -7,6 +7,7 @@ import { drawChart, valueAxis, sizeAxis, axisTitle, percentAxis, exportButtons, 
 import { el, clear, fmtNumber } from './dom.js';
 import { colour } from './palette.js';
 import { summary, cellValues, successOf, ratios } from './compare_data.js';
+import { wilson } from './paired_stats.js';
 
 const LAYERS = {
   task: { label: 'H_T', point: 'circle', dash: [] },
@@ -144,7 +145,9 @@ export function drawTimes(container, ctx, shown) {
       }
     }
   }
-  const pad = hi > lo ? 10 ** (0.06 * Math.log10(hi / lo)) : 1.5;
+  // A tenth of the data's span (at least 0.05 decades) above and below: the small panels' points
+  // stay clear of the frame.
+  const pad = hi > lo ? 10 ** Math.max(0.05, 0.1 * Math.log10(hi / lo)) : 1.5;
   const yRange = hi > 0 ? [lo / pad, hi * pad] : null;
   let points = 0;
   ctx.grouped.series.forEach((label, k) => {
@@ -192,6 +195,38 @@ const skippedCrosses = {
   },
 };
 
+/// Each success bar's 95 % Wilson interval as a whisker with caps (raw.ci: [low, high] in percent).
+const wilsonWhiskers = {
+  id: 'wilsonWhiskers',
+  afterDatasetsDraw(chart) {
+    const { ctx } = chart;
+    const y = chart.scales.y;
+    chart.data.datasets.forEach((ds, i) => {
+      const meta = chart.getDatasetMeta(i);
+      if (meta.hidden) return;
+      meta.data.forEach((bar, k) => {
+        const ci = ds.data[k] && ds.data[k].ci;
+        if (!ci) return;
+        const top = y.getPixelForValue(ci[1]);
+        const bottom = y.getPixelForValue(ci[0]);
+        const cap = Math.min(4, (bar.width || 8) / 3);
+        ctx.save();
+        ctx.strokeStyle = '#333333';
+        ctx.lineWidth = 1;
+        ctx.beginPath();
+        ctx.moveTo(bar.x, top);
+        ctx.lineTo(bar.x, bottom);
+        ctx.moveTo(bar.x - cap, top);
+        ctx.lineTo(bar.x + cap, top);
+        ctx.moveTo(bar.x - cap, bottom);
+        ctx.lineTo(bar.x + cap, bottom);
+        ctx.stroke();
+        ctx.restore();
+      });
+    });
+  },
+};
+
 /// (c) Success rate: solved out of finished runs, as grouped bars (one slot per size, one bar per
 /// series: equal rates such as 100 % stay side by side instead of hiding each other). 0 % is a stub
 /// bar, no runs is a gap, a size the batch skipped a cross on the axis.
@@ -206,14 +241,15 @@ export function drawSuccess(box, ctx) {
       const s = successOf(cell);
       if (s.rate === null && s.skipped > 0) {
         // A size the batch skipped (its axis stopped after every seed failed a smaller one).
-        rows.push({ series: label, x, finished: 0, solved: 0, skipped: s.skipped, rate: '' });
+        rows.push({ series: label, x, finished: 0, solved: 0, skipped: s.skipped, rate: '', rate_low: '', rate_high: '' });
         points += 1;
         return { x: String(x), y: 0, s, skippedPoint: true, filter: cellFilter(ctx, cell) };
       }
       if (s.rate === null) return { x: String(x), y: null };
-      rows.push({ series: label, x, finished: s.finished, solved: s.solved, skipped: s.skipped, rate: s.rate });
+      const w = wilson(s.solved, s.finished);
+      rows.push({ series: label, x, finished: s.finished, solved: s.solved, skipped: s.skipped, rate: s.rate, rate_low: w.low, rate_high: w.high });
       points += 1;
-      return { x: String(x), y: 100 * s.rate, s, filter: cellFilter(ctx, cell) };
+      return { x: String(x), y: 100 * s.rate, s, ci: [100 * w.low, 100 * w.high], filter: cellFilter(ctx, cell) };
     });
     const c = seriesColour(ctx, label);
     datasets.push({
@@ -236,18 +272,18 @@ export function drawSuccess(box, ctx) {
         interaction: { mode: 'nearest', intersect: true },
         plugins: {
           legend: { labels: { usePointStyle: false } },
-          tooltip: { callbacks: { label: (c) => (c.raw.skippedPoint ? `${c.dataset.label}: skipped (${c.raw.s.skipped} runs not run: a smaller size failed on every seed)` : `${c.dataset.label}: ${fmtNumber(c.raw.y)}% (${c.raw.s.solved} of ${c.raw.s.finished} solved)`) } },
+          tooltip: { callbacks: { label: (c) => (c.raw.skippedPoint ? `${c.dataset.label}: skipped (${c.raw.s.skipped} runs not run: a smaller size failed on every seed)` : `${c.dataset.label}: ${fmtNumber(c.raw.y)}% (${c.raw.s.solved} of ${c.raw.s.finished} solved; 95% Wilson interval ${fmtNumber(c.raw.ci[0], 2)}–${fmtNumber(c.raw.ci[1], 2)}%)`) } },
         },
         scales: {
           x: { type: 'category', title: axisTitle(`${ctx.x} (count)`), ticks: { autoSkip: false } },
           y: { ...percentAxis('success rate (% of finished runs)'), min: 0 },
         },
       },
-      plugins: [skippedCrosses],
+      plugins: [skippedCrosses, wilsonWhiskers],
     },
     points,
     'no finished runs for this selection',
-    { csv: () => ({ columns: ['series', 'x', 'finished', 'solved', 'skipped', 'rate'], rows }), onPoint: (raw) => raw.filter && ctx.open(raw.filter) },
+    { csv: () => ({ columns: ['series', 'x', 'finished', 'solved', 'skipped', 'rate', 'rate_low', 'rate_high'], rows }), onPoint: (raw) => raw.filter && ctx.open(raw.filter) },
   );
 }
 
@@ -343,7 +379,9 @@ export function drawRatio(box, ctx, { metric, label, numerator, denominator }) {
     const name = ctx.split ? `${ctx.split}=${sv}` : 'scenes';
     datasets.push({ type: 'scatter', label: `${name}: each scene`, data: mine.map((r) => ({ x: r.x, y: r.ratio, r, filter: `uuid = ${quote(r.uuids[0])} or uuid = ${quote(r.uuids[1])}` })), backgroundColor: `${c}88`, borderColor: c, pointRadius: 3 });
     const xs = [...new Set(mine.map((r) => r.x))].sort((a, b) => a - b);
-    datasets.push({ type: 'line', label: `${name}: median`, data: xs.map((x) => ({ x, y: summary(mine.filter((r) => r.x === x).map((r) => r.ratio)).median })), borderColor: c, backgroundColor: c, pointRadius: 0, borderWidth: 2 });
+    // The median as a bar across each x (a line through them when there are several): with one x
+    // value a line alone would not show.
+    datasets.push({ type: 'line', label: `${name}: median`, data: xs.map((x) => ({ x, y: summary(mine.filter((r) => r.x === x).map((r) => r.ratio)).median })), borderColor: c, backgroundColor: c, pointStyle: 'line', pointRadius: 9, pointBorderWidth: 3, pointHoverRadius: 9, borderWidth: 2 });
   });
   const xs = [...new Set(list.map((r) => r.x))];
   if (list.length) {

@@ -3,6 +3,9 @@
 // aggregated data behind a plot, or any table, as CSV.
 import { Chart } from './charts.js';
 import { SvgContext } from './svg_context.js';
+import { toCsv } from './csv.js';
+
+export { toCsv };
 
 const CSS_PX_PER_INCH = 96;
 const PNG_DPI = 300;
@@ -15,6 +18,10 @@ const FONT_PX = 8 * (CSS_PX_PER_INCH / 72); // 8 pt
 const LEGEND_FONT_PX = 7 * (CSS_PX_PER_INCH / 72); // 7 pt
 const LINE_PX = 1.2 * (CSS_PX_PER_INCH / 72); // about 1.2 pt
 const POINT_RADIUS_PX = 2.6;
+// Point styles drawn with strokes only (an asterisk, crosses) read as a dot at the filled shapes'
+// size: they keep this radius, so that validation's asterisk prints as an asterisk.
+const STROKED_POINTS = new Set(['star', 'cross', 'crossRot']);
+const STROKED_RADIUS_PX = 4.2;
 
 /// A copy of a Chart.js config: plain objects and arrays copied, functions and other values shared.
 export function cloneConfig(value) {
@@ -46,7 +53,7 @@ function printConfig(config, dpr, size) {
   for (const ds of c.data?.datasets || []) {
     const width = typeof ds.borderWidth === 'number' ? ds.borderWidth : 3;
     if (ds.type !== 'bar' && c.type !== 'bar') ds.borderWidth = Math.min(width, LINE_PX);
-    if (typeof ds.pointRadius === 'number') ds.pointRadius = Math.min(ds.pointRadius, POINT_RADIUS_PX);
+    if (typeof ds.pointRadius === 'number') ds.pointRadius = Math.min(ds.pointRadius, STROKED_POINTS.has(ds.pointStyle) ? STROKED_RADIUS_PX : POINT_RADIUS_PX);
     if (Array.isArray(ds.borderDash)) ds.borderDash = ds.borderDash.map((d) => d * 0.6);
     if (typeof ds.outlierRadius === 'number') ds.outlierRadius = Math.min(ds.outlierRadius, 2);
     // Lines drawn segment by segment: Chart.js otherwise strokes a cached Path2D, which the SVG
@@ -122,19 +129,6 @@ export function chartPng(config, size = 'column') {
   const out = new Uint8Array(bytes.length);
   for (let i = 0; i < bytes.length; i++) out[i] = bytes.charCodeAt(i);
   return new Blob([out], { type: 'image/png' });
-}
-
-function csvField(v) {
-  if (v === null || v === undefined) return '';
-  const s = typeof v === 'object' ? JSON.stringify(v) : String(v);
-  return /[",\n\r]/.test(s) ? `"${s.replace(/"/g, '""')}"` : s;
-}
-
-/// RFC 4180 CSV from column names and rows (arrays or objects keyed by column).
-export function toCsv(columns, rows) {
-  const lines = [columns.map(csvField).join(',')];
-  for (const r of rows) lines.push(columns.map((c, i) => csvField(Array.isArray(r) ? r[i] : r[c])).join(','));
-  return `${lines.join('\r\n')}\r\n`;
 }
 
 /// Saves `content` (a string or a Blob) as a file the browser downloads.

@@ -8,9 +8,10 @@ import { api } from '../api.js';
 import { on, debounce } from '../events.js';
 import { el, clear, fmtNumber, errorBox, badge } from '../dom.js';
 import { chartPanel, destroyCharts, figureButtons } from '../charts.js';
-import { fetchRuns, groupRuns, parametersOf, groupKey, DERIVED_METRICS } from '../compare_data.js';
+import { fetchRuns, groupRuns, parametersOf, groupKey, defaultAxis, DERIVED_METRICS } from '../compare_data.js';
 import { drawSizes, drawTimes, drawSuccess, drawBuilder, drawRatio, TIME_PARTS } from '../compare_figures.js';
 import { drawSolvedCurve, drawTimeToSolve } from '../arena_figures.js';
+import { drawStats, statsCsvButton } from '../compare_stats.js';
 import { writeState, readString, readBool, readList } from '../url_state.js';
 import { selectedRuns } from './runs.js';
 
@@ -43,7 +44,11 @@ export function mount(root, args, params = new URLSearchParams()) {
     runs: params.has('runs') ? readList(params, 'runs') : selectedRuns(),
     diff: readBool(params, 'diff', true),
   };
+  // The x axis as the link or the user chose it; otherwise the one the fetched runs vary (defaultAxis).
+  let xChosen = params.has('x');
+  let mounted = true; // a fetch or a debounced reload that ends after the page was left must not write its URL
   function save() {
+    if (!mounted) return;
     writeState({ ...state, split: state.split === '' ? 'none' : state.split, phases: state.phases.join(',') }, { group: 'config', unsolved: false, ext: false, phases: Object.keys(TIME_PARTS).join(','), metric: 'total_time', style: 'band', log: true, ratio: 'total_time', diff: true });
   }
 
@@ -80,7 +85,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       timesBox,
     ),
   };
-  const success = chartPanel({ tall: true, title: 'Success rate', testid: 'chart-success', name: 'success-rate', help: 'Solved runs out of finished runs (timeouts, infeasible and crashed runs count as failures). One bar per series and size, side by side so that equal rates never hide each other: 0 % is a stub bar, no runs a gap, a cross on the axis a size the batch skipped.' });
+  const success = chartPanel({ tall: true, title: 'Success rate', testid: 'chart-success', name: 'success-rate', help: 'Solved runs out of finished runs (timeouts, infeasible and crashed runs count as failures). One bar per series and size, side by side so that equal rates never hide each other: 0 % is a stub bar, no runs a gap, a cross on the axis a size the batch skipped. Whiskers: 95 % Wilson interval of the rate.' });
 
   const metricSelect = el('select', { 'data-testid': 'builder-metric' });
   const styleSelect = select('builder-style', [{ value: 'band', text: 'median and interquartile band' }, { value: 'box', text: 'box plots' }], state.style);
@@ -90,6 +95,15 @@ export function mount(root, args, params = new URLSearchParams()) {
   const denSelect = el('select', { 'data-testid': 'ratio-den' });
   const ratioMetric = el('select', { 'data-testid': 'ratio-metric' });
   const ratio = chartPanel({ title: 'Ratio per scene', testid: 'chart-ratio', name: 'ratio', help: 'For each scene (same parameters and seed) solved by both: the first series\u2019 value over the second\u2019s; the line is the median per x.', controls: [el('label', {}, ratioMetric), numSelect, el('span', { text: '/' }), denSelect] });
+  const statsBox = el('div', { 'data-testid': 'paired-stats', 'data-rows': '0' });
+  const statsTitle = el('h2', { text: 'Paired statistics' });
+  const statsPanel = el(
+    'div',
+    { class: 'panel wide' },
+    el('div', { class: 'panel-head' }, statsTitle, el('span', { class: 'exports' }, statsCsvButton(statsBox, 'paired-statistics'))),
+    el('div', { class: 'muted', text: 'The two configurations of the ratio plot on the same scenes and seeds, per size and over all. Time ratio: geometric mean of the total-time ratios over the pairs both solved, with a 95 % Student t interval on the log ratios. Sign test: two-sided exact binomial on Gehan\u2019s pair scores, where a run that did not solve (timeout, infeasible, crash) is censored at its time limit: a solve within the partner\u2019s limit counts as faster, two failures say nothing; failures are neither dropped nor counted as taking the limit. Success: solved pairs with a 95 % Wilson interval. The same numbers as `dashbench report`.' }),
+    statsBox,
+  );
   const solved = chartPanel({ title: 'Runs solved against time (Planner Arena)', testid: 'chart-solved-time', name: 'solved-vs-time', help: 'Share of finished runs solved within t. Runs that time out or fail stay in the count (censored, never dropped): a curve ends below 100 % if some runs were not solved.' });
   const tts = chartPanel({ title: 'Time to solve (Planner Arena)', testid: 'chart-time-to-solve', name: 'time-to-solve', help: 'Distribution of solved runs\u2019 total time per series; the label says how many of the runs were solved.' });
 
@@ -118,6 +132,7 @@ export function mount(root, args, params = new URLSearchParams()) {
     el('div', { class: 'grid2' }, success.panel, solved.panel),
     el('h2', { class: 'section', text: 'Plot builder' }),
     el('div', { class: 'grid2' }, builder.panel, ratio.panel),
+    statsPanel,
     el('h2', { class: 'section', text: 'Distributions and runs' }),
     el('div', { class: 'grid2' }, tts.panel, el('div', { class: 'panel' }, el('h2', { text: 'Runs side by side' }), el('div', { class: 'toolbar' }, diffInput, el('label', {}, diffOnly, 'differences only')), diffBox)),
   );
@@ -168,7 +183,10 @@ export function mount(root, args, params = new URLSearchParams()) {
     drawTimeToSolve(tts.box, ctx);
   }
   function drawBuilderPanel() {
-    if (ctx) drawBuilder(builder.box, ctx, { metric: state.metric, label: labelOf(state.metric), style: state.style, log: state.log });
+    if (!ctx) return;
+    // File names say what is plotted: builder-sorting-collision_checks-by-objects-box.svg, not builder-sorting.svg.
+    builder.box.dataset.exportName = `${state.family}-${state.metric}-by-${state.x}${state.style === 'box' ? '-box' : ''}`;
+    drawBuilder(builder.box, ctx, { metric: state.metric, label: labelOf(state.metric), style: state.style, log: state.log });
   }
   function drawRatioPanel() {
     if (!ctx) return;
@@ -181,10 +199,15 @@ export function mount(root, args, params = new URLSearchParams()) {
     };
     fill(numSelect, 'num', 'dash', null);
     fill(denSelect, 'den', 'lazy-dash', state.num);
+    ratio.box.dataset.exportName = `${state.family}-${state.ratio}-${state.num}-vs-${state.den}`;
     drawRatio(ratio.box, ctx, { metric: state.ratio, label: labelOf(state.ratio), numerator: state.num, denominator: state.den });
+    statsTitle.textContent = `Paired statistics: ${state.num} against ${state.den}`;
+    statsBox.dataset.exportName = `${state.family}-${state.num}-vs-${state.den}`;
+    drawStats(statsBox, ctx, { numerator: state.num, denominator: state.den });
   }
 
   async function load() {
+    if (!mounted) return;
     save();
     if (!state.family || !state.x) return;
     info.textContent = 'loading…';
@@ -195,11 +218,13 @@ export function mount(root, args, params = new URLSearchParams()) {
       info.textContent = `${ran} runs${data.skipped ? ` (and ${data.skipped} skipped by the axis stop rule)` : ''}${data.truncated ? ' (the first ones only: narrow the filter)' : ''}`;
       info.dataset.runs = String(ran);
       info.dataset.skipped = String(data.skipped);
+      pickAxis();
       drawAll();
     } catch (e) {
       data = null;
       info.textContent = '';
       status.textContent = e.message;
+      clear(statsBox).dataset.rows = '0';
       for (const p of [sizesV, sizesH, times, success, builder, ratio, solved, tts]) {
         destroyCharts(p.panel);
         clear(p.box).append(el('div', { class: 'chart-empty', text: 'no plot: see the error above' }));
@@ -216,6 +241,18 @@ export function mount(root, args, params = new URLSearchParams()) {
     if (!ps.includes(state.x)) state.x = ps.includes('objects') ? 'objects' : ps[0] || '';
     xSelect.value = state.x;
     fillSplit();
+  }
+
+  /// With no x axis chosen, the one the fetched runs vary (a batch over robots opens on robots).
+  function pickAxis() {
+    if (xChosen) return;
+    const fam = overview.find((f) => f.family === state.family);
+    const best = defaultAxis(data.runs, fam ? fam.parameters : []);
+    if (!best || best === state.x) return;
+    state.x = best;
+    xSelect.value = best;
+    fillSplit();
+    save();
   }
 
   /// The other parameters; by default the first of them, so that runs of different sizes never mix.
@@ -264,11 +301,13 @@ export function mount(root, args, params = new URLSearchParams()) {
   familySelect.addEventListener('change', () => {
     state.family = familySelect.value;
     state.split = null;
+    xChosen = false;
     fillX();
     load();
   });
   xSelect.addEventListener('change', () => {
     state.x = xSelect.value;
+    xChosen = true;
     fillSplit();
     save();
     drawAll();
@@ -372,6 +411,7 @@ export function mount(root, args, params = new URLSearchParams()) {
     }
   })();
   return () => {
+    mounted = false;
     offs.forEach((off) => off());
     destroyCharts(root);
   };

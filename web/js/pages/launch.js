@@ -5,6 +5,7 @@ import { api, ApiError, getToken } from '../api.js';
 import { on, debounce } from '../events.js';
 import { el, clear, badge, fmtSeconds, fmtWork, errorBox } from '../dom.js';
 import { writeState } from '../url_state.js';
+import { steadyEta } from '../batch_eta.js';
 
 const MAX_SPEC_URL_CHARS = 4000;
 
@@ -28,7 +29,7 @@ export function parseValues(text) {
   return out;
 }
 
-function progressBar(p) {
+function progressBar(p, id) {
   const total = Math.max(1, p.total || 0);
   const pct = (n) => `${(100 * (n || 0)) / total}%`;
   const solvedW = pct(p.solved);
@@ -44,11 +45,13 @@ function progressBar(p) {
   if (p.failed) parts.push(`${p.failed} failed`);
   if (p.cancelled) parts.push(`${p.cancelled} cancelled`);
   if (p.running) parts.push(`${p.running} running`);
-  if (p.eta !== null && p.eta !== undefined && p.eta >= 0 && p.remaining > 0) parts.push(`about ${fmtSeconds(p.eta)} left`);
-  // The running runs whose planner reports a long phase's progress (conflict resolution's steps).
+  const eta = steadyEta(id, p); // counts down while a run works (batch_eta.js)
+  if (eta !== null && p.remaining > 0) parts.push(`about ${fmtSeconds(eta)} left`);
+  // The running runs whose planner reports a long phase's progress (conflict resolution's steps),
+  // and any other run working for 5 s or more (a DaSH construction): which run, for how long.
   const work = (p.active || [])
-    .filter((a) => fmtWork(a.work))
-    .map((a) => el('div', { class: 'progress-label muted', 'data-testid': 'run-work', text: `${a.key}: ${fmtWork(a.work)}` }));
+    .filter((a) => fmtWork(a.work) || a.seconds >= 5)
+    .map((a) => el('div', { class: 'progress-label muted', 'data-testid': 'run-work' }, el('a', { href: `#/run/${a.uuid}`, text: a.key }), `: ${fmtWork(a.work) || `running for ${fmtSeconds(a.seconds)}`}`));
   return [bar, el('div', { class: 'progress-label', text: parts.join(' · ') }), ...work];
 }
 
@@ -355,7 +358,7 @@ export function mount(root, args, params = new URLSearchParams()) {
         const states = Object.entries(b.slurm || {}).map(([state, n]) => `${n} ${state}`).join(', ');
         statusCell.append(el('div', { class: 'muted', 'data-testid': 'slurm-states', text: `slurm: ${states}` }));
       }
-      const progressCell = el('td', {}, progressBar(b.progress));
+      const progressCell = el('td', {}, progressBar(b.progress, b.id));
       const actions = el('td', {});
       if (b.cancellable) {
         actions.append(
@@ -403,7 +406,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       if (m.status) showSubmitted(m.id, m.status, m.progress);
       const r = rows.get(m.id);
       if (!r) return reload();
-      if (m.progress) clear(r.progressCell).append(...progressBar(m.progress));
+      if (m.progress) clear(r.progressCell).append(...progressBar(m.progress, m.id));
       if (m.status) {
         clear(r.statusCell).append(badge(m.status));
         r.row.dataset.status = m.status;
