@@ -59,9 +59,10 @@ const std::vector<Entry>& entries() {
          {.name = "objects", .default_value = 8, .min = 4, .max = 28, .meaning = "existing and new items in all"}}},
        generateStocking},
       {{"lab",
-        "two gantries over a bench: gantry_0 (grasp) moves each container's lid to a small sanitisation "
-        "zone and back, gantry_1 (inspect) inspects the open container",
-        {{.name = "containers", .default_value = 4, .min = 1, .max = 8, .meaning = "sealed containers, one lid each"}}},
+        "two gantries over a bench, each able to lift lids and inspect: a container's lid goes to a small "
+        "sanitisation zone (room for min(3, containers - 1) lids), the open container is inspected, the lid "
+        "goes back",
+        {{.name = "containers", .default_value = 4, .min = 2, .max = 24, .meaning = "sealed containers, one lid each"}}},
        generateLab},
   };
   return table;

@@ -42,6 +42,9 @@ const ScenarioFamily* findScenarioFamily(const std::string& name);
 /// The family or an InputError listing the known families.
 const ScenarioFamily& scenarioFamily(const std::string& name);
 
+/// Lab: how many lids the sanitisation zone has room for with `containers` containers (fewer than them).
+int labZoneLids(int containers);
+
 /// `--list`: each family with its parameters, defaults and ranges (plain text, one block per family).
 std::string describeScenarioFamilies();
 

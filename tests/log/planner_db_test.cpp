@@ -136,9 +136,9 @@ TEST_P(PlannerDatabase, EventCountsEqualTheReportedRepresentationSizes) {
 INSTANTIATE_TEST_SUITE_P(
     EachPlanner, PlannerDatabase,
     ::testing::Values(Case{"lazy-dash", "sorting", {{"robots", "2"}, {"objects", "2"}}},
-                      Case{"lazy-dash", "lab", {{"containers", "1"}}},
+                      Case{"lazy-dash", "lab", {{"containers", "2"}}},
                       Case{"dash", "sorting", {{"robots", "2"}, {"objects", "2"}}},
-                      Case{"dash", "lab", {{"containers", "1"}}}),
+                      Case{"dash", "lab", {{"containers", "2"}}}),
     [](const ::testing::TestParamInfo<Case>& info) {
       std::string name = info.param.planner + "_" + info.param.family;
       for (const auto& [k, v] : info.param.params) name += "_" + k + v;

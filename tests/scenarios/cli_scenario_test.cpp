@@ -69,7 +69,7 @@ TEST_F(CliScenario, BadInputExitsTwoNamingTheProblem) {
       {"sorting --seed 1 robots=40", {"robots", "out of range", "2..32"}},
       {"stocking layers=4", {"layers", "2..3"}},
       {"shelf-wall robots=3", {"robots", "even"}},
-      {"lab containers=many", {"containers", "not an integer", "1..8"}},
+      {"lab containers=many", {"containers", "not an integer", "2..24"}},
       {"wall robots=5 walls=6", {"walls=6 needs robots >= 7"}},
       {"wall walls=32", {"walls", "1..31"}},
       {"sorting --seed -1", {"--seed"}},

@@ -89,7 +89,7 @@ TEST(ScenarioFamilies, StockingSmallMediumLargest) {
 }
 
 TEST(ScenarioFamilies, LabSmallMediumLargest) {
-  checkFamily("lab", {{{"containers", "1"}}, {{"containers", "4"}}, {{"containers", "8"}}});
+  checkFamily("lab", {{{"containers", "2"}}, {{"containers", "4"}}, {{"containers", "16"}}, {{"containers", "24"}}});
 }
 
 }  // namespace

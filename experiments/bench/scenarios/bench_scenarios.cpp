@@ -46,7 +46,7 @@ BENCHMARK(BM_ShelfWallLargest)->Unit(benchmark::kMillisecond)->Iterations(5);
 void BM_StockingLargest(benchmark::State& state) { generate(state, "stocking", {{"layers", "3"}, {"objects", "28"}}); }
 BENCHMARK(BM_StockingLargest)->Unit(benchmark::kMillisecond)->Iterations(5);
 
-void BM_LabLargest(benchmark::State& state) { generate(state, "lab", {{"containers", "8"}}); }
+void BM_LabLargest(benchmark::State& state) { generate(state, "lab", {{"containers", "24"}}); }
 BENCHMARK(BM_LabLargest)->Unit(benchmark::kMillisecond)->Iterations(5);
 
 }  // namespace
