@@ -10,7 +10,6 @@
 #   small      experiments/lazy_dash/run.sh --seeds 5 --time-limit 300        (about 5 minutes)
 #   large      experiments/lazy_dash/run.sh --large --seeds 5                 (1-3 hours)
 #   task-layer experiments/task_layer/run.sh                                  (under a minute)
-#   compare    experiments/compare/run.sh --workers 1 --time-limit 120        (about 1 hour)
 #   ablation   experiments/ablation/run.sh --workers 1 --seeds 1 --time-limit 60 (15-45 min; 1.5 h at most)
 #   dispatch-load tests/dispatch/under_load.sh --runs 20 --sorting            (about 12 minutes)
 #   validation experiments/validation/largest.sh                             (20-40 minutes)
@@ -36,14 +35,13 @@ declare -A COMMANDS=(
   [small]="experiments/lazy_dash/run.sh --seeds 5 --time-limit 300"
   [large]="experiments/lazy_dash/run.sh --large --seeds 5"
   [task-layer]="experiments/task_layer/run.sh"
-  [compare]="experiments/compare/run.sh --workers 1 --time-limit 120"
   [ablation]="experiments/ablation/run.sh --workers 1 --seeds 1 --time-limit 60"
   [dispatch-load]="tests/dispatch/under_load.sh --runs ${DISPATCH_LOAD_RUNS:-20} --sorting"
   [validation]="experiments/validation/largest.sh${VALIDATION_PLANS:+ --plans $VALIDATION_PLANS}"
   [scaling]="experiments/scaling/run.sh"
   [paper-all]="experiments/compare/paper_all.sh${PAPER_ALL_BATCH:+ --batch $PAPER_ALL_BATCH}${PAPER_ALL_DB:+ --db $PAPER_ALL_DB}"
 )
-ORDER=(small large task-layer compare ablation dispatch-load validation scaling paper-all)
+ORDER=(small large task-layer ablation dispatch-load validation scaling paper-all)
 
 if [ "${1:-}" = "--list" ]; then
   for s in "${ORDER[@]}"; do printf '%-13s %s\n' "$s" "${COMMANDS[$s]}"; done
