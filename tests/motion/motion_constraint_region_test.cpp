@@ -12,6 +12,7 @@
 #include "engine/robots/kinematics.h"
 #include "engine/scenarios/scenario_registry.h"
 #include "engine/task/task_layer.h"
+#include "tests/motion/first_task_plan.h"
 
 namespace dash {
 namespace {
@@ -20,16 +21,7 @@ using lazy::historyOf;
 using lazy::MotionConstraint;
 using lazy::MotionConstraintSet;
 
-struct SortingRun {
-  Scene scene = generateScenario("sorting", {{"robots", "2"}, {"objects", "4"}}, 1, RobotLibrary::loadDefault());
-  CollisionWorld world{scene};
-  CollisionContext context{world};
-  log::MemorySink sink;
-  log::EventEmitter emitter{&sink};
-  TaskLayer task{scene, world, context, emitter, 1};
-  MotionLayer motion{world, context, emitter};
-  TaskLayerResult layer = task.plan(Deadline(120));
-};
+using testing::FirstTaskPlan;
 
 bool pathEntersRegion(const CollisionWorld& world, CollisionContext& context, int robot, const HeldObject& held,
                       const std::vector<JointVector>& path, const std::vector<Aabb>& region) {
@@ -42,7 +34,7 @@ bool pathEntersRegion(const CollisionWorld& world, CollisionContext& context, in
 }
 
 /// A 6 cm cube around the TCP halfway along a straight transit: in its way, away from both ends.
-std::optional<Aabb> boxInTheWay(const SortingRun& run, int robot, const StepVisit& visit) {
+std::optional<Aabb> boxInTheWay(const FirstTaskPlan& run, int robot, const StepVisit& visit) {
   if (visit.transit.size() != 2) return std::nullopt;
   const SceneRobot& r = run.scene.robots[robot];
   const JointVector mid = 0.5 * (visit.transit.front() + visit.transit.back());
@@ -57,7 +49,7 @@ std::optional<Aabb> boxInTheWay(const SortingRun& run, int robot, const StepVisi
 
 TEST(MotionConstraintRegion, TheConstrainedHistorysMoveIsReplannedOutOfTheRegionAndOthersStay) {
   const OmplSeedScope ompl_seeds(1);
-  SortingRun run;
+  FirstTaskPlan run("sorting", {{"robots", "2"}, {"objects", "4"}});
   ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
   const MotionLayerResult before = run.motion.plan(run.layer.plan, run.layer.transitions, run.task.space(), Deadline(120));
   ASSERT_EQ(before.status, MotionStatus::kOk) << before.reason;

@@ -12,6 +12,7 @@
 #include "engine/motion/seeded_ompl.h"
 #include "engine/scenarios/scenario_registry.h"
 #include "engine/task/task_layer.h"
+#include "tests/motion/first_task_plan.h"
 
 namespace dash {
 namespace {
@@ -90,16 +91,7 @@ TEST(MotionHypergraph, AHandoverIsOneHyperarcCouplingBothRobotsAndTheQueryWalksT
   EXPECT_FALSE(g.query(source, wrong, sink, Deadline(10)).reached_sink);
 }
 
-struct SortingRun {
-  Scene scene = generateScenario("sorting", {{"robots", "4"}, {"objects", "8"}}, 1, RobotLibrary::loadDefault());
-  CollisionWorld world{scene};
-  CollisionContext context{world};
-  log::MemorySink sink;
-  log::EventEmitter emitter{&sink};
-  TaskLayer task{scene, world, context, emitter, 1};
-  MotionLayer motion{world, context, emitter};
-  TaskLayerResult layer = task.plan(Deadline(120));
-};
+using testing::FirstTaskPlan;
 
 /// Motion hyperarcs per type in the event stream, moves left out.
 std::map<std::string, std::int64_t> transitionArcCounts(const log::MemorySink& sink) {
@@ -114,7 +106,7 @@ std::map<std::string, std::int64_t> transitionArcCounts(const log::MemorySink& s
 
 TEST(MotionLayer, RoundsOnTheSamePlanReuseHMAndCoupleEveryHandover) {
   const OmplSeedScope ompl_seeds(1);
-  SortingRun run;
+  FirstTaskPlan run("sorting", {{"robots", "4"}, {"objects", "8"}});
   ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
   int handovers = 0;
   for (const TaskStep& s : run.layer.plan.steps) handovers += s.action.type == TaskArcType::kHandover ? 1 : 0;
@@ -148,7 +140,7 @@ TEST(MotionLayer, RoundsOnTheSamePlanReuseHMAndCoupleEveryHandover) {
 
 TEST(MotionLayer, ARejectedTransitionConfigurationIsResampledAndTheSamePlanQueriedAgain) {
   const OmplSeedScope ompl_seeds(1);
-  SortingRun run;
+  FirstTaskPlan run("sorting", {{"robots", "4"}, {"objects", "8"}});
   ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
   // The region of a motion constraint: the first handover's two configurations.
   int k = 0;
@@ -177,24 +169,20 @@ TEST(MotionLayer, ARejectedTransitionConfigurationIsResampledAndTheSamePlanQueri
 namespace dash {
 namespace {
 
+using testing::FirstTaskPlan;
+
 // The lab's inspections take their task from pending to done: the motion query walks the whole
 // schedule (an inspection as a self-loop would repeat a search state and stop the query there).
 TEST(MotionLayer, TheMotionQueryWalksALabScheduleToTheSink) {
   const OmplSeedScope ompl_seeds(1);
-  const Scene scene = generateScenario("lab", std::vector<std::pair<std::string, std::string>>{{"containers", "2"}}, 1, RobotLibrary::loadDefault());
-  CollisionWorld world{scene};
-  CollisionContext context{world};
-  log::MemorySink sink;
-  log::EventEmitter emitter{&sink};
-  TaskLayer task{scene, world, context, emitter, 1};
-  MotionLayer motion{world, context, emitter};
-  const TaskLayerResult layer = task.plan(Deadline(120));
+  FirstTaskPlan run("lab", {{"containers", "2"}});
+  const TaskLayerResult& layer = run.layer;
   ASSERT_EQ(layer.status, TaskLayerStatus::kFeasible) << layer.reason;
-  const MotionLayerResult result = motion.plan(layer.plan, layer.transitions, task.space(), Deadline(120));
+  const MotionLayerResult result = run.motion.plan(layer.plan, layer.transitions, run.task.space(), Deadline(120));
   ASSERT_EQ(result.status, MotionStatus::kOk) << result.reason;
-  EXPECT_EQ(sink.counter("motion_query_incomplete", 0), 0);
-  EXPECT_GT(sink.countHyperarcs(log::Layer::MotionExtended, "inspect"), 0);
-  EXPECT_EQ(sink.countHyperarcs(log::Layer::MotionExtended, "sink"), 1);
+  EXPECT_EQ(run.sink.counter("motion_query_incomplete", 0), 0);
+  EXPECT_GT(run.sink.countHyperarcs(log::Layer::MotionExtended, "inspect"), 0);
+  EXPECT_EQ(run.sink.countHyperarcs(log::Layer::MotionExtended, "sink"), 1);
 }
 
 }  // namespace
