@@ -97,6 +97,7 @@ class MotionLayer {
                                                   const MotionContext& context, const Deadline& deadline);
 
  private:
+  friend struct MotionTrace;  // motion_trace.cpp: the motion query along the schedule
   /// The end of a missing move that is in collision ("start", "approach start", "transition") and
   /// with what; empty when all three are free.
   std::string collidingEnd(int robot, const JointVector& from, const JointVector& q_pre, const JointVector& q,
@@ -116,7 +117,7 @@ class MotionLayer {
   std::optional<JointVector> farthestBackOff(int robot, const JointVector& q, const HeldObject& held,
                                              const ObjectLayout& layout);
   /// Algorithm 1's motion query along the unvalidated schedule: the moves between the transition
-  /// configurations, found and validated lazily in schedule order.
+  /// configurations, found and validated lazily in schedule order (motion_trace.cpp).
   MotionLayerResult trace(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
                           const TaskSpace& space, const Deadline& deadline);
   LazyRoadmap& roadmap(int robot, bool holding);
