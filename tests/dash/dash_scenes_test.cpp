@@ -30,7 +30,7 @@ TEST(DashScenes, SolvesLabWithInspectionsAndSharedPlacements) {
   EXPECT_GT(sink.countHyperarcs(log::Layer::Motion, "inspect"), 0);
 }
 
-TEST(DashScenes, ShelfWallEndsWithoutAPlanAndLogsEverything) {
+TEST(DashScenes, ShelfWallEndsSolvedOrAtItsDeadlineAndLogsEverything) {
   const Scene scene = test::dashScene("shelf-wall", {{"robots", "2"}, {"objects", "2"}});
   auto planner = makePlanner("dash");
   PlannerSettings settings;
