@@ -185,6 +185,15 @@ MotionRound LazyDashRun::conflictFailure(const TaskLayerResult& layer, const Sch
   f.where = MotionFailure::Where::kConflictResolution;
   f.step = schedule.failed_step;
   f.constraint.cause = "conflict resolution: " + schedule.reason;
+  const TaskArc& a = layer.plan.steps[f.step].action;
+  const TransitionConfig& tc = layer.transitions[f.step];
+  f.constraint.histories = {lazy::historyOf(layer.plan, a.robot, f.step)};
+  f.constraint.configurations = {{a.robot, tc.q}};
+  if (a.type == TaskArcType::kHandover) {
+    f.constraint.histories.push_back(lazy::historyOf(layer.plan, a.robot2, f.step));
+    f.constraint.configurations.push_back({a.robot2, tc.q2});
+    f.resampleable = true;  // another handover configuration (pose, IK branches), when the region does not do
+  }
   if (const auto& region = schedule.region) {  // C_M = (Pi_1, Pi_2, p): a region to replan around
     f.constraint.histories = {lazy::historyOf(layer.plan, region->robot, region->step)};
     f.constraint.histories.front().q = region->q;  // lifted when another transition sample is drawn
@@ -193,16 +202,6 @@ MotionRound LazyDashRun::conflictFailure(const TaskLayerResult& layer, const Sch
     f.constraint.object = region->object;
     f.constraint.t_begin = region->t_begin;
     f.constraint.t_end = region->t_end;
-    return failed(std::move(f));
-  }
-  const TaskArc& a = layer.plan.steps[f.step].action;
-  const TransitionConfig& tc = layer.transitions[f.step];
-  f.constraint.histories = {lazy::historyOf(layer.plan, a.robot, f.step)};
-  f.constraint.configurations = {{a.robot, tc.q}};
-  if (a.type == TaskArcType::kHandover) {
-    f.constraint.histories.push_back(lazy::historyOf(layer.plan, a.robot2, f.step));
-    f.constraint.configurations.push_back({a.robot2, tc.q2});
-    f.resampleable = true;  // another handover configuration (pose, IK branches)
   }
   return failed(std::move(f));
 }
