@@ -65,12 +65,6 @@ Aabb laneBoxes(SegmentLanes& s, double radius) {
   return Aabb(lo, hi);
 }
 
-void broadcastPose(const Pose& X, double (&R)[9][L], double (&p)[3][L]) {
-  for (int col = 0; col < 3; ++col)
-    for (int row = 0; row < 3; ++row) std::fill_n(R[3 * col + row], L, X.linear()(row, col));
-  for (int k = 0; k < 3; ++k) std::fill_n(p[k], L, X.translation()[k]);
-}
-
 /// The boxes over all lanes, once the segments are placed.
 void finishBoxes(RobotCoverBatch& out) {
   out.whole.setEmpty();
@@ -132,11 +126,11 @@ void coverFromPosed(const CollisionWorld& world, const CollisionContext& context
   alignas(64) double R[9][L];
   alignas(64) double p[3][L];
   for (int b = 0; b < out.bodies; ++b) {
-    broadcastPose(posed.frames[at(b)], R, p);
+    broadcastBatchPose(posed.frames[at(b)], R, p);
     placeSegment(R, p, rg.bodies[at(b)].cover.a, rg.bodies[at(b)].cover.b, out.body[b]);
   }
   if (out.holding) {
-    broadcastPose(posed.X_WO_held, R, p);
+    broadcastBatchPose(posed.X_WO_held, R, p);
     const CoverCapsule& c = world.object(posed.held_object).held_cover;
     placeSegment(R, p, c.a, c.b, out.held);
   }

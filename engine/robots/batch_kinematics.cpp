@@ -38,15 +38,6 @@ inline void sinCosLanes(const double* x, double* s, double* c) {
   }
 }
 
-/// Stores the same pose in every lane of (R, p).
-void broadcastPose(const Pose& X, double (&R)[9][L], double (&p)[3][L]) {
-  for (int col = 0; col < 3; ++col)
-    for (int row = 0; row < 3; ++row)
-      for (int l = 0; l < L; ++l) R[3 * col + row][l] = X.linear()(row, col);
-  for (int k = 0; k < 3; ++k)
-    for (int l = 0; l < L; ++l) p[k][l] = X.translation()[k];
-}
-
 /// One standard DH step T = Rz(q) Tz(d) Tx(a) Rx(alpha) on every lane (as dhStep in ur_kinematics.cpp).
 inline void dhStepLanes(const DhParameters& dh, int i, const double* c, const double* s, double (&R)[9][L],
                         double (&p)[3][L]) {
@@ -89,7 +80,7 @@ inline void composeFixed(const double (&R)[9][L], const double (&p)[3][L], const
 DASH_SIMD_CLONES void urBatch(const DhParameters& dh, const Pose& X_WB, const JointBatch& qb, FrameBatch& out) {
   alignas(64) double R[9][L];
   alignas(64) double p[3][L];
-  broadcastPose(X_WB, R, p);
+  broadcastBatchPose(X_WB, R, p);
   std::copy(&R[0][0], &R[0][0] + 9 * L, &out.R[0][0][0]);
   std::copy(&p[0][0], &p[0][0] + 3 * L, &out.p[0][0][0]);
   for (int i = 0; i < 6; ++i) {
@@ -108,7 +99,7 @@ DASH_SIMD_CLONES void gantryBatch(const RobotModel& model, const Pose& X_WB, con
   const int bodies = static_cast<int>(model.bodies.size());
   for (int b = 0; b < bodies; ++b) {
     const CollisionBody& body = model.bodies[static_cast<std::size_t>(b)];
-    broadcastPose(X_WB, out.R[b], out.p[b]);
+    broadcastBatchPose(X_WB, out.R[b], out.p[b]);
     // centre in frame 0: base centre + x, + y, - z for the axes the body follows.
     const double mx = body.moves[0] ? 1.0 : 0.0, my = body.moves[1] ? 1.0 : 0.0, mz = body.moves[2] ? 1.0 : 0.0;
     for (int k = 0; k < 3; ++k) {
@@ -123,7 +114,7 @@ DASH_SIMD_CLONES void gantryBatch(const RobotModel& model, const Pose& X_WB, con
   const Eigen::Matrix3d R_WT = R_WB * Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
   Pose X_WT = Pose::Identity();
   X_WT.linear() = R_WT;
-  broadcastPose(X_WT, out.tcp_R, out.tcp_p);
+  broadcastBatchPose(X_WT, out.tcp_R, out.tcp_p);
   const double h = model.gantry.beam_height - model.gantry.ram_to_tcp;
   for (int k = 0; k < 3; ++k) {
     const double origin = X_WB.translation()[k] + R_WB(k, 2) * h;
@@ -140,6 +131,12 @@ void JointBatch::set(int lane, const JointVector& values) {
 }
 
 void sinCosBatch(const double* x, double* s, double* c) { sinCosLanes(x, s, c); }
+
+void broadcastBatchPose(const Pose& X, double (&R)[9][L], double (&p)[3][L]) {
+  for (int col = 0; col < 3; ++col)
+    for (int row = 0; row < 3; ++row) std::fill_n(R[3 * col + row], L, X.linear()(row, col));
+  for (int k = 0; k < 3; ++k) std::fill_n(p[k], L, X.translation()[k]);
+}
 
 int bodyBatchFrame(const RobotModel& model, int body) {
   return model.kinematics == KinematicsKind::kUrDh ? model.bodies[static_cast<std::size_t>(body)].frame : body;

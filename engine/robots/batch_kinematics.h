@@ -40,6 +40,9 @@ void batchFrames(const RobotModel& model, const Pose& X_WB, const JointBatch& q,
 /// The frame of FrameBatch that body `body` of `model` is rigid in (bodyFrames()'s frame of that body).
 int bodyBatchFrame(const RobotModel& model, int body);
 
+/// The same pose in every lane of (R, p), laid out as in FrameBatch.
+void broadcastBatchPose(const Pose& X, double (&R)[9][kBatchLanes], double (&p)[3][kBatchLanes]);
+
 /// sin and cos of kBatchLanes finite angles (|x| < 1e5; tested over +-4 pi), within 4.5e-16 (2 ulp of 1) of libm's.
 void sinCosBatch(const double* x, double* s, double* c);
 
