@@ -57,6 +57,7 @@ class CollisionContext {
     std::vector<int> robots_in_query;
   };
   Scratch& scratch() { return scratch_; }
+  const Scratch& scratch() const { return scratch_; }
 
  private:
   const CollisionWorld* world_;

@@ -3,6 +3,7 @@
 #include <fcl/narrowphase/collision.h>
 
 #include "engine/collision/collision_internal.h"
+#include "engine/collision/cover_check.h"
 #include "engine/core/check.h"
 #include "engine/robots/kinematics.h"
 
@@ -124,6 +125,7 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
     if (!posed.aabb.intersects(obstacle.aabb)) continue;
     for (int b = 0; b < bodies; ++b) {
       if (!posed.body_aabb[at(b)].intersects(obstacle.aabb)) continue;
+      if (bodyBoxApart(world, context, r, b, obstacle.X_WO, obstacle.half_extents)) continue;
       if (shapesCollide(context, *rg.bodies[at(b)].shape_vs_static, bodyPose(world, posed, r, b), *obstacle.shape,
                         obstacle.X_WO)) {
         setReport(report, CollisionElement::robotBody(r, b), CollisionElement::obstacle(i));
@@ -133,6 +135,7 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
   }
   for (const auto& [b1, b2] : candidates.self_pairs) {
     if (!posed.body_aabb[at(b1)].intersects(posed.body_aabb[at(b2)])) continue;
+    if (bodiesApart(world, context, r, b1, r, b2)) continue;
     if (shapesCollide(context, *rg.bodies[at(b1)].shape_vs_robot, bodyPose(world, posed, r, b1),
                       *rg.bodies[at(b2)].shape_vs_robot, bodyPose(world, posed, r, b2))) {
       setReport(report, CollisionElement::robotBody(r, b1), CollisionElement::robotBody(r, b2));
@@ -146,6 +149,7 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
     if (!posed.aabb.intersects(object_box)) continue;
     for (int b = 0; b < bodies; ++b) {
       if (!posed.body_aabb[at(b)].intersects(object_box)) continue;
+      if (bodyBoxApart(world, context, r, b, s.object_pose[at(j)], world.object(j).half_extents)) continue;
       // A gripper may touch the resting object it grasps or has just let go: the one nearest its TCP.
       // Every other resting object keeps the clearance from it.
       const BodyGeometry& body = rg.bodies[at(b)];
@@ -179,6 +183,7 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
   for (const int i : candidates.held_obstacles) {
     const ObstacleGeometry& obstacle = world.obstacles()[at(i)];
     if (!posed.held_aabb.intersects(obstacle.aabb)) continue;
+    if (heldBoxApart(world, context, r, obstacle.X_WO, obstacle.half_extents)) continue;
     if (shapesCollide(context, *held_static.shape, held_static.X_WS, *obstacle.shape, obstacle.X_WO)) {
       setReport(report, held_element, CollisionElement::obstacle(i));
       return true;
@@ -186,6 +191,7 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
   }
   for (const int b : candidates.held_vs_bodies) {
     if (!posed.held_aabb.intersects(posed.body_aabb[at(b)])) continue;
+    if (heldBodyApart(world, context, r, r, b)) continue;
     if (shapesCollide(context, held_shape, posed.X_WO_held, *rg.bodies[at(b)].shape_vs_robot,
                       bodyPose(world, posed, r, b))) {
       setReport(report, held_element, CollisionElement::robotBody(r, b));
@@ -194,6 +200,7 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
   }
   for (const int j : candidates.objects) {
     if (!posed.held_aabb.intersects(s.object_aabb[at(j)])) continue;
+    if (heldBoxApart(world, context, r, s.object_pose[at(j)], world.object(j).half_extents)) continue;
     if (shapesCollide(context, *held_static.shape, held_static.X_WS, *world.object(j).shape, s.object_pose[at(j)])) {
       setReport(report, held_element, CollisionElement::object(j));
       return true;
@@ -217,6 +224,7 @@ bool heldAgainstRobot(const CollisionWorld& world, CollisionContext& context, in
   for (int b = 0; b < static_cast<int>(rg.bodies.size()); ++b) {
     if (same_object && rg.bodies[at(b)].is_gripper) continue;
     if (!h.held_aabb.intersects(posed.body_aabb[at(b)])) continue;
+    if (heldBodyApart(world, context, holder, r, b)) continue;
     if (shapesCollide(context, *world.object(h.held_object).held_vs_robot, h.X_WO_held,
                       *rg.bodies[at(b)].shape_vs_robot, bodyPose(world, posed, r, b))) {
       setReport(report, CollisionElement::heldObject(holder, h.held_object), CollisionElement::robotBody(r, b));
@@ -240,6 +248,7 @@ bool checkPosedRobotPair(const CollisionWorld& world, CollisionContext& context,
       if (!p1.body_aabb[at(b1)].intersects(p2.aabb)) continue;
       for (int b2 = 0; b2 < static_cast<int>(g2.bodies.size()); ++b2) {
         if (!p1.body_aabb[at(b1)].intersects(p2.body_aabb[at(b2)])) continue;
+        if (bodiesApart(world, context, r1, b1, r2, b2)) continue;
         if (shapesCollide(context, *g1.bodies[at(b1)].shape_vs_robot, bodyPose(world, p1, r1, b1),
                           *g2.bodies[at(b2)].shape_vs_robot, bodyPose(world, p2, r2, b2))) {
           setReport(report, CollisionElement::robotBody(r1, b1), CollisionElement::robotBody(r2, b2));
@@ -251,7 +260,7 @@ bool checkPosedRobotPair(const CollisionWorld& world, CollisionContext& context,
   if (heldAgainstRobot(world, context, r1, r2, report)) return true;
   if (heldAgainstRobot(world, context, r2, r1, report)) return true;
   if (p1.held_object >= 0 && p2.held_object >= 0 && p1.held_object != p2.held_object &&
-      p1.held_aabb.intersects(p2.held_aabb) &&
+      p1.held_aabb.intersects(p2.held_aabb) && !heldObjectsApart(world, context, r1, r2) &&
       shapesCollide(context, *world.object(p1.held_object).held_vs_robot, p1.X_WO_held,
                     *world.object(p2.held_object).held_vs_robot, p2.X_WO_held)) {
     setReport(report, CollisionElement::heldObject(r1, p1.held_object),

@@ -39,6 +39,7 @@ struct CollisionCounters {
   std::uint64_t segment_checks = 0;        ///< segment queries
   std::uint64_t narrowphase_calls = 0;     ///< FCL collide calls after the bounding-box tests
   std::uint64_t distance_queries = 0;
+  std::uint64_t cover_cleared = 0;  ///< segment steps the covers cleared, not counted as configuration checks
 };
 
 }  // namespace dash

@@ -53,6 +53,7 @@ BodyGeometry makeBodyGeometry(const CollisionBody& body, double clearance) {
     g.shape = std::make_shared<const fcl::Boxd>(2.0 * g.half_extents);
     g.extent = g.center.norm() + g.half_extents.norm();
   }
+  g.cover = g.is_capsule ? capsuleCover(g.a, g.b, g.radius, clearance) : boxCover(g.center, g.half_extents, clearance);
   g.shape_vs_static = grownBody(g, g.shape, clearance);
   g.shape_vs_robot = grownBody(g, g.shape, 0.5 * clearance);
   return g;
@@ -171,6 +172,7 @@ ObjectGeometry makeObjectGeometry(const Vec3& size, double clearance) {
   }
   g.held_in_transit = clearance > 0.0 ? std::make_shared<const fcl::Boxd>(size + Vec3::Constant(2.0 * clearance)) : g.shape;
   g.held_vs_robot = clearance > 0.0 ? std::make_shared<const fcl::Boxd>(size + Vec3::Constant(clearance)) : g.shape;
+  g.held_cover = boxCover(Vec3::Zero(), g.half_extents, clearance);
   return g;
 }
 
@@ -181,6 +183,7 @@ CollisionWorld::CollisionWorld(const Scene& scene, CollisionWorldOptions options
     ObstacleGeometry g;
     g.shape = std::make_shared<const fcl::Boxd>(o.shape.size);
     g.X_WO = o.X_WO;
+    g.half_extents = 0.5 * o.shape.size;
     g.aabb = boxAabb(o.X_WO, 0.5 * o.shape.size);
     obstacles_.push_back(std::move(g));
     all_obstacles_.push_back(static_cast<int>(all_obstacles_.size()));

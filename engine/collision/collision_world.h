@@ -34,6 +34,7 @@
 
 #include <Eigen/Geometry>
 
+#include "engine/collision/link_cover.h"
 #include "engine/geometry/pose.h"
 #include "engine/robots/joint_vector.h"
 #include "engine/scene/scene.h"
@@ -61,6 +62,10 @@ struct CollisionWorldOptions {
   /// Metres every robot-side pair keeps apart, except where contact is meant (see above). The plan
   /// validator checks at 0 (or at `dashbench validate --clearance`); planners plan with a few mm.
   double clearance = 0.0;
+  /// Whether the queries may clear pairs by the conservative covers before the exact check
+  /// (cover_check.h; same answers, faster). The plan validator builds its worlds without them, so
+  /// that its verdicts rest on the exact geometry alone.
+  bool cover = true;
 };
 
 using ShapePtr = std::shared_ptr<const fcl::CollisionGeometry<double>>;
@@ -81,6 +86,7 @@ struct BodyGeometry {
   /// Gripper bodies: the TCP in F (rigid: a gripper body moves with the tool). Identity otherwise.
   Pose X_FT = Pose::Identity();
   double extent = 0.0;            ///< farthest point of the body from the origin of F
+  CoverCapsule cover;             ///< in F: contains the grown shapes (link_cover.h)
 };
 
 struct RobotGeometry {
@@ -103,6 +109,7 @@ struct RobotGeometry {
 struct ObstacleGeometry {
   std::shared_ptr<const fcl::CollisionGeometry<double>> shape;
   Pose X_WO = Pose::Identity();
+  Vec3 half_extents = Vec3::Zero();
   Aabb aabb;
 };
 
@@ -120,6 +127,9 @@ struct ObjectGeometry {
   ShapePtr held_in_transit;
   ShapePtr held_vs_robot;             ///< held, against robot parts: grown by half the clearance
   double bottom_tolerance = 0.0;      ///< the tolerance at the lowest face (less for tiny objects)
+  /// Held, in the object frame: contains every held shape above (each lies in the exact box grown by
+  /// the clearance; link_cover.h).
+  CoverCapsule held_cover;
 };
 
 class CollisionWorld {
@@ -129,6 +139,7 @@ class CollisionWorld {
 
   const Scene& scene() const { return *scene_; }
   double clearance() const { return options_.clearance; }
+  bool usesCover() const { return options_.cover; }
   int robotCount() const { return static_cast<int>(robots_.size()); }
   int objectCount() const { return static_cast<int>(objects_.size()); }
   const RobotGeometry& robot(int r) const { return robots_[static_cast<std::size_t>(r)]; }

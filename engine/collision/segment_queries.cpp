@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "engine/collision/collision_internal.h"
+#include "engine/collision/cover_check.h"
 #include "engine/collision/distance_queries.h"
 #include "engine/core/check.h"
 #include "engine/robots/kinematics.h"
@@ -145,6 +146,23 @@ bool anyCandidateMeets(const CollisionWorld& world, const CollisionContext::Scra
   return false;
 }
 
+/// Visits steps 1 .. n-1 midpoint first, then the midpoints of each half, and so on.
+template <class Visit>
+bool forEachStepCoarseToFine(CollisionContext& context, int n, Visit visit) {
+  auto& queue = context.scratch().intervals;
+  queue.clear();
+  queue.push_back({0, n, -1, -1});
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const Interval iv = queue[head];
+    if (iv.hi - iv.lo < 2) continue;
+    const int mid = (iv.lo + iv.hi) / 2;
+    if (visit(mid)) return true;
+    queue.push_back({iv.lo, mid, -1, -1});
+    queue.push_back({mid, iv.hi, -1, -1});
+  }
+  return false;
+}
+
 /// One robot's segment with the resting set already prepared, and against the posed robots standing
 /// still in `parked`. The steps are visited coarse to fine; a part of the segment whose swept boxes meet
 /// no candidate pair is free and not refined further.
@@ -190,6 +208,19 @@ bool robotSegment(const CollisionWorld& world, CollisionContext& context, const 
   const detail::CandidateView narrowed{c.obstacles, c.held_obstacles, c.objects, c.self_pairs, c.held_vs_bodies,
                                        c.robots};
   if (!anyCandidateMeets(world, s, narrowed, whole, holding, held_swept)) return false;
+  if (detail::coverOn(world)) {
+    // The steps in the same order as below; those the covers clear are free to the exact check too,
+    // and so are those the swept boxes below skip, so the first colliding step found is the same.
+    thread_local std::vector<std::uint8_t> cleared;
+    detail::coverSegmentSteps(world, context, start, q_end, n, narrowed, cleared);
+    context.counters().cover_cleared += static_cast<std::uint64_t>(std::count(cleared.begin(), cleared.end(), 1));
+    return forEachStepCoarseToFine(context, n, [&](int mid) {
+      if (cleared[at(mid)] != 0) return false;
+      const double t = static_cast<double>(mid) / n;
+      detail::poseRobot(world, context, r, interpolate(start.q, q_end, t), start.held);
+      return check_posed(t, narrowed);
+    });
+  }
 
   s.intervals.push_back({0, n, slot_start, slot_end});
   for (std::size_t head = 0; head < s.intervals.size(); ++head) {
@@ -207,23 +238,6 @@ bool robotSegment(const CollisionWorld& world, CollisionContext& context, const 
     const int slot_mid = saveBoxes(context, r);
     s.intervals.push_back({iv.lo, mid, iv.slot_lo, slot_mid});
     s.intervals.push_back({mid, iv.hi, slot_mid, iv.slot_hi});
-  }
-  return false;
-}
-
-/// Visits steps 1 .. n-1 midpoint first, then the midpoints of each half, and so on.
-template <class Visit>
-bool forEachStepCoarseToFine(CollisionContext& context, int n, Visit visit) {
-  auto& queue = context.scratch().intervals;
-  queue.clear();
-  queue.push_back({0, n, -1, -1});
-  for (std::size_t head = 0; head < queue.size(); ++head) {
-    const Interval iv = queue[head];
-    if (iv.hi - iv.lo < 2) continue;
-    const int mid = (iv.lo + iv.hi) / 2;
-    if (visit(mid)) return true;
-    queue.push_back({iv.lo, mid, -1, -1});
-    queue.push_back({mid, iv.hi, -1, -1});
   }
   return false;
 }
@@ -363,7 +377,23 @@ bool motionsAmongParked(const CollisionWorld& world, CollisionContext& context, 
   for (const RobotMotion& m : motions) {
     n = std::max(n, segmentSteps(world, m.start.robot, m.start.q, m.q_end, m.start.held, options.resolution));
   }
-  return forEachStepCoarseToFine(context, n, [&](int k) { return check_states(static_cast<double>(k) / n); });
+  if (!detail::coverOn(world)) {
+    return forEachStepCoarseToFine(context, n, [&](int k) { return check_states(static_cast<double>(k) / n); });
+  }
+  thread_local std::vector<std::uint8_t> cleared;
+  thread_local std::vector<RobotState> starts;  // `states` holds the last step checked, not the start
+  thread_local std::vector<JointVector> ends;
+  starts.clear();
+  ends.clear();
+  for (const RobotMotion& m : motions) {
+    starts.push_back(m.start);
+    ends.push_back(m.q_end);
+  }
+  detail::coverMotionSteps(world, context, starts, ends, options.scope, near, n, cleared);
+  context.counters().cover_cleared += static_cast<std::uint64_t>(std::count(cleared.begin(), cleared.end(), 1));
+  return forEachStepCoarseToFine(context, n, [&](int k) {
+    return cleared[at(k)] == 0 && check_states(static_cast<double>(k) / n);
+  });
 }
 
 bool gripperEntersContactBox(const CollisionWorld& world, CollisionContext& context, int robot, const JointVector& q0,

@@ -23,6 +23,7 @@ constexpr std::size_t kTableCellWidth = 60;  // wider cells are cut in table out
 
 struct QueryState {
   std::optional<QueryRefused> refused;
+  const QueryLimits* limits = nullptr;
   Clock::time_point deadline;
   bool timed_out = false;
 };
@@ -85,8 +86,15 @@ std::string writeActionName(int code) {
 int authorize(void* context, int code, const char* a, const char* b, const char*, const char* view) {
   auto* state = static_cast<QueryState*>(context);
   switch (code) {
+    case SQLITE_READ: {
+      const std::vector<std::string>& hidden = state->limits->private_tables;
+      if (a == nullptr || std::find(hidden.begin(), hidden.end(), lower(a)) == hidden.end()) return SQLITE_OK;
+      state->refused =
+          QueryRefused(QueryGuard::PrivateTable, "refused: the table " + std::string(a) + " is not readable here" +
+                                                     state->limits->private_advice);
+      return SQLITE_DENY;
+    }
     case SQLITE_SELECT:
-    case SQLITE_READ:
     case SQLITE_RECURSIVE:
       return SQLITE_OK;
     case SQLITE_FUNCTION: {
@@ -180,7 +188,11 @@ void checkFirstKeyword(const std::string& sql) {
     throw QueryRefused(QueryGuard::Transaction,
                        "refused: transaction control (" + keyword + ") is not allowed; each query runs on its own");
   }
-  throw writeRefused(keyword);
+  // Only the statements that write are called write statements; anything else (a misspelled
+  // keyword such as SELEC) is left to SQLite, whose syntax error says what is wrong.
+  static const std::set<std::string> writing = {"INSERT", "UPDATE", "DELETE",  "REPLACE", "CREATE", "DROP",
+                                                "ALTER",  "VACUUM", "REINDEX", "ANALYZE", "UPSERT"};
+  if (writing.count(keyword) != 0) throw writeRefused(keyword);
 }
 
 std::string numberText(double v) {
@@ -210,6 +222,55 @@ std::string csvField(const std::string& s) {
     out += c;
   }
   return out + "\"";
+}
+
+/// The bytes of `text` as a JSON string: quotes, and escapes as nlohmann::json writes them.
+std::int64_t jsonStringBytes(const std::string& text) {
+  std::int64_t n = static_cast<std::int64_t>(text.size()) + 2;
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\' || c == '\b' || c == '\f' || c == '\n' || c == '\r' || c == '\t') {
+      n += 1;
+    } else if (u < 0x20) {
+      n += 5;
+    }
+  }
+  return n;
+}
+
+/// Column `c` of the statement's current row; adds to `bytes` what the cell takes as JSON text (the
+/// server's answer): a separator, the number's digits, a string's quotes and escapes (a control
+/// character is 6 bytes as \u0001).
+SqlValue readCell(sqlite3_stmt* st, int c, std::int64_t& bytes) {
+  bytes += 1;
+  switch (sqlite3_column_type(st, c)) {
+    case SQLITE_INTEGER: {
+      const auto v = static_cast<std::int64_t>(sqlite3_column_int64(st, c));
+      bytes += static_cast<std::int64_t>(std::to_string(v).size());
+      return v;
+    }
+    case SQLITE_FLOAT: {
+      const double v = sqlite3_column_double(st, c);
+      const std::string digits = numberText(v);  // shortest round-trip, as the JSON writer's
+      bytes += static_cast<std::int64_t>(digits.size()) +
+               (digits.find_first_of(".en") == std::string::npos ? 2 : 0);  // 1 is written 1.0
+      return v;
+    }
+    case SQLITE_TEXT: {
+      const int n = sqlite3_column_bytes(st, c);
+      std::string text(reinterpret_cast<const char*>(sqlite3_column_text(st, c)), static_cast<std::size_t>(n));
+      bytes += jsonStringBytes(text);
+      return text;
+    }
+    case SQLITE_BLOB: {
+      std::string text = "<blob " + std::to_string(sqlite3_column_bytes(st, c)) + " bytes>";
+      bytes += jsonStringBytes(text);
+      return text;
+    }
+    default:
+      bytes += 4;  // null
+      return std::monostate{};
+  }
 }
 
 std::string fit(std::string s) {
@@ -242,6 +303,7 @@ SqlRows runReadOnlyQuery(const std::string& path, const std::string& sql, const 
   sql::exec(db, "PRAGMA query_only = 1");
 
   QueryState state;
+  state.limits = &limits;
   state.deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                       std::chrono::duration<double>(limits.timeout_seconds));
   sqlite3_set_authorizer(db, authorize, &state);
@@ -253,9 +315,7 @@ SqlRows runReadOnlyQuery(const std::string& path, const std::string& sql, const 
   if (rc != SQLITE_OK) {
     sqlite3_finalize(raw);
     if (state.refused) throw *state.refused;
-    if (state.timed_out) {
-      throw timeLimitRefused(limits.timeout_seconds);
-    }
+    if (state.timed_out) throw timeLimitRefused(limits.timeout_seconds, limits.time_limit_advice);
     throw InputError(std::string("SQL error: ") + sqlite3_errmsg(db));
   }
   if (raw == nullptr) throw InputError("empty query");
@@ -276,7 +336,7 @@ SqlRows runReadOnlyQuery(const std::string& path, const std::string& sql, const 
     if (step == SQLITE_DONE) break;
     if (step != SQLITE_ROW) {
       if (state.timed_out) {
-        throw timeLimitRefused(limits.timeout_seconds, "; narrow it or raise the limit (--timeout)");
+        throw timeLimitRefused(limits.timeout_seconds, limits.time_limit_advice);
       }
       throw InputError(std::string("SQL error: ") + sqlite3_errmsg(db));
     }
@@ -291,22 +351,7 @@ SqlRows runReadOnlyQuery(const std::string& path, const std::string& sql, const 
     row.reserve(static_cast<std::size_t>(columns));
     bool over_budget = false;
     for (int c = 0; c < columns && !over_budget; ++c) {
-      bytes += 8;
-      switch (sqlite3_column_type(raw, c)) {
-        case SQLITE_INTEGER: row.emplace_back(static_cast<std::int64_t>(sqlite3_column_int64(raw, c))); break;
-        case SQLITE_FLOAT: row.emplace_back(sqlite3_column_double(raw, c)); break;
-        case SQLITE_TEXT: {
-          const int n = sqlite3_column_bytes(raw, c);
-          bytes += n;
-          row.emplace_back(std::string(reinterpret_cast<const char*>(sqlite3_column_text(raw, c)),
-                                       static_cast<std::size_t>(n)));
-          break;
-        }
-        case SQLITE_BLOB:
-          row.emplace_back("<blob " + std::to_string(sqlite3_column_bytes(raw, c)) + " bytes>");
-          break;
-        default: row.emplace_back(std::monostate{});
-      }
+      row.push_back(readCell(raw, c, bytes));
       over_budget = limits.max_result_bytes > 0 && bytes > limits.max_result_bytes;
     }
     if (over_budget) {

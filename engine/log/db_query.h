@@ -13,16 +13,18 @@
 //   cannot interrupt (printf('%.*c', 400000000, 'x') ran 16.7 s under a 64 MB limit);
 // - fts3_tokenizer (it reveals and takes raw pointers), load_extension, and printf/format (their
 //   width and precision loop inside one call) are refused;
+// - tables the caller names private (QueryLimits::private_tables) cannot be read, not even by a view;
 // - a row limit and a byte limit stop the output early (reported as truncated, not as an error).
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "engine/core/check.h"
 #include "engine/log/sqlite_util.h"
 
 namespace dash::log {
 
-enum class QueryGuard { Write, Attach, Pragma, Transaction, OneStatement, TimeLimit, Function };
+enum class QueryGuard { Write, Attach, Pragma, Transaction, OneStatement, TimeLimit, Function, PrivateTable };
 
 /// A query refused by a guard, or stopped by the time limit. The message says which.
 class QueryRefused : public InputError {
@@ -42,9 +44,17 @@ struct QueryLimits {
   double timeout_seconds = 10.0;
   int max_cell_bytes = 64 << 20;      ///< SQLITE_LIMIT_LENGTH: a longer string or blob is an SQL error
   int max_columns = 2000;             ///< SQLITE_LIMIT_COLUMN
-  /// Stop (truncated) once the cells read add up to more, checked cell by cell: the answer holds at
-  /// most this plus one cell; a row cut short is left out. 0: none.
+  /// Stop (truncated) once the cells read add up to more, as JSON text (quotes, escapes, digits),
+  /// checked cell by cell: the answer holds at most this plus one cell; a row cut short is left
+  /// out. 0: none.
   std::int64_t max_result_bytes = 0;
+  /// Ends the time-limit refusal: how to raise the limit in the program that runs the query.
+  std::string time_limit_advice = "; narrow it or raise the limit (--timeout)";
+  /// Tables the query may not read (QueryGuard::PrivateTable), and what the refusal adds: the
+  /// server's token-free console cannot read who dispatched from where (GET /api/dispatches needs
+  /// the token).
+  std::vector<std::string> private_tables;
+  std::string private_advice;
 };
 
 /// Runs one read-only SQL statement on the file at `path`. Throws QueryRefused for a guard,

@@ -81,7 +81,7 @@ void checkHandovers(const CollisionWorld& world, const PlanMotion& motion, const
 void checkGeometryCertified(const Plan& plan, const PlanMotion& motion, const Timeline& timeline,
                             const ValidationOptions& options, ValidationReport& report) {
   const Scene& scene = motion.scene();
-  const CollisionWorld world(scene);
+  const CollisionWorld world(scene, {.cover = false});  // exact geometry only (collision_world.h)
   const std::vector<Stretch> stretches = buildStretches(plan, motion, timeline);
   CollisionContext context(world);
   const Supports supports = findSupports(world, context, timeline);

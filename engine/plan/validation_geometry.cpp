@@ -77,7 +77,7 @@ ProblemKind collisionKind(const CollisionReport& rep) {
 class GeometryChecker {
  public:
   GeometryChecker(const Plan& plan, const PlanMotion& motion, const Timeline& timeline, const ValidationOptions& options)
-      : scene_(motion.scene()), motion_(motion), timeline_(timeline), options_(options), world_(scene_) {
+      : scene_(motion.scene()), motion_(motion), timeline_(timeline), options_(options), world_(scene_, {.cover = false}) {
     inflateReach(plan);
     buildSamples();
   }

@@ -24,6 +24,18 @@ constexpr double kMaxTimeLimitSeconds = 7 * 24 * 3600;
 constexpr double kMaxMemoryLimitMb = 4 * 1024 * 1024;
 constexpr std::size_t kMaxSeeds = 1000000;
 constexpr std::int64_t kMaxSeed = std::int64_t{1} << 53;  ///< exact as a JSON number anywhere
+// Text that every run repeats (its key, its label, its stored description): a 30 KB label times 5000
+// runs took the server from 217 to 649 MB (issue 40). Names and labels are names, not documents.
+constexpr std::size_t kMaxNameBytes = 128;
+constexpr std::size_t kMaxLabelBytes = 256;
+constexpr std::size_t kMaxDescriptionBytes = 4096;  ///< stored once, with the spec
+/// What a spec's runs may take in all (their keys, labels and descriptions as the runner stores
+/// them), counted from the grid's sizes before anything is expanded.
+constexpr std::size_t kMaxExpandedBytes = std::size_t{32} << 20;
+constexpr std::size_t kSaturated = std::numeric_limits<std::size_t>::max();
+
+std::size_t times(std::size_t a, std::size_t b) { return b != 0 && a > kSaturated / b ? kSaturated : a * b; }
+std::size_t plus(std::size_t a, std::size_t b) { return a > kSaturated - b ? kSaturated : a + b; }
 }  // namespace
 
 using Json = nlohmann::ordered_json;
@@ -116,6 +128,13 @@ class Checker : public JsonReader<Json> {
 };
 
 std::string at(const std::string& where, std::size_t i) { return where + "[" + std::to_string(i) + "]"; }
+
+void checkLength(const Checker& check, const std::string& text, const std::string& where, std::size_t max) {
+  if (text.size() > max) {
+    check.fail(SpecErrorKind::kBadValue, where,
+               "is " + std::to_string(text.size()) + " bytes long, more than the limit of " + std::to_string(max));
+  }
+}
 
 ScenarioEntry parseScenario(const Checker& check, const Json& j, const std::string& where) {
   check.keys(j, where, {"family", "params", "description", "stop_axis"}, {"family"});
@@ -244,12 +263,31 @@ PlannerEntry parsePlanner(const Checker& check, const Json& j, const std::string
                     ? check.string(j["label"], where + ".label")
                     : (entry.settings_json == "{}" ? entry.name : entry.name + " " + entry.settings_json);
   if (entry.label.empty()) check.fail(SpecErrorKind::kBadValue, where + ".label", "must not be empty");
+  if (entry.label.size() > kMaxLabelBytes) {
+    check.fail(SpecErrorKind::kBadValue, where + ".label",
+               (j.contains("label") ? "is " : "made from the settings is ") + std::to_string(entry.label.size()) +
+                   " bytes long, more than the limit of " + std::to_string(kMaxLabelBytes) +
+                   (j.contains("label") ? "" : ": give the configuration a shorter \"label\""));
+  }
   if (entry.label.find('/') != std::string::npos)
     check.fail(SpecErrorKind::kBadValue, where + ".label", "must not contain '/'");
   return entry;
 }
 
-std::vector<std::uint64_t> parseSeeds(const Checker& check, const Json& j) {
+[[noreturn]] void refuseTooManyRuns(const Checker& check, std::size_t runs, const SpecOptions& options) {
+  check.fail(SpecErrorKind::kTooManyRuns, "",
+             "the grid expands to " + (runs == kSaturated ? std::string("more than 2^64") : std::to_string(runs)) +
+                 " runs, more than the limit of " + std::to_string(options.max_runs) + " (" + options.max_runs_advice +
+                 ")");
+}
+
+/// The seeds; `runs_per_seed` (scenes x planners) refuses a grid of too many runs from the seed
+/// count alone, before the list is built.
+std::vector<std::uint64_t> parseSeeds(const Checker& check, const Json& j, std::size_t runs_per_seed,
+                                      const SpecOptions& options) {
+  const auto refuseCount = [&](std::size_t count) {
+    if (times(count, runs_per_seed) > options.max_runs) refuseTooManyRuns(check, times(count, runs_per_seed), options);
+  };
   std::vector<std::uint64_t> seeds;
   if (j.is_object()) {
     check.keys(j, "seeds", {"from", "count"}, {"from", "count"});
@@ -261,6 +299,7 @@ std::vector<std::uint64_t> parseSeeds(const Checker& check, const Json& j) {
     if (count <= 0) check.fail(SpecErrorKind::kEmptyGrid, "seeds.count", "must be at least 1: the grid has no runs");
     if (count > static_cast<std::int64_t>(kMaxSeeds))
       check.fail(SpecErrorKind::kTooManyRuns, "seeds.count", std::to_string(count) + " seeds");
+    refuseCount(static_cast<std::size_t>(count));
     for (std::int64_t i = 0; i < count; ++i) seeds.push_back(static_cast<std::uint64_t>(from + i));
     return seeds;
   }
@@ -268,6 +307,7 @@ std::vector<std::uint64_t> parseSeeds(const Checker& check, const Json& j) {
     check.fail(SpecErrorKind::kSyntax, "seeds", "expected a list of seeds or {\"from\": S, \"count\": N}");
   check.nonEmptyArray(j, "seeds");
   if (j.size() > kMaxSeeds) check.fail(SpecErrorKind::kTooManyRuns, "seeds", std::to_string(j.size()) + " seeds");
+  refuseCount(j.size());
   std::set<std::uint64_t> seen;
   for (std::size_t i = 0; i < j.size(); ++i) {
     const std::int64_t s = check.integer(j[i], at("seeds", i));
@@ -299,6 +339,57 @@ std::vector<std::vector<std::pair<std::string, int>>> combinations(const Scenari
   return out;
 }
 
+/// Scenes of the grid: parameter combinations summed over the scenario entries (saturating).
+std::size_t sceneCount(const BatchSpec& spec) {
+  std::size_t scenes = 0;
+  for (const ScenarioEntry& e : spec.scenarios) {
+    std::size_t combos = 1;
+    for (const auto& [name, values] : e.params) combos = times(combos, values.size());
+    scenes = plus(scenes, combos);
+  }
+  return scenes;
+}
+
+/// The same scene listed by two scenario entries would be runs with one key. Called once the run
+/// count is within the limit (scenes <= runs).
+void checkScenesOnce(const Checker& check, const BatchSpec& spec) {
+  std::set<std::string> scenes;
+  for (const ScenarioEntry& e : spec.scenarios) {
+    for (const auto& combo : combinations(e)) {
+      RunSpec probe;
+      probe.params = combo;
+      if (!scenes.insert(e.family + " " + probe.paramsText()).second) {
+        check.fail(
+            SpecErrorKind::kBadValue, "scenarios",
+            "the scene " + e.family + " " + probe.paramsText() + " is listed twice (overlapping scenario entries)");
+      }
+    }
+  }
+}
+
+/// About what the runs of the grid take once expanded and stored (each run's key, label, settings
+/// and description, as RunSpec and as its stored JSON), from the grid's sizes: nothing is expanded.
+std::size_t expandedBytes(const BatchSpec& spec) {
+  constexpr std::size_t kPerRun = 512;  // the RunSpec, its fixed JSON keys, numbers, the index entry
+  std::size_t per_seed = 0;
+  for (const ScenarioEntry& e : spec.scenarios) {
+    std::size_t combos = 1;
+    std::size_t params_text = 0;
+    for (const auto& [name, values] : e.params) {
+      combos = times(combos, values.size());
+      params_text += name.size() + 16;  // "name=NUMBER," and ["name", NUMBER]
+    }
+    std::size_t planners = 0;
+    for (const PlannerEntry& p : spec.planners) {
+      const std::size_t key = e.family.size() + params_text + 32 + p.label.size();
+      planners = plus(planners, kPerRun + 3 * key + 2 * (p.label.size() + p.settings_json.size()) + e.stop_axis.size() +
+                                    p.name.size() + p.test_fault.size());
+    }
+    per_seed = plus(per_seed, times(combos, planners));
+  }
+  return times(per_seed, spec.seeds.size());
+}
+
 void probeCombinations(const Checker& check, const BatchSpec& spec) {
   std::shared_ptr<const RobotLibrary> library;
   std::set<std::string> done;
@@ -324,70 +415,6 @@ void probeCombinations(const Checker& check, const BatchSpec& spec) {
 
 }  // namespace
 
-std::string RunSpec::paramsJson() const {
-  Json j = Json::object();
-  for (const auto& [k, v] : params) j[k] = v;
-  return j.dump();
-}
-
-std::string RunSpec::paramsText() const {
-  std::string out;
-  for (const auto& [k, v] : params) out += (out.empty() ? "" : " ") + k + "=" + std::to_string(v);
-  return out;
-}
-
-std::string RunSpec::toJson() const {
-  Json j;
-  j["key"] = key;
-  j["ordinal"] = ordinal;
-  j["family"] = family;
-  Json p = Json::array();
-  for (const auto& [k, v] : params) p.push_back(Json::array({k, v}));
-  j["params"] = p;
-  j["seed"] = seed;
-  j["planner"] = planner;
-  j["label"] = label;
-  j["settings"] = Json::parse(settings_json);
-  j["task_only"] = task_only;
-  j["test_fault"] = test_fault;
-  j["time_limit"] = time_limit;
-  j["memory_limit"] = memory_limit_mb;
-  if (!stop_axis.empty()) j["stop_axis"] = stop_axis;
-  return j.dump();
-}
-
-RunSpec RunSpec::fromJson(const std::string& text) {
-  try {
-    const Json j = Json::parse(text);
-    RunSpec r;
-    r.key = j.at("key").get<std::string>();
-    r.ordinal = j.at("ordinal").get<int>();
-    r.family = j.at("family").get<std::string>();
-    for (const auto& p : j.at("params")) r.params.emplace_back(p.at(0).get<std::string>(), p.at(1).get<int>());
-    r.seed = j.at("seed").get<std::uint64_t>();
-    r.planner = j.at("planner").get<std::string>();
-    r.label = j.at("label").get<std::string>();
-    r.settings_json = j.at("settings").dump();
-    r.task_only = j.at("task_only").get<bool>();
-    r.test_fault = j.at("test_fault").get<std::string>();
-    r.time_limit = j.at("time_limit").get<double>();
-    r.memory_limit_mb = j.at("memory_limit").get<double>();
-    if (j.contains("stop_axis")) r.stop_axis = j.at("stop_axis").get<std::string>();
-    return r;
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(std::string("malformed run description: ") + e.what());
-  }
-}
-
-ParamValues plannerParameterSettings(const std::string& settings_json) {
-  ParamValues out;
-  const Json settings = Json::parse(settings_json.empty() ? "{}" : settings_json);
-  if (!settings.is_object()) return out;
-  for (const auto& [key, value] : settings.items())
-    if (key != "task_only" && key != "test_fault") out[key] = value.dump();
-  return out;
-}
-
 BatchSpec parseBatchSpec(const std::string& json_text, const std::string& source_name, const SpecOptions& options) {
   const Checker check(source_name);
   Json j = parseJsonText(check, json_text);
@@ -396,7 +423,9 @@ BatchSpec parseBatchSpec(const std::string& json_text, const std::string& source
   BatchSpec spec;
   spec.name = check.string(j["name"], "name");
   if (spec.name.empty()) check.fail(SpecErrorKind::kBadValue, "name", "must not be empty");
+  checkLength(check, spec.name, "name", kMaxNameBytes);
   if (j.contains("description")) spec.description = check.string(j["description"], "description");
+  checkLength(check, spec.description, "description", kMaxDescriptionBytes);
   if (j.contains("time_limit")) {
     spec.time_limit = check.number(j["time_limit"], "time_limit");
     if (!(spec.time_limit > 0.0) || !(spec.time_limit <= kMaxTimeLimitSeconds)) {
@@ -428,21 +457,16 @@ BatchSpec parseBatchSpec(const std::string& json_text, const std::string& source
                      "' is listed twice (give each a distinct \"label\")");
     }
   }
-  spec.seeds = parseSeeds(check, j["seeds"]);
-
+  spec.seeds = parseSeeds(check, j["seeds"], times(sceneCount(spec), spec.planners.size()), options);
   const std::size_t runs = countRuns(spec);
-  if (runs > options.max_runs) {
+  if (runs > options.max_runs) refuseTooManyRuns(check, runs, options);
+  checkScenesOnce(check, spec);
+  const std::size_t bytes = expandedBytes(spec);
+  if (bytes > kMaxExpandedBytes) {
     check.fail(SpecErrorKind::kTooManyRuns, "",
-               "the grid expands to " + std::to_string(runs) + " runs, more than the limit of " +
-                   std::to_string(options.max_runs) + " (raise it with --max-runs)");
-  }
-  // The same scene listed by two scenario entries would be two runs with one key.
-  std::set<std::string> keys;
-  for (const RunSpec& r : expandRuns(spec)) {
-    if (!keys.insert(r.key).second) {
-      check.fail(SpecErrorKind::kBadValue, "scenarios",
-                 "run " + r.key + " is listed twice (overlapping scenario entries)");
-    }
+               "the grid's " + std::to_string(runs) + " runs would take about " + std::to_string(bytes >> 20) +
+                   " MB to describe, more than the limit of " + std::to_string(kMaxExpandedBytes >> 20) +
+                   " MB (fewer runs, or shorter labels)");
   }
   if (options.check_combinations) probeCombinations(check, spec);
   spec.json = j.dump();
@@ -459,23 +483,19 @@ BatchSpec loadBatchSpec(const std::string& path, const SpecOptions& options) {
 
 std::size_t countRuns(const BatchSpec& spec) {
   // Saturating: a hostile grid must not wrap around to a small count and then be expanded.
-  constexpr std::size_t kMax = std::numeric_limits<std::size_t>::max();
-  auto times = [](std::size_t a, std::size_t b) { return b != 0 && a > kMax / b ? kMax : a * b; };
-  std::size_t scenes = 0;
-  for (const ScenarioEntry& e : spec.scenarios) {
-    std::size_t combos = 1;
-    for (const auto& [name, values] : e.params) combos = times(combos, values.size());
-    scenes = combos > kMax - scenes ? kMax : scenes + combos;
-  }
-  return times(times(scenes, spec.seeds.size()), spec.planners.size());
+  return times(times(sceneCount(spec), spec.seeds.size()), spec.planners.size());
 }
 
-std::vector<RunSpec> expandRuns(const BatchSpec& spec) {
+std::vector<RunSpec> expandRuns(const BatchSpec& spec, std::size_t limit) {
   std::vector<RunSpec> runs;
+  runs.reserve(std::min(limit, countRuns(spec)));
   for (const ScenarioEntry& e : spec.scenarios) {
     for (const auto& combo : combinations(e)) {
+      std::string params;
+      for (const auto& [k, v] : combo) params += (params.empty() ? "" : ",") + k + "=" + std::to_string(v);
       for (std::uint64_t seed : spec.seeds) {
         for (const PlannerEntry& p : spec.planners) {
+          if (runs.size() >= limit) return runs;
           RunSpec r;
           r.family = e.family;
           r.params = combo;
@@ -488,8 +508,6 @@ std::vector<RunSpec> expandRuns(const BatchSpec& spec) {
           r.time_limit = spec.time_limit;
           r.memory_limit_mb = spec.memory_limit_mb;
           r.stop_axis = e.stop_axis;
-          std::string params;
-          for (const auto& [k, v] : combo) params += (params.empty() ? "" : ",") + k + "=" + std::to_string(v);
           r.key = e.family + "/" + params + "/seed=" + std::to_string(seed) + "/" + p.label;
           r.ordinal = static_cast<int>(runs.size());
           runs.push_back(std::move(r));
@@ -498,66 +516,6 @@ std::vector<RunSpec> expandRuns(const BatchSpec& spec) {
     }
   }
   return runs;
-}
-
-DurationEstimate estimateDuration(const std::vector<RunSpec>& runs, int workers, double setup) {
-  DASH_THROW_UNLESS(workers >= 1, "workers must be at least 1");
-  DurationEstimate e;
-  // Stopped: per stop-axis line only the smallest size runs.
-  std::map<std::string, int> smallest;
-  auto lineOf = [](const RunSpec& r) {
-    std::string line = r.family + "/";
-    for (const auto& [k, v] : r.params)
-      if (k != r.stop_axis) line += k + "=" + std::to_string(v) + ",";
-    return line + "/" + r.label;
-  };
-  auto axisValue = [](const RunSpec& r) {
-    for (const auto& [k, v] : r.params)
-      if (k == r.stop_axis) return v;
-    return 0;
-  };
-  for (const RunSpec& r : runs) {
-    if (r.stop_axis.empty()) continue;
-    const std::string line = lineOf(r);
-    const auto it = smallest.find(line);
-    if (it == smallest.end() || axisValue(r) < it->second) smallest[line] = axisValue(r);
-  }
-  for (const RunSpec& r : runs) {
-    const double t = r.time_limit + setup;
-    e.worst_seconds += t;
-    if (r.stop_axis.empty() || axisValue(r) == smallest[lineOf(r)]) e.stopped_seconds += t;
-  }
-  e.worst_seconds /= workers;
-  e.stopped_seconds /= workers;
-  return e;
-}
-
-namespace {
-std::string hours(double seconds) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.1f h", seconds / 3600.0);
-  return buf;
-}
-}  // namespace
-
-std::string formatRunList(const BatchSpec& spec, const std::vector<RunSpec>& runs, int workers) {
-  std::ostringstream out;
-  out << "batch " << spec.name << ": " << runs.size() << " runs";
-  out << " (time limit " << spec.time_limit << " s, memory limit ";
-  if (spec.memory_limit_mb > 0) {
-    out << spec.memory_limit_mb << " MB)\n";
-  } else {
-    out << "none)\n";
-  }
-  const DurationEstimate e = estimateDuration(runs, workers);
-  out << "duration with " << workers << " worker" << (workers == 1 ? "" : "s") << ": at most " << hours(e.worst_seconds)
-      << " (every run to its time limit)";
-  if (e.stopped_seconds < e.worst_seconds)
-    out << "; " << hours(e.stopped_seconds) << " when every stop-axis line stops after its smallest size";
-  out << "\n";
-  if (!spec.description.empty()) out << spec.description << "\n";
-  for (const RunSpec& r : runs) out << "  " << r.ordinal + 1 << "  " << r.key << "\n";
-  return out.str();
 }
 
 }  // namespace dash::batch

@@ -4,6 +4,10 @@
 // throws SpecError, whose kind() says which rule was broken and whose message names the file and
 // the offending field ("sorting.json: scenarios[0].params.robots[2]: 40 is out of range 2..32").
 //
+// Hostile specs are bounded before anything is expanded (issue 40): names at most 128 bytes, labels
+// 256, the description 4096; the run count from the grid's sizes and the seed count; and the bytes
+// the runs would take once expanded (32 MB).
+//
 // Format (every key but description, time_limit and memory_limit is required):
 //   {
 //     "name": "sorting",
@@ -52,6 +56,8 @@ class SpecError : public InputError {
 
 struct SpecOptions {
   std::size_t max_runs = 10000;
+  /// How the refusal of a spec over max_runs says to raise the limit (the option of the program).
+  const char* max_runs_advice = "raise it with --max-runs";
   /// Collect unknown planner names into BatchSpec::unknown_planners instead of throwing (so a test
   /// can validate a spec that names a planner this build does not have yet, and skip running it).
   bool allow_unknown_planners = false;
@@ -127,8 +133,9 @@ BatchSpec loadBatchSpec(const std::string& path, const SpecOptions& options = {}
 
 /// The runs of the grid: for each scenario entry, each parameter combination (last parameter
 /// fastest), each seed, each planner (so that planners compared on one scene run side by side).
-std::vector<RunSpec> expandRuns(const BatchSpec& spec);
-/// The number of runs expandRuns would return.
+/// At most `limit` of them: the first ones (a preview need not expand the whole grid).
+std::vector<RunSpec> expandRuns(const BatchSpec& spec, std::size_t limit = static_cast<std::size_t>(-1));
+/// The number of runs expandRuns would return, from the grid's sizes (saturating, nothing expanded).
 std::size_t countRuns(const BatchSpec& spec);
 
 /// `dashbench batch plan`: a header (name, limits, run count, duration estimate) and one line per run.

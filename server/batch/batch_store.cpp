@@ -163,6 +163,33 @@ std::int64_t BatchStore::runCount(const std::string& batch_id) const {
   return st.step() ? st.columnInt(0) : 0;
 }
 
+BatchStore::Counts BatchStore::counts(const std::string& batch_id) const {
+  Counts out;
+  if (!impl_->has_tables) return out;
+  // "Pending" is StoredRun::complete() negated, in SQL: not skipped, and no row, or a row that is
+  // running, cancelled, or a crash closed by markInterrupted ("interrupted: ...").
+  constexpr const char* kPending =
+      "r.status IS NULL OR r.status IN ('running', 'cancelled') OR "
+      "(r.status = 'crashed' AND substr(COALESCE(r.error, ''), 1, 12) = 'interrupted:')";
+  const std::string skipped = impl_->has_skipped ? "s.reason IS NOT NULL" : "0";
+  sql::Statement st(
+      impl_->db.get(),
+      "SELECT COUNT(*), COALESCE(SUM(CASE WHEN " + skipped + " THEN 0 WHEN " + kPending +
+          " THEN 1 ELSE 0 END), 0), COALESCE(SUM(" + skipped +
+          "), 0) FROM dash_batch_runs b "
+          "LEFT JOIN dash_runs r ON r.uuid = b.run_uuid " +
+          (impl_->has_skipped ? "LEFT JOIN dash_batch_skipped s ON s.batch_id = b.batch_id AND s.run_key = b.run_key "
+                              : "") +
+          "WHERE b.batch_id = ?");
+  st.bind(1, batch_id);
+  if (st.step()) {
+    out.total = st.columnInt(0);
+    out.pending = st.columnInt(1);
+    out.skipped = st.columnInt(2);
+  }
+  return out;
+}
+
 void BatchStore::assignUuid(const std::string& batch_id, const std::string& key, const std::string& uuid) {
   sql::Statement st(
       impl_->db.get(),
@@ -270,12 +297,10 @@ std::vector<BatchInfo> listBatchInfo(const std::string& db_path, const std::stri
     for (const auto& row : rows.rows) {
       info.by_status[std::get<std::string>(row[0])] = std::get<std::int64_t>(row[1]);
     }
-    const std::vector<StoredRun> runs = store.runs(b.id);
-    info.total = static_cast<std::int64_t>(runs.size());
-    for (const StoredRun& r : runs) {
-      info.pending += r.complete() ? 0 : 1;
-      if (!r.skipped.empty()) ++info.by_status["skipped"];
-    }
+    const BatchStore::Counts counts = store.counts(b.id);
+    info.total = counts.total;
+    info.pending = counts.pending;
+    if (counts.skipped > 0) info.by_status["skipped"] = counts.skipped;
     out.push_back(std::move(info));
   }
   DASH_THROW_UNLESS(batch_id.empty() || !out.empty(), "no batch " + batch_id + " in " + db_path);

@@ -72,6 +72,14 @@ class BatchStore {
   /// Every stored run of the batch, in ordinal order, joined with its dash_runs row.
   std::vector<StoredRun> runs(const std::string& batch_id) const;
   std::int64_t runCount(const std::string& batch_id) const;
+  /// The batch's stored runs counted in one query, without reading their descriptions (a list of
+  /// batches with 200,000 stored runs took 3-7 s when it read them all).
+  struct Counts {
+    std::int64_t total = 0;
+    std::int64_t pending = 0;  ///< runs not StoredRun::complete()
+    std::int64_t skipped = 0;
+  };
+  Counts counts(const std::string& batch_id) const;
 
   /// Records `uuid` as the key's current attempt (attempts + 1).
   void assignUuid(const std::string& batch_id, const std::string& key, const std::string& uuid);

@@ -156,6 +156,14 @@ std::string signalName(int sig) {
 RunProcess spawnRunProcess(const std::string& executable, const RunSpec& run) {
   // Everything the child needs is prepared before fork: after it, only async-signal-safe calls.
   const std::string run_json = run.toJson();
+  // One argument may hold at most 32 pages (MAX_ARG_STRLEN); the spec's length limits keep a run's
+  // description far below. Past it, exec would fail with nothing but "exec ... failed".
+  constexpr std::size_t kMaxArgumentBytes = 32 * 4096 - 1;
+  if (run_json.size() > kMaxArgumentBytes) {
+    throw std::system_error(E2BIG, std::generic_category(),
+                            "the run's description is " + std::to_string(run_json.size()) +
+                                " bytes, more than one argument of its process may hold (128 KB)");
+  }
   std::vector<std::string> words = {executable, "run-one", "--fd", std::to_string(kChildMessageFd), "--run", run_json};
   std::vector<char*> argv;
   for (auto& w : words) argv.push_back(w.data());

@@ -18,7 +18,8 @@ namespace dash::cli {
 extern const char* const kServeHelp;
 const char* const kServeHelp =
     "usage: dashbench serve [--host 127.0.0.1] [--port 8080] [--db data/results.db] [--token-file FILE]\n"
-    "                       [--web DIR] [--max-workers N] [--dispatch-state-timeout S]\n"
+    "                       [--web DIR] [--max-workers N] [--max-runs N] [--query-timeout S]\n"
+    "                       [--dispatch-state-timeout S]\n"
     "Serve the web dashboard and the JSON API (http://HOST:PORT/, API under /api/).\n"
     "  --host H         address to listen on (default 127.0.0.1: this machine only). Another address\n"
     "                   lets others read every result; changes still need the token.\n"
@@ -30,6 +31,9 @@ const char* const kServeHelp =
     "                   start, mode 0600, and printed once)\n"
     "  --web DIR        the dashboard's files (default: the source tree's web/, or $DASHBENCH_WEB)\n"
     "  --max-workers N  runs at once per batch, at most (default: the number of cores)\n"
+    "  --max-runs N     the most runs one submitted batch may expand to (default 5000; 1..100000)\n"
+    "  --query-timeout S\n"
+    "                   the query console's time limit per query, in seconds (default 10; 0.1..600)\n"
     "  --dispatch-state-timeout S\n"
     "                   seconds a dispatched arm may go without reporting its state before every\n"
     "                   arm is stopped (default 0.5; between 0.05 and 10)\n"
@@ -57,7 +61,9 @@ void seedDefaultDb(const std::string& db_path) {
 }  // namespace
 
 int runServe(const std::vector<std::string>& words) {
-  Args args(words, {.options = {"host", "port", "db", "token-file", "web", "max-workers", "dispatch-state-timeout"}, .flags = {}});
+  Args args(words, {.options = {"host", "port", "db", "token-file", "web", "max-workers", "max-runs", "query-timeout",
+                                "dispatch-state-timeout"},
+                    .flags = {}});
   DASH_THROW_UNLESS(args.positional().empty(), "serve takes no positional arguments (see --help)");
   http::ServerOptions options;
   options.host = args.get("host", "127.0.0.1");
@@ -69,6 +75,12 @@ int runServe(const std::vector<std::string>& words) {
   options.max_batch_workers = static_cast<int>(args.integer("max-workers", 0));  // 0: the number of cores
   DASH_THROW_UNLESS(!args.has("max-workers") || (options.max_batch_workers >= 1 && options.max_batch_workers <= 1024),
                     "--max-workers must be between 1 and 1024");
+  const long long max_runs = args.integer("max-runs", 5000);
+  DASH_THROW_UNLESS(max_runs >= 1 && max_runs <= 100000, "--max-runs must be between 1 and 100000");
+  options.max_batch_runs = static_cast<std::size_t>(max_runs);
+  options.query_timeout_seconds = args.number("query-timeout", 10);
+  DASH_THROW_UNLESS(options.query_timeout_seconds >= 0.1 && options.query_timeout_seconds <= 600,
+                    "--query-timeout must be between 0.1 and 600 seconds");
   options.dispatch_state_timeout_seconds = args.number("dispatch-state-timeout", 0.5);
   DASH_THROW_UNLESS(options.dispatch_state_timeout_seconds >= 0.05 && options.dispatch_state_timeout_seconds <= 10,
                     "--dispatch-state-timeout must be between 0.05 and 10 seconds");

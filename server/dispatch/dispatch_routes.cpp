@@ -22,6 +22,21 @@ void reply(httplib::Response& res, int status, const std::string& body) {
   res.set_content(body, kJson);
 }
 
+/// `text` with invalid UTF-8 replaced (U+FFFD): an error may quote bytes of the request, and
+/// serialising those strictly threw from the error handler itself, a 500 (issue 40).
+std::string validUtf8(const std::string& text) {
+  return Json::parse(Json(text).dump(-1, ' ', false, Json::error_handler_t::replace)).get<std::string>();
+}
+
+bool isValidUtf8(const std::string& text) {
+  try {
+    (void)Json(text).dump();
+    return true;
+  } catch (const Json::type_error&) {
+    return false;
+  }
+}
+
 /// Runs a handler with the token check and turns exceptions into JSON errors.
 template <class Handler>
 httplib::Server::Handler guarded(const RequestAuthorizer& authorized, Handler handler) {
@@ -30,12 +45,16 @@ httplib::Server::Handler guarded(const RequestAuthorizer& authorized, Handler ha
       reply(res, 401, errorToJson("unauthorized", "missing or wrong token"));
       return;
     }
+    if (!isValidUtf8(req.body)) {
+      reply(res, 400, errorToJson("bad_request", "the request body is not valid UTF-8"));
+      return;
+    }
     try {
       handler(req, res);
     } catch (const InputError& e) {
-      reply(res, 400, errorToJson("bad_request", e.what()));
+      reply(res, 400, errorToJson("bad_request", validUtf8(e.what())));
     } catch (const std::exception& e) {
-      reply(res, 500, errorToJson("internal", e.what()));
+      reply(res, 500, errorToJson("internal", validUtf8(e.what())));
     }
   };
 }
@@ -86,7 +105,8 @@ void handleDispatch(DispatchService& service, const httplib::Request& req, httpl
   Plan plan;
   if (!loadPlan(service, body, plan, scene, res)) return;
   DispatchOrigin origin;
-  origin.requested_by = !body.user.empty() ? body.user : req.get_header_value("X-Dashbench-User").substr(0, 100);
+  const std::string user = !body.user.empty() ? body.user : req.get_header_value("X-Dashbench-User").substr(0, 100);
+  origin.requested_by = validUtf8(user);  // 100 bytes may cut a character
   origin.client = req.remote_addr;
   origin.run_id = body.run_id;
   const DispatchOutcome outcome = service.dispatch(plan, scene, body.options, origin);

@@ -28,6 +28,15 @@ void replyError(httplib::Response& res, int status, const std::string& message) 
   replyJson(res, status, errorJson(message));
 }
 
+ConcurrencySlot::ConcurrencySlot(std::atomic<int>& running, int cap, const std::string& message) : running_(running) {
+  if (running_.fetch_add(1) >= cap) {
+    running_.fetch_sub(1);
+    throw HttpError(503, message, 1);
+  }
+}
+
+ConcurrencySlot::~ConcurrencySlot() { running_.fetch_sub(1); }
+
 bool constantTimeEquals(std::string_view a, std::string_view b) {
   // The length is not secret (tokens have a fixed format); the content is compared in full.
   unsigned char diff = a.size() == b.size() ? 0 : 1;
@@ -83,10 +92,19 @@ Handler guarded(Handler handler) {
       handler(req, res);
     } catch (const HttpError& e) {
       replyError(res, e.status(), e.what());
+      if (e.retryAfter() > 0) res.set_header("Retry-After", std::to_string(e.retryAfter()));
     } catch (const InputError& e) {
       replyError(res, 400, e.what());
     } catch (const log::DbError& e) {
-      replyError(res, 503, std::string("results database error: ") + e.what());
+      // SQLite's message quotes the SQL and the file's path: for the server's log, not for clients.
+      const std::string what = e.what();
+      std::fprintf(stderr, "dashbench serve: %s %s: %s\n", req.method.c_str(), req.path.c_str(), what.c_str());
+      if (what.find("database is locked") != std::string::npos || what.find("database is busy") != std::string::npos) {
+        replyError(res, 503, "the results database is busy; try again in a moment");
+        res.set_header("Retry-After", "1");
+      } else {
+        replyError(res, 503, "results database error (the server's log has the details)");
+      }
     } catch (const std::exception& e) {
       std::fprintf(stderr, "dashbench serve: %s %s failed: %s\n", req.method.c_str(), req.path.c_str(), e.what());
       replyError(res, 500, std::string("internal error: ") + e.what());

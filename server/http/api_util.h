@@ -2,6 +2,7 @@
 // What every route of the HTTP API shares: JSON replies, errors as {"error": "..."}, the token check,
 // query parameters, and the wrapper that turns any exception of a handler into a JSON answer.
 // httplib stays out of this header (it must be included after Eigen; see dispatch_routes.h).
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <stdexcept>
@@ -18,11 +19,28 @@ namespace dash::http {
 /// A request the API refuses, with its HTTP status (4xx) and a message for people.
 class HttpError : public std::runtime_error {
  public:
-  HttpError(int status, const std::string& message) : std::runtime_error(message), status_(status) {}
+  HttpError(int status, const std::string& message, int retry_after_seconds = 0)
+      : std::runtime_error(message), status_(status), retry_after_(retry_after_seconds) {}
   int status() const { return status_; }
+  /// Sent as Retry-After when positive (a 503 of a capped route).
+  int retryAfter() const { return retry_after_; }
 
  private:
   int status_;
+  int retry_after_;
+};
+
+/// Counts the requests of a capped route running at once; one more than `cap` is an HttpError 503
+/// with Retry-After: 1 and `message`. Held for the request's lifetime.
+class ConcurrencySlot {
+ public:
+  ConcurrencySlot(std::atomic<int>& running, int cap, const std::string& message);
+  ~ConcurrencySlot();
+  ConcurrencySlot(const ConcurrencySlot&) = delete;
+  ConcurrencySlot& operator=(const ConcurrencySlot&) = delete;
+
+ private:
+  std::atomic<int>& running_;
 };
 
 inline constexpr const char* kJsonType = "application/json";

@@ -19,6 +19,7 @@ namespace {
 
 constexpr auto kLoopPeriod = std::chrono::milliseconds(200);
 constexpr auto kSlurmPollPeriod = std::chrono::seconds(5);  ///< squeue is a request to the controller
+constexpr int kBusyTimeoutMs = 15000;  ///< a submit's wait for the runners' writes (BatchStore's too)
 
 Json progressJson(const batch::BatchProgress& p) {
   Json j = {{"total", p.total},          {"done", p.done},         {"solved", p.solved},
@@ -90,25 +91,34 @@ int BatchManager::checkedWorkers(int workers) const {
   return workers;
 }
 
+batch::SpecOptions BatchManager::specOptions() const {
+  return {.max_runs = options_.max_runs, .max_runs_advice = "this server's limit: dashbench serve --max-runs"};
+}
+
 std::string BatchManager::validateJson(const std::string& spec_json, std::size_t max_keys) const {
-  const batch::BatchSpec spec = batch::parseBatchSpec(spec_json, "spec", {.max_runs = options_.max_runs});
-  const std::vector<batch::RunSpec> runs = batch::expandRuns(spec);
+  const batch::BatchSpec spec = batch::parseBatchSpec(spec_json, "spec", specOptions());
+  // The preview's keys only: the grid is counted from its sizes, never expanded here.
   Json keys = Json::array();
-  for (std::size_t i = 0; i < runs.size() && i < max_keys; ++i) keys.push_back(runs[i].key);
-  return jsonText(Json{{"name", spec.name}, {"runs", runs.size()}, {"keys", keys}, {"time_limit", spec.time_limit}});
+  for (const batch::RunSpec& r : batch::expandRuns(spec, max_keys)) keys.push_back(r.key);
+  return jsonText(
+      Json{{"name", spec.name}, {"runs", batch::countRuns(spec)}, {"keys", keys}, {"time_limit", spec.time_limit}});
 }
 
 SubmitOutcome BatchManager::submit(const std::string& spec_json, int workers) {
   checkedWorkers(workers);
-  const batch::BatchSpec spec = batch::parseBatchSpec(spec_json, "spec", {.max_runs = options_.max_runs});
+  const batch::BatchSpec spec = batch::parseBatchSpec(spec_json, "spec", specOptions());
   const std::vector<batch::RunSpec> runs = batch::expandRuns(spec);
   const std::string id = batch::newBatchId(spec.name);
   {
+    // One submit writes at a time: 40 at once, each a writer of its own, waited on each other's locks
+    // until some gave up with "database is locked" (issue 40). The runners' writes are short
+    // transactions, which the busy timeout outwaits.
+    std::lock_guard submitting(submit_mutex_);
     // Recorded before it runs (what BatchRunner::start would do), so a queued batch survives a restart.
-    log::ResultsDb db(options_.db_path);
-    db.putBatch(log::BatchRecord{.id = id, .name = spec.name, .spec_json = spec.json, .status = "queued"});
-  }
-  {
+    {
+      log::ResultsDb db(options_.db_path, log::OpenMode::ReadWrite, log::DbOptions{.busy_timeout_ms = kBusyTimeoutMs});
+      db.putBatch(log::BatchRecord{.id = id, .name = spec.name, .spec_json = spec.json, .status = "queued"});
+    }
     batch::BatchStore store(options_.db_path);
     store.addRuns(id, runs);
   }
@@ -127,7 +137,7 @@ bool BatchManager::slurmAvailable() const { return batch::SlurmClient::available
 SubmitOutcome BatchManager::submitSlurm(const std::string& spec_json, const SlurmRequest& request) {
   if (!slurmAvailable()) throw HttpError(400, "backend: sbatch is not on this server's PATH");
   if (request.max_parallel < 0) throw HttpError(400, "max_parallel: must not be negative");
-  const batch::BatchSpec spec = batch::parseBatchSpec(spec_json, "spec", {.max_runs = options_.max_runs});
+  const batch::BatchSpec spec = batch::parseBatchSpec(spec_json, "spec", specOptions());
   batch::SlurmSubmitOptions o;
   o.partition = request.partition;
   o.account = request.account;

@@ -98,10 +98,12 @@ class BatchManager {
   void onProgress(const batch::BatchProgress& p);
   void publishBatch(const std::string& batch_id) const;
   int checkedWorkers(int workers) const;
+  batch::SpecOptions specOptions() const;
 
   BatchManagerOptions options_;
   EventHub& hub_;
   mutable std::mutex mutex_;
+  std::mutex submit_mutex_;  ///< one submit writes to the database at a time
   std::condition_variable cv_;
   std::map<std::string, Active> active_;
   std::deque<Queued> queue_;

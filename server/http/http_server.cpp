@@ -37,6 +37,10 @@ namespace {
 /// query console's limits fails with "out of memory" instead of taking the machine's memory.
 constexpr std::int64_t kSqliteHeapLimit = std::int64_t{512} << 20;
 
+/// The most runs a server may accept in one batch (--max-runs): the spec's byte bound (32 MB)
+/// refuses long-labelled grids well before.
+constexpr std::size_t kMaxBatchRuns = 100000;
+
 /// Connections the kernel queues until the accept loop takes them (httplib's own is 5).
 constexpr int kListenBacklog = 1024;
 
@@ -119,6 +123,10 @@ HttpServer::HttpServer(ServerOptions options) {
                         options.idle_timeout_seconds >= 0.1 && options.idle_timeout_seconds <= 3600,
                     "request and idle timeouts must be within 0.1..3600 s");
   DASH_THROW_UNLESS(options.max_event_streams >= 1, "the event stream limit must be at least 1");
+  DASH_THROW_UNLESS(options.query_timeout_seconds >= 0.1 && options.query_timeout_seconds <= 600,
+                    "the query time limit must be within 0.1..600 s");
+  DASH_THROW_UNLESS(options.max_batch_runs >= 1 && options.max_batch_runs <= kMaxBatchRuns,
+                    "the run limit of a batch must be within 1.." + std::to_string(kMaxBatchRuns));
   DASH_THROW_UNLESS(std::filesystem::is_regular_file(std::filesystem::path(options.web_root) / "index.html"),
                     "web root " + options.web_root + " has no index.html");
   if (options.max_batch_workers <= 0)
@@ -140,7 +148,8 @@ void HttpServer::Impl::configure() {
   batches = std::make_unique<BatchManager>(BatchManagerOptions{.db_path = options.db_path,
                                                                .executable = options.executable,
                                                                .max_running = options.max_running_batches,
-                                                               .max_workers = options.max_batch_workers},
+                                                               .max_workers = options.max_batch_workers,
+                                                               .max_runs = options.max_batch_runs},
                                            hub);
   ctx.db_path = options.db_path;
   ctx.token = options.token;
@@ -163,8 +172,8 @@ void HttpServer::Impl::configure() {
   server.set_default_headers(
       {{"X-Content-Type-Options", "nosniff"}, {"X-Frame-Options", "DENY"}, {"Referrer-Policy", "no-referrer"}});
   const bool loopback_only = isLoopbackName(options.host);
-  server.set_pre_routing_handler([loopback_only](const httplib::Request& req, httplib::Response& res) {
-    if (const std::optional<Refusal> refusal = refusalBeforeRouting(req, loopback_only)) {
+  server.set_pre_routing_handler([this, loopback_only](const httplib::Request& req, httplib::Response& res) {
+    if (const std::optional<Refusal> refusal = refusalBeforeRouting(req, loopback_only, port)) {
       replyError(res, refusal->status, refusal->message);
       return httplib::Server::HandlerResponse::Handled;
     }

@@ -33,6 +33,7 @@ struct ServerOptions {
   double poll_seconds = 0.5;                ///< database watcher period
   int max_batch_workers = 0;                ///< runs at once per batch, at most; 0: the number of cores
   int max_running_batches = 1;              ///< more wait queued
+  std::size_t max_batch_runs = 5000;        ///< a submitted spec that expands to more runs is refused
   bool dispatch = true;                     ///< mount the dispatch API
   /// s without a state report (or a joint state) from a dispatched arm before every arm is stopped
   double dispatch_state_timeout_seconds = 0.5;

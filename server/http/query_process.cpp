@@ -16,39 +16,47 @@
 #include <stdexcept>
 #include <vector>
 
+#include "server/http/api_json.h"
+
 namespace dash::http {
 
 namespace {
 
-using Json = nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kPollMs = 100;
-constexpr const char* kOneCallAdvice = " (one function call that long is stopped with its process); narrow it";
+constexpr std::size_t kMaxErrorAnswerBytes = 1 << 20;  ///< a refusal's message quotes at most the SQL
+constexpr const char* kOneCallAdvice = " (one function call that long is stopped with its process)";
 
-// Cells: null, integers and strings as themselves; a double as [x] (or ["inf"], ["-inf"],
-// ["nan"]) so that 1.0 stays a double.
-Json cellJson(const log::SqlValue& v) {
-  if (const auto* i = std::get_if<std::int64_t>(&v)) return *i;
-  if (const auto* d = std::get_if<double>(&v)) {
-    if (std::isfinite(*d)) return Json::array({*d});
-    return Json::array({std::isnan(*d) ? "nan" : (*d > 0 ? "inf" : "-inf")});
+/// The answer as the API sends it: {"columns", "rows", "truncated", "max_rows", "max_bytes"}, written
+/// row by row, at most `max_bytes` of rows (a row that would pass them is left out, truncated). The
+/// server sends this text as it is: it never builds the rows again in its own memory (issue 40).
+std::string answerText(const log::SqlRows& rows, std::int64_t max_rows, std::int64_t max_bytes) {
+  const auto text = [](const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); };
+  std::string out = "{\"columns\":" + text(rows.columns) + ",\"rows\":[";
+  const std::size_t rows_start = out.size();
+  const std::size_t budget = rows_start + static_cast<std::size_t>(std::max<std::int64_t>(max_bytes, 0));
+  bool cut = false;
+  std::string cell;
+  for (const auto& row : rows.rows) {
+    const std::size_t row_start = out.size();
+    out += out.size() == rows_start ? "[" : ",[";
+    for (std::size_t c = 0; c < row.size() && !cut; ++c) {
+      // Doubles as numbers (NaN and infinities as null), text with invalid UTF-8 replaced.
+      cell = text(toJson(row[c]));
+      cut = max_bytes > 0 && out.size() + cell.size() + 2 > budget;
+      if (!cut) out += (c == 0 ? "" : ",") + cell;
+    }
+    if (cut) {
+      out.resize(row_start);  // the row that passes the budget is left out whole
+      break;
+    }
+    out += "]";
   }
-  if (const auto* s = std::get_if<std::string>(&v)) return *s;
-  return nullptr;
-}
-
-log::SqlValue cellValue(const Json& j) {
-  if (j.is_null()) return std::monostate{};
-  if (j.is_number_integer()) return j.get<std::int64_t>();
-  if (j.is_string()) return j.get<std::string>();
-  if (j.is_array() && j.size() == 1) {
-    if (j[0].is_number()) return j[0].get<double>();
-    const std::string s = j[0].get<std::string>();
-    if (s == "nan") return std::nan("");
-    return s == "inf" ? HUGE_VAL : -HUGE_VAL;
-  }
-  throw std::runtime_error("the query process wrote a malformed cell");
+  const bool truncated = rows.truncated || cut;
+  out += "],\"truncated\":" + std::string(truncated ? "true" : "false") + ",\"max_rows\":" + std::to_string(max_rows) +
+         ",\"max_bytes\":" + std::to_string(max_bytes) + "}";
+  return out;
 }
 
 bool writeAll(int fd, const std::string& text) {
@@ -141,18 +149,22 @@ ssize_t writeNoSignal(int fd, const char* data, std::size_t size) {
 
 }  // namespace
 
-log::SqlRows runQueryInChild(const std::string& executable, const std::string& db_path, const std::string& sql,
-                             const log::QueryLimits& limits, const std::function<bool()>& cancelled,
-                             const QueryProcessLimits& process) {
-  const std::string request = Json{{"db", db_path},
-                                   {"sql", sql},
-                                   {"max_rows", limits.max_rows},
-                                   {"timeout_seconds", limits.timeout_seconds},
-                                   {"max_cell_bytes", limits.max_cell_bytes},
-                                   {"max_columns", limits.max_columns},
-                                   {"max_result_bytes", limits.max_result_bytes},
-                                   {"sqlite_heap_bytes", process.sqlite_heap_bytes}}
-                                  .dump(-1, ' ', false, Json::error_handler_t::replace);
+std::string runQueryInChild(const std::string& executable, const std::string& db_path, const std::string& sql,
+                            const log::QueryLimits& limits, const std::function<bool()>& cancelled,
+                            const QueryProcessLimits& process) {
+  const std::string request = Json{
+      {"db", db_path},
+      {"sql", sql},
+      {"max_rows", limits.max_rows},
+      {"timeout_seconds", limits.timeout_seconds},
+      {"max_cell_bytes", limits.max_cell_bytes},
+      {"max_columns", limits.max_columns},
+      {"max_result_bytes", limits.max_result_bytes},
+      {"sqlite_heap_bytes", process.sqlite_heap_bytes},
+      {"time_limit_advice", limits.time_limit_advice},
+      {"private_tables", limits.private_tables},
+      {"private_advice",
+       limits.private_advice}}.dump(-1, ' ', false, Json::error_handler_t::replace);
   Child child = spawn(executable, process, limits.timeout_seconds);
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
                                            limits.timeout_seconds + process.kill_grace_seconds));
@@ -180,7 +192,10 @@ log::SqlRows runQueryInChild(const std::string& executable, const std::string& d
         child.out = -1;
         break;
       }
-      if (answer.size() > process.max_answer_bytes) stop = Stop::TooBig;
+      // The rows are at most max_result_bytes of JSON (answerText); more is a broken child.
+      if (answer.size() > static_cast<std::size_t>(std::max<std::int64_t>(limits.max_result_bytes, 0)) +
+                              process.max_answer_overhead_bytes)
+        stop = Stop::TooBig;
     }
     if (stop == Stop::None && Clock::now() >= deadline) stop = Stop::Time;
     if (stop == Stop::None && cancelled && cancelled()) stop = Stop::Cancelled;
@@ -194,7 +209,7 @@ log::SqlRows runQueryInChild(const std::string& executable, const std::string& d
   }
   switch (stop) {
     case Stop::Time:
-      throw log::timeLimitRefused(limits.timeout_seconds, kOneCallAdvice);
+      throw log::timeLimitRefused(limits.timeout_seconds, kOneCallAdvice + limits.time_limit_advice);
     case Stop::Cancelled:
       throw InputError("the query was stopped: the client went away");
     case Stop::TooBig:
@@ -203,30 +218,22 @@ log::SqlRows runQueryInChild(const std::string& executable, const std::string& d
       break;
   }
   if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGXCPU || WTERMSIG(status) == SIGKILL)) {
-    throw log::timeLimitRefused(limits.timeout_seconds, kOneCallAdvice);
+    throw log::timeLimitRefused(limits.timeout_seconds, kOneCallAdvice + limits.time_limit_advice);
   }
-  const Json j = Json::parse(answer, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) {
+  if (answer.rfind("{\"columns\":", 0) == 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0) return answer;
+  // A refusal or an error: a small object, parsed.
+  const Json j = answer.size() <= kMaxErrorAnswerBytes ? Json::parse(answer, nullptr, false) : Json();
+  if (j.is_discarded() || !j.is_object() || !j.contains("error")) {
     if (WIFSIGNALED(status)) {
       throw std::runtime_error("the query process died (signal " + std::to_string(WTERMSIG(status)) + ")");
     }
     throw std::runtime_error("the query process failed (exit status " + std::to_string(WEXITSTATUS(status)) + ")");
   }
-  if (j.contains("error")) {
-    const std::string message = j["error"].get<std::string>();
-    const std::string kind = j.value("kind", "input");
-    if (kind == "refused") throw log::QueryRefused(static_cast<log::QueryGuard>(j.value("guard", 0)), message);
-    if (kind == "input") throw InputError(message);
-    throw std::runtime_error(message);
-  }
-  log::SqlRows rows;
-  rows.columns = j.at("columns").get<std::vector<std::string>>();
-  rows.truncated = j.value("truncated", false);
-  for (const Json& r : j.at("rows")) {
-    std::vector<log::SqlValue>& row = rows.rows.emplace_back();
-    for (const Json& cell : r) row.push_back(cellValue(cell));
-  }
-  return rows;
+  const std::string message = j["error"].get<std::string>();
+  const std::string kind = j.value("kind", "input");
+  if (kind == "refused") throw log::QueryRefused(static_cast<log::QueryGuard>(j.value("guard", 0)), message);
+  if (kind == "input") throw InputError(message);
+  throw std::runtime_error(message);
 }
 
 int queryWorkerMain(int in_fd, int out_fd) {
@@ -247,16 +254,13 @@ int queryWorkerMain(int in_fd, int out_fd) {
                                   .timeout_seconds = request.at("timeout_seconds").get<double>(),
                                   .max_cell_bytes = request.at("max_cell_bytes").get<int>(),
                                   .max_columns = request.at("max_columns").get<int>(),
-                                  .max_result_bytes = request.at("max_result_bytes").get<std::int64_t>()};
+                                  .max_result_bytes = request.at("max_result_bytes").get<std::int64_t>(),
+                                  .time_limit_advice = request.value("time_limit_advice", std::string()),
+                                  .private_tables = request.value("private_tables", std::vector<std::string>()),
+                                  .private_advice = request.value("private_advice", std::string())};
     const log::SqlRows rows = log::runReadOnlyQuery(request.at("db").get<std::string>(),
                                                     request.at("sql").get<std::string>(), limits);
-    answer = Json{{"columns", rows.columns}, {"rows", Json::array()}, {"truncated", rows.truncated}};
-    Json& out_rows = answer["rows"];
-    for (const auto& row : rows.rows) {
-      Json r = Json::array();
-      for (const auto& v : row) r.push_back(cellJson(v));
-      out_rows.push_back(std::move(r));
-    }
+    return writeAll(out_fd, answerText(rows, limits.max_rows, limits.max_result_bytes)) ? 0 : 1;
   } catch (const log::QueryRefused& e) {
     answer = Json{{"error", e.what()}, {"kind", "refused"}, {"guard", static_cast<int>(e.guard())}};
   } catch (const InputError& e) {

@@ -77,14 +77,57 @@ std::string hostName(const std::string& header) {
   return header.substr(0, header.find(':'));
 }
 
-std::optional<Refusal> refusalBeforeRouting(const httplib::Request& req, bool loopback_only) {
+std::optional<HostHeader> parseHost(const std::string& header) {
+  HostHeader out;
+  std::size_t end = 0;
+  if (!header.empty() && header[0] == '[') {
+    end = header.find(']');
+    if (end == std::string::npos || end == 1) return std::nullopt;
+    for (std::size_t i = 1; i < end; ++i) {
+      if (std::isxdigit(static_cast<unsigned char>(header[i])) == 0 && header[i] != ':' && header[i] != '.')
+        return std::nullopt;
+    }
+    ++end;
+  } else {
+    while (end < header.size() &&
+           (std::isalnum(static_cast<unsigned char>(header[end])) != 0 || header[end] == '.' || header[end] == '-'))
+      ++end;
+    if (end == 0) return std::nullopt;
+  }
+  out.name = header.substr(0, end);
+  if (end == header.size()) return out;
+  if (header[end] != ':' || end + 1 == header.size() || header.size() - end - 1 > 5) return std::nullopt;
+  int port = 0;
+  for (std::size_t i = end + 1; i < header.size(); ++i) {
+    if (std::isdigit(static_cast<unsigned char>(header[i])) == 0) return std::nullopt;
+    port = port * 10 + (header[i] - '0');
+  }
+  if (port < 1 || port > 65535) return std::nullopt;
+  out.port = port;
+  return out;
+}
+
+std::optional<Refusal> refusalBeforeRouting(const httplib::Request& req, bool loopback_only, int port) {
+  // Exactly one Host, well formed: no Host, two of them (127.0.0.1 then evil.com), 127.0.0.1:PORT@evil.com
+  // and [::1]evil.com were all answered (issue 40).
+  const std::size_t hosts = req.get_header_value_count("Host");
+  if (hosts != 1) {
+    return Refusal{400, hosts == 0 ? std::string("the request has no Host header")
+                                   : "the request has " + std::to_string(hosts) + " Host headers; send one"};
+  }
   const std::string host_header = req.get_header_value("Host");
+  const std::optional<HostHeader> host = parseHost(host_header);
+  if (!host) return Refusal{400, "the Host header is not HOST or HOST:PORT (Host: " + quoted(host_header) + ")"};
   if (loopback_only) {
     // A page on another site whose name resolves to 127.0.0.1 (DNS rebinding) sends its own Host.
-    const std::string host = hostName(host_header);
-    if (!host.empty() && !isLoopbackName(host)) {
-      return Refusal{403, "this server answers requests to 127.0.0.1 or localhost only (Host: " + quoted(host) + ")"};
+    if (!isLoopbackName(host->name)) {
+      return Refusal{403,
+                     "this server answers requests to 127.0.0.1 or localhost only (Host: " + quoted(host_header) + ")"};
     }
+  }
+  if (host->port != 0 && port > 0 && host->port != port) {
+    return Refusal{403, "this server answers on port " + std::to_string(port) + " only (Host: " + quoted(host_header) +
+                            "); a tunnel must keep the port"};
   }
   if (!isValidUtf8(req.path)) return Refusal{400, "the path is not valid UTF-8"};
   for (const auto& [name, value] : req.params) {

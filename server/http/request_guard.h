@@ -1,6 +1,7 @@
 #pragma once
 // The checks every request passes before routing (the server's pre-routing handler):
-// - Host names loopback when the server listens on loopback (DNS rebinding: 403);
+// - exactly one well-formed Host header (400), naming this server's port if it names one (403), and
+//   loopback when the server listens on loopback (DNS rebinding: 403);
 // - the path and the query parameters are valid UTF-8 (400: they end up in SQL and JSON);
 // - a request that is not GET/HEAD/OPTIONS comes from this server's own pages: an Origin header, when
 //   present, names the Host the request was sent to, and Sec-Fetch-Site, when present, is
@@ -29,7 +30,18 @@ bool isLoopbackName(const std::string& host);
 /// The host name of a Host header, without the port ("[::1]" keeps its brackets).
 std::string hostName(const std::string& header);
 
-/// Why `req` must be refused before routing, or nothing. `loopback_only`: the Host check applies.
-std::optional<Refusal> refusalBeforeRouting(const httplib::Request& req, bool loopback_only);
+/// A Host header's parts: a name (a bracketed IPv6 address keeps its brackets) and a port (0: none).
+struct HostHeader {
+  std::string name;
+  int port = 0;
+};
+/// HOST or HOST:PORT, where HOST is letters, digits, '.' and '-', or [IPv6]; nothing else (no
+/// user info, nothing after the brackets, a port of 1..65535).
+std::optional<HostHeader> parseHost(const std::string& header);
+
+/// Why `req` must be refused before routing, or nothing. Every request has one well-formed Host
+/// (parseHost); a port in it must be `port` (the server's; 0: not checked). `loopback_only`: the
+/// Host must name loopback too.
+std::optional<Refusal> refusalBeforeRouting(const httplib::Request& req, bool loopback_only, int port);
 
 }  // namespace dash::http

@@ -1,5 +1,8 @@
 // /api/batches: validate a spec, submit it, list batches, inspect one, cancel, resume.
 
+#include <atomic>
+#include <memory>
+
 #include "server/batch/batch_spec.h"
 #include "server/http/api_json.h"
 #include "server/http/api_util.h"
@@ -17,6 +20,7 @@ constexpr const char* kBatchId = R"(/api/batches/([A-Za-z0-9_.\-]+))";
 constexpr std::size_t kPreviewKeys = 200;
 constexpr std::int64_t kMaxWorkers = 1024;          ///< runs at once (the server caps it further by its cores)
 constexpr std::int64_t kMaxSlurmParallel = 100000;  ///< a Slurm array's %N throttle; 0: none
+constexpr int kMaxConcurrentValidations = 2;        ///< spec validations at once (token-free, CPU-bound)
 
 struct Submission {
   std::string spec_json;
@@ -83,8 +87,13 @@ void replySpecError(httplib::Response& res, const batch::SpecError& e) {
 void registerBatchRoutes(httplib::Server& server, ApiContext& ctx) {
   // Checking is what this request is for: a spec that breaks a rule is a 200 answer {"valid": false,
   // "error", "kind"} (the Launch page asks on every keystroke); a body that is not JSON is still a 400.
-  server.Post("/api/batches/validate", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
+  // Token-free and CPU-bound (a 3,968-combination grid costs 1.8 s of generator probes): capped, so
+  // that clients asking at once cannot take every core; more get 503 with Retry-After (issue 40).
+  auto validating = std::make_shared<std::atomic<int>>(0);
+  server.Post("/api/batches/validate", guarded([&ctx, validating](const httplib::Request& req, httplib::Response& res) {
                 const Submission s = submissionOf(req);
+                const ConcurrencySlot slot(*validating, kMaxConcurrentValidations,
+                                           "too many spec validations at once; try again in a moment");
                 try {
                   Json out = Json::parse(ctx.batches->validateJson(s.spec_json, kPreviewKeys));
                   out["valid"] = true;

@@ -1,9 +1,10 @@
-// GET /api/health, /api/info, /api/scenarios, /api/scenarios/FAMILY, /api/planners, /api/robots.
+// GET /api/health, /api/token, /api/info, /api/scenarios, /api/scenarios/FAMILY, /api/planners, /api/robots.
 
 #include <filesystem>
 #include <fstream>
 
 #include "engine/core/paths.h"
+#include "engine/core/planner_params.h"
 #include "engine/log/db_tools.h"
 #include "engine/log/results_db.h"
 #include "engine/planners/planner.h"
@@ -41,7 +42,18 @@ Json plannersJson() {
                                 {"default", false},
                                 {"meaning", "stop after the task layer (an unvalidated schedule, no motions)"}}});
   Json list = Json::array();
-  for (const std::string& name : plannerNames()) list.push_back({{"name", name}, {"settings", settings}});
+  for (const std::string& name : plannerNames()) {
+    // The named parameters (`dashbench plan --params`); a batch spec takes them in "settings" too.
+    Json parameters = Json::array();
+    for (const ParamInfo& p : plannerParameters(name)) {
+      const char* type = p.type == ParamType::kBool ? "bool" : p.type == ParamType::kInt ? "int" : "real";
+      Json item{{"name", p.name}, {"type", type}, {"default", p.default_value}, {"paper", p.paper_value},
+                {"description", p.description}};
+      if (p.type != ParamType::kBool) item.update({{"min", p.min}, {"max", p.max}});
+      parameters.push_back(std::move(item));
+    }
+    list.push_back({{"name", name}, {"settings", settings}, {"parameters", parameters}});
+  }
   return list;
 }
 
@@ -63,6 +75,12 @@ Json robotModelsJson() {
 }  // namespace
 
 void registerCatalogRoutes(httplib::Server& server, ApiContext& ctx) {
+  // Whether a token is this server's (the dashboard's Token box checks what was pasted): 200 or 401.
+  server.Get("/api/token", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
+               requireToken(req, ctx.token);
+               replyJson(res, 200, jsonText(Json{{"valid", true}}));
+             }));
+
   server.Get("/api/health", guarded([&ctx](const httplib::Request&, httplib::Response& res) {
                replyJson(res, 200,
                          jsonText(Json{{"ok", true},

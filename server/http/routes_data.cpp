@@ -26,23 +26,9 @@ constexpr int kMaxQueryCellBytes = 4 << 20;  ///< a stored plan is well below th
 constexpr int kMaxQueryColumns = 200;
 constexpr std::int64_t kMaxQueryResultBytes = 8 << 20;
 constexpr int kMaxConcurrentQueries = 4;  ///< more at once get 503
-
-/// Counts the queries running; refuses one more than kMaxConcurrentQueries.
-class QuerySlot {
- public:
-  explicit QuerySlot(std::atomic<int>& running) : running_(running) {
-    if (running_.fetch_add(1) >= kMaxConcurrentQueries) {
-      running_.fetch_sub(1);
-      throw HttpError(503, "too many queries at once; try again in a moment");
-    }
-  }
-  ~QuerySlot() { running_.fetch_sub(1); }
-  QuerySlot(const QuerySlot&) = delete;
-  QuerySlot& operator=(const QuerySlot&) = delete;
-
- private:
-  std::atomic<int>& running_;
-};
+constexpr const char* kPrivateAdvice =
+    " without the server's token (as GET /api/dispatches): send 'Authorization: Bearer TOKEN'";
+constexpr const char* kTimeLimitAdvice = "; narrow it, or raise the limit (dashbench serve --query-timeout)";
 
 const char* guardName(log::QueryGuard g) {
   switch (g) {
@@ -60,8 +46,17 @@ const char* guardName(log::QueryGuard g) {
       return "time_limit";
     case log::QueryGuard::Function:
       return "function";
+    case log::QueryGuard::PrivateTable:
+      return "token";
   }
   return "guard";
+}
+
+/// What GET /api/dispatches keeps behind the token (who dispatched, from which address), the
+/// console keeps too: a query without the token cannot read these tables (issue 40).
+std::vector<std::string> privateTables(const httplib::Request& req, const ApiContext& ctx) {
+  if (hasToken(req, ctx.token)) return {};
+  return {"dash_dispatches", "dash_dispatch_arms"};
 }
 
 Json examples() {
@@ -119,25 +114,28 @@ void registerDataRoutes(httplib::Server& server, ApiContext& ctx) {
         if (!body.contains("sql") || !body["sql"].is_string()) throw HttpError(400, "sql: expected a string");
         std::int64_t max_rows = 1000;
         if (body.contains("max_rows")) max_rows = intMember(body, "max_rows", 1, kMaxQueryRows);
-        const QuerySlot slot(*running);
+        const ConcurrencySlot slot(*running, kMaxConcurrentQueries, "too many queries at once; try again in a moment");
         try {
           // In a child process with CPU, memory and wall-clock limits (query_process.h).
-          const log::SqlRows rows = runQueryInChild(ctx.executable, ctx.db_path, body["sql"].get<std::string>(),
-                                                    log::QueryLimits{.max_rows = max_rows,
-                                                                     .timeout_seconds = ctx.query_timeout_seconds,
-                                                                     .max_cell_bytes = kMaxQueryCellBytes,
-                                                                     .max_columns = kMaxQueryColumns,
-                                                                     .max_result_bytes = kMaxQueryResultBytes},
-                                                    currentClientGone);
-          Json out = rowsToJson(rows);
-          out["max_rows"] = max_rows;
-          out["max_bytes"] = kMaxQueryResultBytes;
-          replyJson(res, 200, jsonText(out));
+          std::string answer = runQueryInChild(ctx.executable, ctx.db_path, body["sql"].get<std::string>(),
+                                               log::QueryLimits{.max_rows = max_rows,
+                                                                .timeout_seconds = ctx.query_timeout_seconds,
+                                                                .max_cell_bytes = kMaxQueryCellBytes,
+                                                                .max_columns = kMaxQueryColumns,
+                                                                .max_result_bytes = kMaxQueryResultBytes,
+                                                                .time_limit_advice = kTimeLimitAdvice,
+                                                                .private_tables = privateTables(req, ctx),
+                                                                .private_advice = kPrivateAdvice},
+                                               currentClientGone);
+          res.status = 200;
+          res.body = std::move(answer);  // passed on as the query process wrote it
+          res.set_header("Content-Type", kJsonType);
         } catch (const log::QueryRefused& e) {
           // QueryRefused's messages start with "refused:" already.
           const std::string what = e.what();
           const std::string message = what.rfind("refused:", 0) == 0 ? what : "refused: " + what;
-          replyJson(res, 403, jsonText(Json{{"error", message}, {"guard", guardName(e.guard())}}));
+          const int status = e.guard() == log::QueryGuard::PrivateTable ? 401 : 403;
+          replyJson(res, status, jsonText(Json{{"error", message}, {"guard", guardName(e.guard())}}));
         }
       }));
 }

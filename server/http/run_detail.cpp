@@ -35,11 +35,19 @@ void checkTag(const std::string& tag) {
   }
 }
 
-const std::vector<std::string>& eventTypes() {
-  static const std::vector<std::string> types = {"representation", "constraint", "task_space_expansion", "phase",
-                                                 "counter"};
-  return types;
-}
+/// The table behind each event type of the dash_timeline view (arena_views.cpp). Each has PRIMARY
+/// KEY (run_id, seq), and seq numbers a run's events of every type in the order they were recorded,
+/// so a page of events is a merge of index-ordered reads that stop after offset + limit keys: the
+/// limit bounds the work (issue 40: limit=1 sorted all 36,860 events of a run, like limit=5000).
+struct EventSource {
+  const char* type;
+  const char* table;
+};
+constexpr EventSource kEventSources[] = {{"representation", "dash_repr_events"},
+                                         {"constraint", "dash_constraints"},
+                                         {"task_space_expansion", "dash_expansions"},
+                                         {"phase", "dash_phases"},
+                                         {"counter", "dash_counters"}};
 
 }  // namespace
 
@@ -116,27 +124,44 @@ std::string RunDetail::runJson(const std::string& uuid) const {
 
 std::string RunDetail::eventsJson(const std::string& uuid, const std::string& type, std::int64_t offset,
                                   std::int64_t limit) const {
-  if (type != "all" && std::find(eventTypes().begin(), eventTypes().end(), type) == eventTypes().end()) {
+  const bool known = std::any_of(std::begin(kEventSources), std::end(kEventSources),
+                                 [&](const EventSource& s) { return type == s.type; });
+  if (type != "all" && !known) {
     throw HttpError(400, "type: '" + type +
                              "' is not one of all, representation, constraint, task_space_expansion, "
                              "phase, counter");
   }
   const std::int64_t id = runId(uuid);
   const log::ResultsDb db(db_path_, log::OpenMode::ReadOnly);
-  const std::string where = type == "all" ? " WHERE run_id = ?" : " WHERE run_id = ? AND type = ?";
-  std::vector<log::SqlValue> params = {id};
-  if (type != "all") params.emplace_back(type);
-  const log::SqlRows total = db.select("SELECT count(*) FROM dash_timeline" + where, params);
-  params.emplace_back(limit);
-  params.emplace_back(offset);
-  const log::SqlRows rows = db.select("SELECT seq, t, iteration, type, what, id, detail FROM dash_timeline" + where +
-                                          " ORDER BY t, type, seq LIMIT ? OFFSET ?",
-                                      params);
-  return jsonText(Json{{"total", intOf(total.rows[0][0])},
-                       {"offset", offset},
-                       {"limit", limit},
-                       {"type", type},
-                       {"events", rowsAsObjects(rows)}});
+  const std::int64_t wanted = offset > INT64_MAX - limit ? INT64_MAX : offset + limit;
+  std::int64_t total = 0;
+  std::vector<std::int64_t> seqs;
+  for (const EventSource& s : kEventSources) {
+    if (type != "all" && type != s.type) continue;
+    const std::string table = s.table;
+    total += intOf(db.select("SELECT count(*) FROM " + table + " WHERE run_id = ?", {id}).rows[0][0]);
+    for (const auto& row :
+         db.select("SELECT seq FROM " + table + " WHERE run_id = ? ORDER BY seq LIMIT ?", {id, wanted}).rows)
+      seqs.push_back(intOf(row[0]));
+  }
+  std::sort(seqs.begin(), seqs.end());
+  Json events = Json::array();
+  if (static_cast<std::int64_t>(seqs.size()) > offset) {
+    const auto first = seqs.begin() + offset;
+    const auto last = seqs.end() - first > limit ? first + limit : seqs.end();
+    std::string marks;
+    std::vector<log::SqlValue> params = {id};
+    for (auto it = first; it != last; ++it) {
+      marks += marks.empty() ? "?" : ",?";
+      params.emplace_back(*it);
+    }
+    events =
+        rowsAsObjects(db.select("SELECT seq, t, iteration, type, what, id, detail FROM dash_timeline WHERE run_id = ? "
+                                "AND seq IN (" +
+                                    marks + ") ORDER BY seq",
+                                params));
+  }
+  return jsonText(Json{{"total", total}, {"offset", offset}, {"limit", limit}, {"type", type}, {"events", events}});
 }
 
 std::string RunDetail::timelineJson(const std::string& uuid, std::int64_t max_items) const {

@@ -24,7 +24,7 @@ class RunDetail {
   explicit RunDetail(std::string db_path) : db_path_(std::move(db_path)) {}
 
   std::string runJson(const std::string& uuid) const;
-  /// `type`: "all" (dash_timeline order), "representation", "constraint", "task_space_expansion",
+  /// `type`: "all" (every type, in the order recorded: seq), "representation", "constraint", "task_space_expansion",
   /// "phase" or "counter". {"total", "offset", "limit", "events": [{seq, t, iteration, type, what, id, detail}]}
   std::string eventsJson(const std::string& uuid, const std::string& type, std::int64_t offset,
                          std::int64_t limit) const;

@@ -152,7 +152,8 @@ void SqlCondition::andWith(const std::string& condition, std::vector<log::SqlVal
 
 namespace {
 
-constexpr int kMaxFilterDepth = 16;  // nested parentheses: a filter is typed by people
+constexpr int kMaxFilterDepth = 16;    // nested parentheses: a filter is typed by people
+constexpr int kMaxFilterClauses = 64;  // FIELD OP VALUE clauses (about 100 overflowed SQLite's parser)
 
 /// expression := conjunction ("or" conjunction)*; conjunction := factor ("and" factor)*;
 /// factor := "(" expression ")" | FIELD OP VALUE. "and" binds tighter than "or".
@@ -173,22 +174,21 @@ class FilterParser {
     return t.kind == Token::kWord && (lower(t.text) == word || t.text == symbol);
   }
 
-  SqlCondition expression(int depth) {
-    SqlCondition out = conjunction(depth);
-    while (isWord(t_, "or", "||")) {
-      t_ = lex_.next();
-      const SqlCondition rhs = conjunction(depth);
-      out.sql = "(" + out.sql + ") OR (" + rhs.sql + ")";
-      out.params.insert(out.params.end(), rhs.params.begin(), rhs.params.end());
-    }
-    return out;
-  }
+  // A chain of clauses is one flat list ("(a) OR (b) OR (c)"), not nested pairs: SQLite's parser
+  // then needs no deeper stack for 64 clauses than for 2.
+  SqlCondition expression(int depth) { return chain(depth, "or", "||", " OR ", &FilterParser::conjunction); }
+  SqlCondition conjunction(int depth) { return chain(depth, "and", "&&", " AND ", &FilterParser::factor); }
 
-  SqlCondition conjunction(int depth) {
-    SqlCondition out = factor(depth);
-    while (isWord(t_, "and", "&&")) {
+  SqlCondition chain(int depth, const char* word, const char* symbol, const char* sql_op,
+                     SqlCondition (FilterParser::*item)(int)) {
+    SqlCondition out = (this->*item)(depth);
+    if (!isWord(t_, word, symbol)) return out;
+    out.sql = "(" + out.sql + ")";
+    while (isWord(t_, word, symbol)) {
       t_ = lex_.next();
-      out.andWith(factor(depth));
+      const SqlCondition rhs = (this->*item)(depth);
+      out.sql += std::string(sql_op) + "(" + rhs.sql + ")";
+      out.params.insert(out.params.end(), rhs.params.begin(), rhs.params.end());
     }
     return out;
   }
@@ -213,12 +213,16 @@ class FilterParser {
       throw InputError("filter: expected a value after '" + field.text + " " + op.text + "'" + at(value));
     }
     t_ = lex_.next();
+    if (++clauses_ > kMaxFilterClauses) {
+      throw InputError("filter: more than " + std::to_string(kMaxFilterClauses) + " clauses" + at(field));
+    }
     return clause(field, op, value, table_);
   }
 
   Lexer lex_;
   const RunTable& table_;
   Token t_;
+  int clauses_ = 0;
 };
 
 }  // namespace

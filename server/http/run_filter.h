@@ -3,7 +3,7 @@
 //   planner = lazy-dash and robots >= 8 and status = solved
 //   config ~ task and total_time < 2.5 and tag = baseline
 // Clauses are FIELD OP VALUE joined by "and" and "or" (any case; "and" binds tighter), grouped with
-// parentheses (at most 16 deep). Operators: = != < <= > >= and ~ / !~
+// parentheses (at most 16 deep), at most 64 clauses. Operators: = != < <= > >= and ~ / !~
 // (contains / does not contain, for text). FIELD is a column of RunTable (scenario parameters
 // included) or "tag". VALUE is a number, a bare word (lazy-dash) or a quoted string. Numeric columns
 // compare numbers; a value that is not one is an error. The result is SQL over RunTable's aliases

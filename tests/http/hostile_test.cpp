@@ -42,11 +42,7 @@ class HostileTest : public ServerTest {
   }
   int port() const { return server->port(); }
   /// Sends `request` on a new connection and returns the answer's status (0: none).
-  int statusOf(const std::string& request) const {
-    RawConnection c(port());
-    c.send(request);
-    return RawConnection::statusOf(c.readUntil("\r\n\r\n", 10));
-  }
+  int statusOf(const std::string& request) const { return RawConnection::statusOfRequest(port(), request); }
   /// The health check every attack must leave working: an answer within a second.
   void expectAlive() const {
     RawConnection c(port());

@@ -56,6 +56,12 @@ std::string RawConnection::readUntil(const std::string& marker, double seconds) 
 
 std::string RawConnection::readAll(double seconds) { return readUntil("", seconds); }
 
+int RawConnection::statusOfRequest(int port, const std::string& request, double seconds) {
+  RawConnection c(port);
+  c.send(request);
+  return statusOf(c.readUntil("\r\n\r\n", seconds));
+}
+
 int RawConnection::statusOf(const std::string& answer) {
   if (answer.size() < 12 || answer.compare(0, 5, "HTTP/") != 0) return 0;
   return std::atoi(answer.substr(9, 3).c_str());

@@ -21,6 +21,8 @@ class RawConnection {
   std::string readAll(double seconds);
   /// The status code of an answer's first line; 0 if there is none.
   static int statusOf(const std::string& answer);
+  /// Sends `request` on a new connection to `port` and returns its answer's status (0: none within `seconds`).
+  static int statusOfRequest(int port, const std::string& request, double seconds = 10);
 
  private:
   int fd_ = -1;

@@ -93,8 +93,13 @@ TEST_F(SecurityTest, NoCorsAndOnlyLoopbackHostNames) {
   const std::string rebound =
       http->raw("GET /api/runs HTTP/1.1\r\nHost: evil.example:8080\r\nConnection: close\r\n\r\n");
   EXPECT_EQ(rebound.substr(9, 3), "403") << rebound;
-  const std::string local = http->raw("GET /api/health HTTP/1.1\r\nHost: localhost:1234\r\nConnection: close\r\n\r\n");
+  const std::string port = std::to_string(server->port());
+  const std::string local =
+      http->raw("GET /api/health HTTP/1.1\r\nHost: localhost:" + port + "\r\nConnection: close\r\n\r\n");
   EXPECT_EQ(local.substr(9, 3), "200");
+  // Another port is another server (issue 40: only the allowed host and port are answered).
+  const std::string other = http->raw("GET /api/health HTTP/1.1\r\nHost: localhost:1234\r\nConnection: close\r\n\r\n");
+  EXPECT_EQ(other.substr(9, 3), "403");
 }
 
 TEST_F(SecurityTest, ErrorsInHandlersNeverStopTheServer) {

@@ -4,8 +4,6 @@
 // `validation_threads` parameter (`dashbench plan --threads N`) is checked.
 #include <gtest/gtest.h>
 #include <ompl/util/RandomNumbers.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -16,6 +14,7 @@
 #include <variant>
 #include <vector>
 
+#include "engine/core/forked_run.h"
 #include "engine/core/planner_params.h"
 #include "engine/dash/dash_planner.h"
 #include "engine/events/memory_sink.h"
@@ -113,28 +112,9 @@ PlanRun decode(const std::string& in) {
 /// from one state share the generator's state, so that only the validator's threads differ between the
 /// two runs compared here (the parent must not draw from it between the two forks).
 PlanRun solveInChild(const std::string& planner, const Scene& scene, int threads, const ParamValues& params) {
-  int fds[2];
-  if (pipe(fds) != 0) return {};
-  const pid_t pid = fork();
-  if (pid == 0) {
-    close(fds[0]);
-    const std::string out = encode(solve(planner, scene, threads, params));
-    for (std::size_t done = 0; done < out.size();) {
-      const ssize_t n = write(fds[1], out.data() + done, out.size() - done);
-      if (n <= 0) _exit(1);
-      done += static_cast<std::size_t>(n);
-    }
-    _exit(0);
-  }
-  close(fds[1]);
-  std::string in;
-  char buffer[65536];
-  for (ssize_t n; (n = read(fds[0], buffer, sizeof buffer)) > 0;) in.append(buffer, static_cast<std::size_t>(n));
-  close(fds[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the child run did not finish";
-  return decode(in);
+  const ForkedRun run = runForked([&] { return encode(solve(planner, scene, threads, params)); });
+  EXPECT_TRUE(run.finished) << "the child run did not finish";
+  return decode(run.output);
 }
 
 void expectSameRunWithOneThreadOrTwo(const std::string& planner, const Scene& scene, const ParamValues& params = {}) {

@@ -41,13 +41,21 @@ function trimZeros(text) {
   return text.includes('.') ? text.replace(/\.?0+$/, '') : text;
 }
 
+/// A duration for people: "45 µs", "9.8 ms", "12.34 s", "2 min 5 s", "1 h 51 min" (never "6666 min 40 s").
 export function fmtSeconds(s) {
   if (s === null || s === undefined) return '';
   if (s < 1e-3) return `${(s * 1e6).toFixed(0)} µs`;
   if (s < 1) return `${(s * 1e3).toFixed(1)} ms`;
   if (s < 120) return `${s.toFixed(2)} s`;
-  const m = Math.floor(s / 60);
-  return `${m} min ${Math.round(s - 60 * m)} s`;
+  const whole = Math.round(s);
+  if (whole < 3600) return `${Math.floor(whole / 60)} min ${whole % 60} s`;
+  const minutes = Math.round(s / 60);
+  return `${Math.floor(minutes / 60)} h ${minutes % 60} min`;
+}
+
+/// "1 run", "2 runs": a count with its noun (`many` when the plural is not noun + "s").
+export function plural(n, one, many = `${one}s`) {
+  return `${typeof n === 'number' ? n.toLocaleString('en-US') : n} ${n === 1 ? one : many}`;
 }
 
 /// A long phase's progress as the planner reported it (dash_progress's progress_* columns, or a

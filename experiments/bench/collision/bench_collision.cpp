@@ -5,6 +5,12 @@
 //  - BM_NaiveFcl: every body against every box and every self pair through fcl::collide, no pre-check;
 //  - BM_FclBroadphase: robot bodies as fcl::CollisionObjects (setTransform + computeAABB) against a
 //    DynamicAABBTreeCollisionManager of the boxes, self pairs through fcl::collide.
+//  - BM_CoverBatch (issue 38): the vectorised check, 8 configurations at a time: batched forward
+//    kinematics and the link covers (engine/collision/cover_check.h) against the boxes and self pairs;
+//    the configurations the covers cannot clear go to CollisionWorld's exact check. Goal: >= 5 M
+//    configurations/s on one core, >= 50x the FCL broad phase.
+//  - BM_CollisionWorldNoCover: CollisionWorld with the covers' fast reject off (DASHBENCH_COVER=off),
+//    the exact check alone, as before issue 38.
 // Every baseline must agree with CollisionWorld on every configuration (checked before timing).
 // Run: build/bench_collision (5 repetitions, median reported, ratios printed at the end).
 #include <benchmark/benchmark.h>
@@ -18,6 +24,7 @@
 #include <string>
 
 #include "engine/collision/collision_queries.h"
+#include "engine/collision/cover_check.h"
 #include "engine/core/rng.h"
 #include "engine/robots/kinematics.h"
 
@@ -189,6 +196,37 @@ struct BroadphaseChecker {
   }
 };
 
+/// The vectorised check: kBatchLanes configurations through the covers; the lanes they cannot clear
+/// through the exact check.
+struct CoverChecker {
+  const CollisionWorld& world = benchWorld();
+  CollisionContext context{world};
+  const ObjectLayout none = ObjectLayout::empty(benchScene());
+  JointBatch q;
+  FrameBatch frames;
+  detail::RobotCoverBatch cover;
+  int exact_checks = 0;
+
+  CoverChecker() { detail::prepareResting(world, context, none, {}); }
+
+  /// answers[l] for configurations qs[0 .. kBatchLanes).
+  void operator()(const JointVector* qs, bool* answers) {
+    for (int l = 0; l < kBatchLanes; ++l) q.set(l, qs[l]);
+    batchFrames(*world.robot(0).model, world.robot(0).robot->X_WB, q, frames);
+    detail::coverFromFrames(world, 0, frames, HeldObject{}, cover);
+    alignas(64) double clear[kBatchLanes];
+    std::fill_n(clear, kBatchLanes, 1.0);
+    detail::clearAgainstCandidates(world, context, cover, detail::fullCandidates(world, context, 0, CheckScope::kAll),
+                                   {}, clear);
+    for (int l = 0; l < kBatchLanes; ++l) {
+      answers[l] = false;
+      if (clear[l] != 0.0) continue;  // cleared: free to the exact check too
+      ++exact_checks;
+      answers[l] = robotInCollision(world, context, {.robot = 0, .q = qs[l]}, none);
+    }
+  }
+};
+
 // ---- benchmarks ----------------------------------------------------------------------------------
 
 void BM_CollisionWorld(benchmark::State& state) {
@@ -208,6 +246,30 @@ void BM_CollisionWorld(benchmark::State& state) {
                                             static_cast<double>(context.counters().configuration_checks);
 }
 BENCHMARK(BM_CollisionWorld)->Repetitions(5)->DisplayAggregatesOnly(true);
+
+void BM_CollisionWorldNoCover(benchmark::State& state) {
+  setCoverFastPath(false);
+  BM_CollisionWorld(state);
+  setCoverFastPath(true);
+}
+BENCHMARK(BM_CollisionWorldNoCover)->Repetitions(5)->DisplayAggregatesOnly(true);
+
+void BM_CoverBatch(benchmark::State& state) {
+  CoverChecker check;
+  const auto& qs = benchConfigurations();
+  static_assert(kConfigurations % kBatchLanes == 0);
+  std::size_t i = 0;
+  bool answers[kBatchLanes];
+  for (auto _ : state) {
+    check(&qs[i], answers);
+    benchmark::DoNotOptimize(answers);
+    i = (i + kBatchLanes) % qs.size();
+  }
+  state.SetItemsProcessed(state.iterations() * kBatchLanes);
+  state.counters["exact_share"] = static_cast<double>(check.exact_checks) /
+                                  static_cast<double>(state.iterations() * kBatchLanes);
+}
+BENCHMARK(BM_CoverBatch)->Repetitions(5)->DisplayAggregatesOnly(true);
 
 template <class Checker>
 void runBaseline(benchmark::State& state) {
@@ -248,10 +310,17 @@ int disagreements() {
   const ObjectLayout none = ObjectLayout::empty(benchScene());
   NaiveChecker naive;
   BroadphaseChecker broadphase;
+  CoverChecker cover;
+  const auto& qs = benchConfigurations();
   int differ = 0;
-  for (const JointVector& q : benchConfigurations()) {
-    const bool ours = robotInCollision(benchWorld(), context, {.robot = 0, .q = q}, none);
-    if (ours != naive(q) || ours != broadphase(q)) ++differ;
+  for (std::size_t i = 0; i < qs.size(); i += kBatchLanes) {
+    bool batched[kBatchLanes];
+    cover(&qs[i], batched);
+    for (int l = 0; l < kBatchLanes; ++l) {
+      const JointVector& q = qs[i + static_cast<std::size_t>(l)];
+      const bool ours = robotInCollision(benchWorld(), context, {.robot = 0, .q = q}, none);
+      if (ours != naive(q) || ours != broadphase(q) || ours != batched[l]) ++differ;
+    }
   }
   return differ;
 }
@@ -274,8 +343,17 @@ int main(int argc, char** argv) {
     return it == m.end() ? 0.0 : it->second;
   };
   const double ours = get("BM_CollisionWorld");
-  std::printf("\nmedian configurations/s: CollisionWorld %.0f, naive FCL loop %.0f, FCL broad phase %.0f\n", ours,
-              get("BM_NaiveFcl"), get("BM_FclBroadphase"));
+  const double batch = get("BM_CoverBatch");
+  std::printf("\nmedian configurations/s: vectorised cover batch %.0f, CollisionWorld %.0f (covers off %.0f), naive FCL "
+              "loop %.0f, FCL broad phase %.0f\n",
+              batch, ours, get("BM_CollisionWorldNoCover"), get("BM_NaiveFcl"), get("BM_FclBroadphase"));
+  if (get("BM_NaiveFcl") > 0.0 && get("BM_FclBroadphase") > 0.0) {
+    std::printf("vectorised cover batch: %.1fx the naive FCL loop, %.1fx the FCL broad phase\n",
+                batch / get("BM_NaiveFcl"), batch / get("BM_FclBroadphase"));
+  }
+  std::printf("goal >= 5000000 configurations/s (vectorised): %s; >= 50x the FCL broad phase: %s\n",
+              batch >= 5e6 ? "met" : "NOT met",
+              get("BM_FclBroadphase") > 0.0 && batch >= 50.0 * get("BM_FclBroadphase") ? "met" : "NOT met");
   if (get("BM_NaiveFcl") > 0.0) std::printf("speed-up over the naive FCL loop: %.1fx\n", ours / get("BM_NaiveFcl"));
   if (get("BM_FclBroadphase") > 0.0) {
     std::printf("speed-up over the FCL broad phase: %.1fx\n", ours / get("BM_FclBroadphase"));

@@ -3,9 +3,10 @@
 // progress live (cancel, resume).
 import { api, ApiError, getToken } from '../api.js';
 import { on, debounce } from '../events.js';
-import { el, clear, badge, fmtSeconds, fmtWork, errorBox } from '../dom.js';
+import { el, clear, badge, fmtSeconds, fmtWork, errorBox, plural } from '../dom.js';
 import { writeState } from '../url_state.js';
 import { steadyEta } from '../batch_eta.js';
+import { plannerRow, isAutoLabel } from './launch_planners.js';
 
 const MAX_SPEC_URL_CHARS = 4000;
 
@@ -110,7 +111,7 @@ export function mount(root, args, params = new URLSearchParams()) {
   const formError = el('div', { class: 'error', 'data-testid': 'launch-error' });
   const submit = el('button', { type: 'button', 'data-testid': 'submit' }, 'Launch');
   const submitted = el('div', { class: 'ok', 'data-testid': 'launch-result' });
-  const specPreview = el('pre', { class: 'mono', style: 'white-space:pre-wrap;max-height:240px;overflow:auto' });
+  const specPreview = el('pre', { class: 'mono', 'data-testid': 'spec-preview', style: 'white-space:pre-wrap;max-height:240px;overflow:auto' });
 
   const field = (label, input, key) =>
     el('label', { class: 'field', dataset: { key } }, el('span', { text: label }), input, el('span', { class: 'error-text' }));
@@ -121,7 +122,8 @@ export function mount(root, args, params = new URLSearchParams()) {
     el('h3', { text: 'Parameter grid' }),
     el('div', { class: 'muted', text: 'Each parameter: one value, a list (4, 8, 16) or a range (2..8 or 2..16:2).' }),
     paramsBox,
-    el('h3', { text: 'Planners' }),
+    el('h3', { text: 'Planner configurations' }),
+    el('div', { class: 'muted', text: 'Each row is one configuration; open its parameters to set any of `dashbench plan --params` (a list of values sweeps).' }),
     plannersBox,
     el('h3', { text: 'Seeds and limits' }),
     el(
@@ -141,46 +143,10 @@ export function mount(root, args, params = new URLSearchParams()) {
     el('details', {}, el('summary', { text: 'spec JSON (what is sent; the same format as experiments/*.json)' }), specPreview),
   );
 
-  function plannerRow(entry) {
-    const name = el('select', {}, state.planners.map((p) => el('option', { value: p.name, text: p.name })));
-    name.value = entry.name;
-    // Left empty, the label follows the planner and its settings (lazy-dash, lazy-task), as in experiments/.
-    const label = el('input', { type: 'text', value: entry.label, size: 14, placeholder: 'label' });
-    const autoLabel = () => (taskOnly.checked ? name.value.replace(/-dash$/, '') + '-task' : name.value);
-    const taskOnly = el('input', { type: 'checkbox', checked: entry.task_only });
-    let labelTouched = Boolean(entry.label) && entry.label !== (entry.task_only ? 'lazy-task' : entry.name);
-    const remove = el('button', { type: 'button', class: 'small danger', text: 'remove' });
-    const row = el(
-      'div',
-      { class: 'toolbar planner-row', 'data-testid': 'planner-row' },
-      name,
-      el('label', {}, 'label', label),
-      el('label', { title: 'stop after the task layer (no motions)' }, taskOnly, 'task only'),
-      remove,
-    );
-    label.addEventListener('input', () => {
-      labelTouched = label.value.trim() !== '';
-    });
-    for (const i of [name, taskOnly]) {
-      i.addEventListener('input', () => {
-        if (!labelTouched) label.value = autoLabel();
-      });
-    }
-    row._get = () => {
-      const p = { name: name.value, label: label.value.trim() || autoLabel() };
-      if (taskOnly.checked) p.settings = { task_only: true };
-      return p;
-    };
-    remove.addEventListener('click', () => {
-      row.remove();
-      changed();
-    });
-    for (const i of [name, label, taskOnly]) i.addEventListener('input', changed);
-    return row;
-  }
+  const newRow = (entry) => plannerRow(state.planners, entry, changed);
   const addPlanner = el('button', { type: 'button', class: 'small secondary', text: '+ planner configuration' });
   addPlanner.addEventListener('click', () => {
-    plannersBox.insertBefore(plannerRow({ name: state.planners[0]?.name || 'lazy-dash', label: '', task_only: false }), addPlanner);
+    plannersBox.insertBefore(newRow({ name: state.planners[0]?.name || 'lazy-dash', label: '' }), addPlanner);
     changed();
   });
 
@@ -233,7 +199,7 @@ export function mount(root, args, params = new URLSearchParams()) {
         throw Object.assign(new Error(`params.${input.dataset.param}: ${e.message}`), { local: true });
       }
     }
-    const planners = [...plannersBox.querySelectorAll('.planner-row')].map((r) => r._get());
+    const planners = [...plannersBox.querySelectorAll('.planner-row')].flatMap((r) => r._get());
     return {
       name: nameInput.value.trim() || 'web',
       description: 'launched from the dashboard',
@@ -272,7 +238,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       state.lastSpec = spec;
       writeState({ spec: JSON.stringify(spec).length <= MAX_SPEC_URL_CHARS ? JSON.stringify(spec) : '' });
       if (launching) return;
-      runCount.textContent = `runs: ${r.runs} (${r.runs} processes, up to ${fmtSeconds(r.runs * r.time_limit)} of planning in total)`;
+      runCount.textContent = `runs: ${r.runs} (${plural(r.runs, 'process', 'processes')}, up to ${fmtSeconds(r.runs * r.time_limit)} of planning in total)`;
       runCount.dataset.runs = r.runs;
       submit.disabled = launching;
     } catch (e) {
@@ -332,7 +298,7 @@ export function mount(root, args, params = new URLSearchParams()) {
     if (submitted.dataset.batch !== id) return;
     const runs = submitted.dataset.runs;
     const done = progress ? ` · ${progress.done}/${progress.total} done` : '';
-    submitted.textContent = `batch ${id} ${status}: ${runs} runs${done}`;
+    submitted.textContent = `batch ${id} ${status}: ${plural(Number(runs), 'run')}${done}`;
     submitted.dataset.status = status;
   }
 
@@ -453,8 +419,14 @@ export function mount(root, args, params = new URLSearchParams()) {
         if (fromUrl.seeds && Number.isFinite(fromUrl.seeds.from)) seedFrom.value = fromUrl.seeds.from;
         if (fromUrl.seeds && Number.isFinite(fromUrl.seeds.count)) seedCount.value = fromUrl.seeds.count;
       }
-      const planners = fromUrl && Array.isArray(fromUrl.planners) && fromUrl.planners.length ? fromUrl.planners.slice(0, 20) : [{ name: 'lazy-dash', label: 'lazy-dash' }];
-      for (const p of planners) plannersBox.append(plannerRow({ name: String(p.name), label: String(p.label || ''), task_only: Boolean(p.settings && p.settings.task_only) }));
+      // Every planner entry of a link with every setting it carries; a label that is what the row
+      // would call the entry by itself stays automatic (it follows later edits).
+      const planners = fromUrl && Array.isArray(fromUrl.planners) && fromUrl.planners.length ? fromUrl.planners.slice(0, 20) : [{ name: 'lazy-dash' }];
+      for (const p of planners) {
+        const entry = { name: String(p.name), label: typeof p.label === 'string' ? p.label : '', settings: p.settings && typeof p.settings === 'object' ? p.settings : {} };
+        if (isAutoLabel(entry, state.planners)) entry.label = '';
+        plannersBox.append(newRow(entry));
+      }
       plannersBox.append(addPlanner);
       changed();
     } catch (e) {
