@@ -95,25 +95,22 @@ int contactStep(const Scene& scene, const TaskPlan& plan, const std::vector<doub
   return after >= 0 ? after : before;
 }
 
-constexpr int kMaxRechecksPerNode = 3;  // as Lazy-DaSH's kMaxRechecksPerRound
-
 }  // namespace
 
 PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& settings, const Deadline& deadline,
                               log::EventSink* sink) {
   applyTestFault(settings);
-  // The named parameters DaSH has (the scheduler's, engine/core/planner_params.h), checked and applied.
-  SchedulerParams scheduler_params = params_.scheduler;
-  double clearance = params_.clearance;
-  int validation_threads = params_.validation_threads;
+  // The named parameters given (engine/core/planner_params.h), checked and applied over params_.
+  DashParams params = params_;
   {
     const ParamValues effective = resolveParameters(name(), settings.params);
     ParamValues overrides;
     for (const auto& entry : settings.params) overrides[entry.first] = effective.at(entry.first);
-    applySchedulerParameters(scheduler_params, overrides);
-    if (overrides.contains("clearance")) clearance = paramReal(overrides, "clearance");
-    if (overrides.contains("validation_threads")) validation_threads = paramInt(overrides, "validation_threads");
+    applyDashParameters(params, overrides);
   }
+  const SchedulerParams& scheduler_params = params.scheduler;
+  const double clearance = params.clearance;
+  const int validation_threads = params.validation_threads;
   const OmplSeedScope ompl_seeds(settings.seed);
   log::EventEmitter emitter(sink);
   const CollisionWorld world(scene, {.clearance = clearance});
@@ -178,7 +175,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   {
     log::PhaseTimer timer(emitter, log::Phase::TaskConstruction);
     const std::int64_t before = checks();
-    presamplePlacements(space, reach, sampler, rng, params_.placements);
+    presamplePlacements(space, reach, sampler, rng, params.placements);
     DashTaskGraphObserver observer;
     if (emitter.enabled()) {
       observer.onVertex = [&](VertexId v, const TaskElement& e) {
@@ -198,13 +195,13 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   {
     log::PhaseTimer timer(emitter, log::Phase::MotionConstruction);
     const std::int64_t before = checks();
-    catalog = sampleTransitions(sampler, space, task_graph, params_.transitions, deadline);
+    catalog = sampleTransitions(sampler, space, task_graph, params.transitions, deadline);
     motion = std::make_unique<MotionHypergraph>(space, catalog, emitter);
     roadmaps = RoadmapSet(world.robotCount());
     for (int r = 0; r < world.robotCount(); ++r) {
       for (const bool holding : {false, true}) {
-        roadmaps.slot(r, holding) = std::make_unique<ValidatedRoadmap>(world, context, r, params_.roadmap);
-        roadmaps.at(r, holding).growTo(holding ? params_.holding_roadmap_samples : params_.empty_roadmap_samples, deadline);
+        roadmaps.slot(r, holding) = std::make_unique<ValidatedRoadmap>(world, context, r, params.roadmap);
+        roadmaps.at(r, holding).growTo(holding ? params.holding_roadmap_samples : params.empty_roadmap_samples, deadline);
       }
     }
     motion->connectMoves(roadmaps, {}, deadline);
@@ -220,7 +217,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
   using Node = std::vector<MotionConstraint>;
   std::vector<Node> open{{}};
   std::set<Node> seen{{}};
-  BreakRule break_rule(world.robotCount(), params_.break_rule, Rng::derive(settings.seed, 29));
+  BreakRule break_rule(world.robotCount(), params.break_rule, Rng::derive(settings.seed, 29));
   // One scheduler for the whole run, as Lazy-DaSH's: its memo carries the steps a new hyperpath
   // shares with the last one scheduled, and the instants the validator found contacts at.
   Scheduler scheduler(world, context, scheduler_params);
@@ -244,7 +241,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
     for (int r : robots) {
       for (const bool holding : {false, true}) {
         ValidatedRoadmap& rm = roadmaps.at(r, holding);
-        rm.growTo(rm.milestoneCount() + params_.growth_samples, deadline);
+        rm.growTo(rm.milestoneCount() + params.growth_samples, deadline);
       }
     }
     motion->connectMoves(roadmaps, robots, deadline);
@@ -273,9 +270,9 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
     HyperpathResult path;
     {
       log::PhaseTimer timer(emitter, log::Phase::MotionQuery);
-      path = query.run(node, params_.query, deadline, on_vertex, on_hyperarc);
+      path = query.run(node, params.query, deadline, on_vertex, on_hyperarc);
     }
-    if (query.lastPass() == CombinedQuery::Pass::kComplete) emitter.counter("complete_query_passes", ++complete_passes);
+    if (query.lastPass() == CombinedQuery::Pass::kComplete && params.query.prune_moves) emitter.counter("complete_query_passes", ++complete_passes);
     if (query.lastPass() == CombinedQuery::Pass::kOneObjectAtATime)
       emitter.counter("one_object_query_passes", ++one_object_passes);
     if (!path.found()) {
@@ -317,7 +314,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
       log::PhaseTimer timer(emitter, log::Phase::ConflictResolution);
       const std::int64_t before = checks();
       RestingConflictStats resting;
-      shortcutPaths(extracted, world, context);
+      if (params.shortcutting) shortcutPaths(extracted, world, context);
       conflict = resolveRestingConflicts(extracted, *motion, world, context, roadmaps, deadline, resting);
       const MoveReplanner replan = [&](int r, const JointVector& from, const JointVector& to, const MotionContext& ctx) {
         return roadmaps.at(r, ctx.held.holding()).plan(from, to, ctx, deadline);
@@ -337,7 +334,7 @@ PlanResult DashPlanner::solve(const Scene& scene, const PlannerSettings& setting
         const ValidationReport report = validatePlan(scene, plan, {.threads = validation_threads});
         if (report.valid()) break;
         const ValidationProblem& problem = report.problems.front();
-        if (recheck < kMaxRechecksPerNode && isContact(problem)) {
+        if (recheck < params.validator_rechecks && isContact(problem)) {
           scheduler.alsoCheckAt(problem.t);
           if (problem.t_end > problem.t) scheduler.alsoCheckAt(problem.t_end);
           scheduler.forgetFrom(problem.t);

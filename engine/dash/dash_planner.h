@@ -32,35 +32,10 @@
 // Departures, on purpose: the constraint tree is searched depth-first (the greedy query is not
 // cost-optimal, so CBS's best-first order buys nothing); a move hyperarc's path is the roadmap's
 // shortest path, shortened only by conflict resolution's replanning.
-#include <cstddef>
-
-#include "engine/collision/collision_world.h"
-#include "engine/conflict/scheduler.h"
-#include "engine/dash/break_rule.h"
-#include "engine/dash/combined_query.h"
-#include "engine/dash/placement_sampling.h"
-#include "engine/dash/transition_catalog.h"
-#include "engine/dash/validated_roadmap.h"
+#include "engine/dash/dash_params.h"
 #include "engine/planners/planner.h"
 
 namespace dash {
-
-struct DashParams {
-  PlacementSamplingParams placements;
-  TransitionCatalogParams transitions;
-  ValidatedRoadmapParams roadmap;
-  std::size_t empty_roadmap_samples = 100;    ///< og::PRM milestones per robot, empty hand
-  std::size_t holding_roadmap_samples = 60;   ///< og::PRM milestones per robot, holding
-  std::size_t growth_samples = 50;            ///< milestones added per roadmap growth
-  BreakRuleParams break_rule;                 ///< CBS-MP: grow roadmaps or the constraint tree
-  CombinedQueryParams query;
-  SchedulerParams scheduler;
-  /// Metres every check of the planner keeps between parts not in contact by design (collision_world.h).
-  double clearance = kDefaultPlanningClearance;
-  /// Threads of the validator run on each schedule (0: the hardware's); its report, hence the plan,
-  /// is the same for any number.
-  int validation_threads = 0;
-};
 
 class DashPlanner final : public Planner {
  public:
