@@ -204,7 +204,6 @@ double CombinedQuery::regret(const HyperpathState& state, HyperarcId a) const {
 }
 
 double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summary& summary, Pass which) const {
-  const bool complete = which == Pass::kComplete;
   const MotionGraph& g = graph_->graph();
   const MotionArc& arc = g.property(a);
   if (strandsRobot(a)) return kInf;
@@ -233,6 +232,14 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
     if (r > kOnRoute) return kDetour + r;
     return (arc.type == Type::kPick ? kPickPenalty : 0.0) + r;
   }
+  return movePriority(state, a, summary, which);
+}
+
+double CombinedQuery::movePriority(const HyperpathState& state, HyperarcId a, const Summary& summary,
+                                   Pass which) const {
+  const bool complete = which == Pass::kComplete;
+  const MotionGraph& g = graph_->graph();
+  const MotionArc& arc = g.property(a);
   auto emptyHanded = [&](int robot) {
     const VertexId v = summary.robot_at[robot];
     return v.valid() && g.property(v).kind == Kind::kRobot;

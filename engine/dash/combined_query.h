@@ -103,6 +103,8 @@ class CombinedQuery {
   /// and moves back from a handover; the one-object pass takes moves back (last); the complete pass
   /// takes every move (those two kinds last).
   double priority(const HyperpathState& state, HyperarcId a, Summary& summary, Pass which) const;
+  /// priority() of a move hyperarc (summary already filled for state).
+  double movePriority(const HyperpathState& state, HyperarcId a, const Summary& summary, Pass which) const;
   /// The object state an object-moving hyperarc leaves and the one it reaches (invalid otherwise).
   std::pair<VertexId, VertexId> objectMove(HyperarcId a) const;
   double regret(const HyperpathState& state, HyperarcId a) const;

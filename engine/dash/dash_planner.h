@@ -9,7 +9,9 @@
 //     (og::PRM, validated_roadmap.h) and move hyperarcs joining every transition in every planning
 //     space; every collision check here is "eager";
 //  3. the combined task-and-motion query on H_M (combined_query.h): the greedy hyperpath query with
-//     motion costs, then a complete search over H_M when the greedy pass finds none;
+//     motion costs and backtracking; by default it prunes moves and is followed, when it finds
+//     nothing, by a one-object pass and a complete pass (additions beyond DaSH, named parameters,
+//     dash_params.h); with --profile paper it is one pass that expands every move, complete by itself;
 //  4. conflict resolution: resting-object conflicts by CBS-MP's low-level search (resting_conflicts.h),
 //     robot-robot conflicts by the Scheduler Lazy-DaSH also uses (the paper gives both planners the
 //     same scheduler "for a fair comparison"), with the same memo of the last schedule and the same
@@ -26,6 +28,7 @@
 // "constraint_tree_branchings" (the break rule's decisions), "constraint_tree_restarts",
 // "one_object_query_passes" and "complete_query_passes" (queries the greedy pass did not answer, by
 // the pass that ended them), "validation_rechecks", "validation_feedbacks".
+// The run is a DashRun (dash_run.h), whose methods are these steps.
 // DaSH has no task conflict detection and no task space expansion: only motion constraints drive its
 // replanning. That is what the paper shows failing on Wall, Shelf-wall and Stocking.
 //
