@@ -115,6 +115,41 @@ std::vector<ParamInfo> lazyDashParameters() {
   return p;
 }
 
+// DaSH (engine/dash/dash_planner.h): every addition beyond the DaSH paper (Motes et al., T-RO 2023) is
+// a switch off in `--profile paper`; the budgets below them are the representation's own sizes.
+std::vector<ParamInfo> dashParameters() {
+  const std::string prm = "DaSH (Motes et al., T-RO 2023): validated PRM roadmaps";
+  std::vector<ParamInfo> p = {
+      // Combined query (engine/dash/combined_query.h).
+      flag("greedy_move_pruning", true, false, kBeyond,
+           "the greedy pass skips moves to where nothing can happen now and moves back from a handover (off: it "
+           "expands every move and is complete by itself over H_M)"),
+      flag("one_object_pass", true, false, kBeyond, "after a failed greedy pass, a pass that moves one object at a time"),
+      flag("complete_pass", true, false, kBeyond, "after the failed passes, a depth-first search that expands every move"),
+      flag("stranding_prune", true, false, kBeyond, "never take a step that leaves a robot with no way home in H_M"),
+      // Transition sampling (engine/dash/transition_catalog.h).
+      flag("targeted_handovers", true, false, kBeyond,
+           "a handover chained onto a grasp the receiver already has tries the first 16 of the 1040 handover "
+           "poses (off: the whole grid for every grasp chain)"),
+      flag("approach_line_preference", true, false, kBeyond, "side grasps prefer the IK branch whose approach line is free"),
+      flag("deep_backoffs", true, false, kBeyond, "side grasps back off by the farthest free of 0.15-0.35 m (off: 6 cm only)"),
+      // Conflict resolution and validation.
+      flag("shortcutting", true, false, kBeyond,
+           "roadmap paths of the hyperpath are shortened (straight segments) before scheduling"),
+      count("validator_rechecks", 3, 0, 100, kBeyond,
+            "schedule the same hyperpath again, checking the instant the validator found a contact at (per node)"),
+      // Budgets: --profile paper leaves them alone.
+      budget("empty_roadmap_samples", 100, 1, 1000000, prm, "og::PRM milestones per robot with an empty hand before the first query"),
+      budget("holding_roadmap_samples", 60, 1, 1000000, prm, "og::PRM milestones per robot holding an object before the first query"),
+      budget("growth_samples", 50, 1, 1000000, prm + ", grown by CBS-MP's break rule", "milestones one roadmap growth adds"),
+      {"grow_roadmap_probability", ParamType::kReal, "0.3", "", 0.0, 1.0,
+       "CBS-MP's break rule: chance that an unresolved conflict grows the roadmaps rather than the constraint tree",
+       "CBS-MP's probabilistic break rule (Solis et al.)"},
+  };
+  for (ParamInfo& s : schedulerParameters()) p.push_back(std::move(s));
+  return p;
+}
+
 const ParamInfo& findParam(const std::vector<ParamInfo>& params, const std::string& planner, const std::string& name) {
   for (const ParamInfo& p : params)
     if (p.name == name) return p;
@@ -159,7 +194,7 @@ std::string checked(const ParamInfo& p, const std::string& value) {
 
 const std::vector<ParamInfo>& plannerParameters(const std::string& planner) {
   static const std::vector<ParamInfo> kLazyDash = lazyDashParameters();
-  static const std::vector<ParamInfo> kDash = schedulerParameters();
+  static const std::vector<ParamInfo> kDash = dashParameters();
   if (planner == "lazy-dash") return kLazyDash;
   if (planner == "dash") return kDash;
   throw InputError("unknown planner '" + planner + "'");

@@ -160,6 +160,7 @@ void CombinedQuery::refreshStranded(const std::unordered_set<HyperarcId>& forbid
       }
   }
   strands_.assign(g.hyperarcCount(), 0);
+  if (!stranding_prune_) return;
   for (HyperarcId a : g.hyperarcs())
     for (VertexId h : g.head(a))
       if (isRobotState(g.property(h)) && !reaches_home[h.value()]) strands_[a.value()] = 1;
@@ -203,7 +204,6 @@ double CombinedQuery::regret(const HyperpathState& state, HyperarcId a) const {
 }
 
 double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summary& summary, Pass which) const {
-  const bool complete = which == Pass::kComplete;
   const MotionGraph& g = graph_->graph();
   const MotionArc& arc = g.property(a);
   if (strandsRobot(a)) return kInf;
@@ -232,6 +232,14 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
     if (r > kOnRoute) return kDetour + r;
     return (arc.type == Type::kPick ? kPickPenalty : 0.0) + r;
   }
+  return movePriority(state, a, summary, which);
+}
+
+double CombinedQuery::movePriority(const HyperpathState& state, HyperarcId a, const Summary& summary,
+                                   Pass which) const {
+  const bool complete = which == Pass::kComplete;
+  const MotionGraph& g = graph_->graph();
+  const MotionArc& arc = g.property(a);
   auto emptyHanded = [&](int robot) {
     const VertexId v = summary.robot_at[robot];
     return v.valid() && g.property(v).kind == Kind::kRobot;
@@ -304,6 +312,7 @@ double CombinedQuery::priority(const HyperpathState& state, HyperarcId a, Summar
 HyperpathResult CombinedQuery::run(const std::vector<MotionConstraint>& constraints, const CombinedQueryParams& params,
                                    const Deadline& deadline, std::function<void(const ExtendedVertex&)> on_vertex,
                                    std::function<void(const ExtendedHyperarc&)> on_hyperarc) {
+  stranding_prune_ = params.stranding_prune;
   refresh(alwaysForbidden(constraints));
   const MotionGraph& g = graph_->graph();
   HyperpathSearchParams search;
@@ -333,16 +342,18 @@ HyperpathResult CombinedQuery::run(const std::vector<MotionConstraint>& constrai
     last_pass_ = which;
     return findHyperpath(g, {graph_->source(), graph_->sink()}, search);
   };
-  HyperpathResult result = pass(Pass::kGreedy);
+  // Without pruned moves the first pass is the complete one: nothing is left for another.
+  HyperpathResult result = pass(params.prune_moves ? Pass::kGreedy : Pass::kComplete);
   std::size_t expansions = result.stats.expansions;
   auto done = [&] { return result.found() || result.status == HyperpathStatus::kDeadline; };
-  if (done() || !params.complete_pass) return result;
+  if (done() || !params.prune_moves) return result;
   if (params.one_object_pass) {
     result = pass(Pass::kOneObjectAtATime);
     expansions += result.stats.expansions;
     result.stats.expansions = expansions;
     if (done()) return result;
   }
+  if (!params.complete_pass) return result;
   result = pass(Pass::kComplete);
   result.stats.expansions += expansions;
   return result;

@@ -56,8 +56,15 @@ struct CombinedQueryParams {
   std::size_t max_frontier_entries = 100000000;
   /// Memory cap of a pass's depth-first stack, in successors not yet tried (24 bytes each).
   std::size_t max_pending_successors = 50000000;
-  bool one_object_pass = true;                      ///< false: greedy, then complete (tests)
-  bool complete_pass = true;                        ///< false: the greedy pass only (tests)
+  // Beyond DaSH (named parameters, off in --profile paper; dash_params.h):
+  /// The greedy pass leaves out moves to where nothing can happen now and moves back from a handover.
+  /// Off: its one pass expands every move (the complete pass's order, with its budget), so it is
+  /// complete by itself over H_M, and no other pass runs.
+  bool prune_moves = true;
+  bool one_object_pass = true;  ///< after a failed greedy pass: the one-object-at-a-time pass
+  bool complete_pass = true;    ///< after the failed passes: the complete pass
+  /// No step may leave a robot with no way home in H_M (strandsRobot); off: strandsRobot is false.
+  bool stranding_prune = true;
 };
 
 class CombinedQuery {
@@ -96,6 +103,8 @@ class CombinedQuery {
   /// and moves back from a handover; the one-object pass takes moves back (last); the complete pass
   /// takes every move (those two kinds last).
   double priority(const HyperpathState& state, HyperarcId a, Summary& summary, Pass which) const;
+  /// priority() of a move hyperarc (summary already filled for state).
+  double movePriority(const HyperpathState& state, HyperarcId a, const Summary& summary, Pass which) const;
   /// The object state an object-moving hyperarc leaves and the one it reaches (invalid otherwise).
   std::pair<VertexId, VertexId> objectMove(HyperarcId a) const;
   double regret(const HyperpathState& state, HyperarcId a) const;
@@ -108,6 +117,7 @@ class CombinedQuery {
   std::vector<char> strands_;  ///< per hyperarc: strandsRobot()
   std::vector<std::vector<VertexId>> pending_of_;  ///< per object: pending tasks that need it away
   Pass last_pass_ = Pass::kGreedy;
+  bool stranding_prune_ = true;  ///< CombinedQueryParams::stranding_prune of the last run()
 };
 
 }  // namespace dash

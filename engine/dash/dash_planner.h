@@ -9,7 +9,9 @@
 //     (og::PRM, validated_roadmap.h) and move hyperarcs joining every transition in every planning
 //     space; every collision check here is "eager";
 //  3. the combined task-and-motion query on H_M (combined_query.h): the greedy hyperpath query with
-//     motion costs, then a complete search over H_M when the greedy pass finds none;
+//     motion costs and backtracking; by default it prunes moves and is followed, when it finds
+//     nothing, by a one-object pass and a complete pass (additions beyond DaSH, named parameters,
+//     dash_params.h); with --profile paper it is one pass that expands every move, complete by itself;
 //  4. conflict resolution: resting-object conflicts by CBS-MP's low-level search (resting_conflicts.h),
 //     robot-robot conflicts by the Scheduler Lazy-DaSH also uses (the paper gives both planners the
 //     same scheduler "for a fair comparison"), with the same memo of the last schedule and the same
@@ -26,41 +28,17 @@
 // "constraint_tree_branchings" (the break rule's decisions), "constraint_tree_restarts",
 // "one_object_query_passes" and "complete_query_passes" (queries the greedy pass did not answer, by
 // the pass that ended them), "validation_rechecks", "validation_feedbacks".
+// The run is a DashRun (dash_run.h), whose methods are these steps.
 // DaSH has no task conflict detection and no task space expansion: only motion constraints drive its
 // replanning. That is what the paper shows failing on Wall, Shelf-wall and Stocking.
 //
 // Departures, on purpose: the constraint tree is searched depth-first (the greedy query is not
 // cost-optimal, so CBS's best-first order buys nothing); a move hyperarc's path is the roadmap's
 // shortest path, shortened only by conflict resolution's replanning.
-#include <cstddef>
-
-#include "engine/collision/collision_world.h"
-#include "engine/conflict/scheduler.h"
-#include "engine/dash/break_rule.h"
-#include "engine/dash/combined_query.h"
-#include "engine/dash/placement_sampling.h"
-#include "engine/dash/transition_catalog.h"
-#include "engine/dash/validated_roadmap.h"
+#include "engine/dash/dash_params.h"
 #include "engine/planners/planner.h"
 
 namespace dash {
-
-struct DashParams {
-  PlacementSamplingParams placements;
-  TransitionCatalogParams transitions;
-  ValidatedRoadmapParams roadmap;
-  std::size_t empty_roadmap_samples = 100;    ///< og::PRM milestones per robot, empty hand
-  std::size_t holding_roadmap_samples = 60;   ///< og::PRM milestones per robot, holding
-  std::size_t growth_samples = 50;            ///< milestones added per roadmap growth
-  BreakRuleParams break_rule;                 ///< CBS-MP: grow roadmaps or the constraint tree
-  CombinedQueryParams query;
-  SchedulerParams scheduler;
-  /// Metres every check of the planner keeps between parts not in contact by design (collision_world.h).
-  double clearance = kDefaultPlanningClearance;
-  /// Threads of the validator run on each schedule (0: the hardware's); its report, hence the plan,
-  /// is the same for any number.
-  int validation_threads = 0;
-};
 
 class DashPlanner final : public Planner {
  public:

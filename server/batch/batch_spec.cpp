@@ -207,9 +207,30 @@ ScenarioEntry parseScenario(const Checker& check, const Json& j, const std::stri
   return entry;
 }
 
+/// A planner entry's "profile" (engine/core/planner_params.h: "paper" or "default"): its parameter
+/// values go into the settings under those given explicitly (which win, as --set after --profile),
+/// and the settings record it as "profile", so every run's results row says which profile it ran.
+void applyProfile(const Checker& check, const Json& value, const std::string& where, const std::string& planner,
+                  Json& settings) {
+  const std::string profile = check.string(value, where);
+  const std::vector<std::string> names = plannerNames();
+  const bool known = std::find(names.begin(), names.end(), planner) != names.end();
+  ParamValues overrides;
+  try {
+    // A planner of another build (allow_unknown_planners): the profile is recorded, its build applies it.
+    overrides = profileOverrides(known ? planner : names.front(), profile);
+    if (!known) overrides.clear();
+  } catch (const InputError& e) {
+    check.fail(SpecErrorKind::kBadValue, where, e.what());
+  }
+  for (const auto& [name, text] : overrides)
+    if (!settings.contains(name)) settings[name] = Json::parse(text);  // canonical true/false/numbers
+  settings["profile"] = profile;
+}
+
 PlannerEntry parsePlanner(const Checker& check, const Json& j, const std::string& where, const SpecOptions& options,
                           std::vector<std::string>& unknown) {
-  check.keys(j, where, {"name", "settings", "label"}, {"name"});
+  check.keys(j, where, {"name", "profile", "settings", "label"}, {"name"});
   PlannerEntry entry;
   entry.name = check.string(j["name"], where + ".name");
   const std::vector<std::string> names = plannerNames();
@@ -257,6 +278,7 @@ PlannerEntry parsePlanner(const Checker& check, const Json& j, const std::string
       check.fail(SpecErrorKind::kBadValue, swhere + ".test_fault", "expected \"abort\" or \"ignore-deadline\"");
     }
   }
+  if (j.contains("profile")) applyProfile(check, j["profile"], where + ".profile", entry.name, settings);
   // Canonical settings text: keys sorted (std::map-backed json), compact.
   entry.settings_json = nlohmann::json::parse(settings.dump()).dump();
   entry.label = j.contains("label")

@@ -72,7 +72,7 @@ ParamValues plannerParameterSettings(const std::string& settings_json) {
   const Json settings = Json::parse(settings_json.empty() ? "{}" : settings_json);
   if (!settings.is_object()) return out;
   for (const auto& [key, value] : settings.items())
-    if (key != "task_only" && key != "test_fault") out[key] = value.dump();
+    if (key != "task_only" && key != "test_fault" && key != "profile") out[key] = value.dump();
   return out;
 }
 

@@ -156,6 +156,26 @@ TEST(BatchSpecErrors, NamedPlannerParameters) {
   EXPECT_NE(msg.find("motion_budget"), std::string::npos) << msg;
 }
 
+// A planner's "profile" (--profile in a spec): the profile's parameter values under the settings given
+// (which win), and "profile" recorded in the settings (so in each run's results row), not a parameter.
+TEST(BatchSpec, APlannerProfileExpandsIntoItsSettingsAndIsRecorded) {
+  const BatchSpec spec = parseBatchSpec(
+      edit(R"({"name": "lazy-dash"})",
+           R"({"name": "dash", "profile": "paper", "settings": {"validator_rechecks": 2}, "label": "dash-paper"})"),
+      "spec.json", kFast);
+  const std::string& settings = spec.planners[1].settings_json;
+  EXPECT_NE(settings.find(R"("profile":"paper")"), std::string::npos) << settings;
+  const ParamValues p = plannerParameterSettings(settings);
+  EXPECT_FALSE(p.contains("profile"));
+  EXPECT_EQ(p.at("complete_pass"), "false");
+  EXPECT_EQ(p.at("greedy_move_pruning"), "false");
+  EXPECT_EQ(p.at("validator_rechecks"), "2");  // given explicitly: wins over the profile's 0
+  EXPECT_EQ(resolveParameters("dash", p).at("one_object_pass"), "false");
+  const std::string msg = expectError(edit(R"({"name": "lazy-dash"})", R"({"name": "dash", "profile": "fast"})"),
+                                      SpecErrorKind::kBadValue);
+  EXPECT_NE(msg.find("planners[1].profile"), std::string::npos) << msg;
+}
+
 TEST(BatchSpecErrors, MissingKeys) {
   const std::string msg = expectError(edit(R"("name": "tiny",)", ""), SpecErrorKind::kMissingKey);
   EXPECT_NE(msg.find("name"), std::string::npos) << msg;

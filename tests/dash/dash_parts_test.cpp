@@ -279,6 +279,7 @@ TEST(CombinedQuery, CompletePassFindsTheDetourTheGreedyPassMisses) {
   ASSERT_FALSE(constraints.empty());
   CombinedQuery query(*b.motion);
   CombinedQueryParams greedy_only;
+  greedy_only.one_object_pass = false;
   greedy_only.complete_pass = false;
   const HyperpathResult greedy = query.run(constraints, greedy_only, Deadline());
   EXPECT_EQ(greedy.status, HyperpathStatus::kExhausted);
@@ -295,6 +296,15 @@ TEST(CombinedQuery, CompletePassFindsTheDetourTheGreedyPassMisses) {
       detour = true;
   }
   EXPECT_TRUE(detour);
+  // DaSH as published (greedy_move_pruning off, no other pass): the one greedy pass expands every move
+  // and is complete by itself, so it finds the detour alone.
+  CombinedQueryParams unpruned;
+  unpruned.prune_moves = false;
+  unpruned.one_object_pass = false;
+  unpruned.complete_pass = false;
+  const HyperpathResult alone = query.run(constraints, unpruned, Deadline());
+  EXPECT_TRUE(alone.found()) << toString(alone.status);
+  EXPECT_EQ(query.lastPass(), CombinedQuery::Pass::kComplete);
   // The hyperpath still extracts to a plan whose robots' visits chain.
   const ExtractedPlan plan = extractPlan(*b.motion, complete);
   for (const RobotMotionPlan& rp : plan.motion.robots)
@@ -335,6 +345,11 @@ TEST(CombinedQuery, AStepThatLeavesARobotNoWayHomeIsNeverTaken) {
     EXPECT_FALSE(query.strandsRobot(s.hyperarc));
   }
   query.run({}, {}, Deadline());
+  EXPECT_FALSE(query.strandsRobot(place));
+  // stranding_prune off (DaSH as published): no step is ruled out for where it leaves a robot.
+  CombinedQueryParams unpruned;
+  unpruned.stranding_prune = false;
+  query.run(constraints, unpruned, Deadline());
   EXPECT_FALSE(query.strandsRobot(place));
 }
 
