@@ -14,6 +14,7 @@
 #include "engine/planners/planner.h"
 #include "engine/robots/robot_model.h"
 #include "engine/scenarios/scenario_registry.h"
+#include "server/batch/progress_printer.h"
 
 namespace dash::batch {
 

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "server/batch/batch_spec.h"
+#include "server/batch/progress_printer.h"
 
 namespace dash::batch {
 
@@ -109,16 +110,13 @@ DurationEstimate estimateDuration(const std::vector<RunSpec>& runs, int workers,
 }
 
 namespace {
-std::string hours(double seconds) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.1f h", seconds / 3600.0);
-  return buf;
-}
+/// "45s", "2m05s", "1h51m" (the batch progress line's durations; "0.0 h" said nothing for short batches).
+std::string duration(double seconds) { return ProgressPrinter::formatDuration(seconds); }
 }  // namespace
 
 std::string formatRunList(const BatchSpec& spec, const std::vector<RunSpec>& runs, int workers) {
   std::ostringstream out;
-  out << "batch " << spec.name << ": " << runs.size() << " runs";
+  out << "batch " << spec.name << ": " << runs.size() << (runs.size() == 1 ? " run" : " runs");
   out << " (time limit " << spec.time_limit << " s, memory limit ";
   if (spec.memory_limit_mb > 0) {
     out << spec.memory_limit_mb << " MB)\n";
@@ -126,10 +124,10 @@ std::string formatRunList(const BatchSpec& spec, const std::vector<RunSpec>& run
     out << "none)\n";
   }
   const DurationEstimate e = estimateDuration(runs, workers);
-  out << "duration with " << workers << " worker" << (workers == 1 ? "" : "s") << ": at most " << hours(e.worst_seconds)
+  out << "duration with " << workers << " worker" << (workers == 1 ? "" : "s") << ": at most " << duration(e.worst_seconds)
       << " (every run to its time limit)";
   if (e.stopped_seconds < e.worst_seconds)
-    out << "; " << hours(e.stopped_seconds) << " when every stop-axis line stops after its smallest size";
+    out << "; " << duration(e.stopped_seconds) << " when every stop-axis line stops after its smallest size";
   out << "\n";
   if (!spec.description.empty()) out << spec.description << "\n";
   for (const RunSpec& r : runs) out << "  " << r.ordinal + 1 << "  " << r.key << "\n";

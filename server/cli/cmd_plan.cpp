@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "engine/collision/collision_world.h"
+#include "engine/collision/scene_check.h"
 #include "engine/core/check.h"
 #include "engine/core/planner_params.h"
 #include "engine/log/results_db.h"
@@ -53,7 +54,10 @@ const char* const kPlanHelp =
     "                      [--clearance M] [--threads N]\n"
     "                      [--out PLAN.json] [--task-only] [--json] [--quiet]\n"
     "                      [--set NAME=VALUE]... [--profile paper|default] [--params] [--progress-every SEC]\n"
-    "Plan for a scene. Progress (phase, iteration, representation sizes, elapsed time; in conflict\n"
+    "                      [--no-scene-check]\n"
+    "Plan for a scene. The scene is checked first (as `dashbench check-scene` does): a robot that\n"
+    "collides at home, an object that does not rest on a surface or that no robot can grasp is named\n"
+    "and nothing is planned (exit 2). Progress (phase, iteration, representation sizes, elapsed time; in conflict\n"
     "resolution the steps scheduled of the plan's, the step's robots and steps per second) goes to\n"
     "stderr, a line at least every second; the summary at the end ends with the peak memory.\n"
     "Ctrl-C stops the planner cleanly.\n"
@@ -73,18 +77,36 @@ const char* const kPlanHelp =
     "  --profile NAME   paper: every extension beyond the published algorithm off; default: none\n"
     "                   (--set applies after the profile)\n"
     "  --params         list the planner parameters (both planners without --planner) and exit\n"
-    "  --markdown       with --params: as the Markdown table of docs/planners.md\n"
-    "Exit codes: 0 solved, 3 not solved in time or infeasible, 2 bad input.\n";
+    "  --markdown       with --params: as the Markdown table of docs/planners.md
+"
+    "  --no-scene-check plan without checking the scene first (the planner then reports what it finds)
+"
+    "Exit codes: 0 solved, 3 not solved in time or infeasible, 2 bad input (a scene with problems too).
+";
 
 namespace {
-std::atomic<bool> g_stop{false};  // set by SIGINT/SIGTERM: the deadline's stop flag
+std::atomic<bool> g_stop{false};
+
+/// check-scene's problems of `scene` on stderr; true if there are any. A scene the planner cannot
+/// solve for a reason the check names (an object below the table) would otherwise end "infeasible"
+/// after the whole search, without the reason.
+bool reportSceneProblems(const Scene& scene, const std::string& path) {
+  const std::vector<std::string> problems = findSceneProblems(scene);
+  for (const std::string& problem : problems) std::fprintf(stderr, "%s: %s\n", path.c_str(), problem.c_str());
+  if (problems.empty()) return false;
+  std::fprintf(stderr, "dashbench plan: the scene has %zu problem%s (as `dashbench check-scene` reports): nothing planned\n",
+               problems.size(), problems.size() == 1 ? "" : "s");
+  return true;
+}
+
+// g_stop is set by SIGINT/SIGTERM: the deadline's stop flag.
 void onPlanInterrupt(int) { g_stop.store(true); }
 }  // namespace
 
 int runPlan(const std::vector<std::string>& words) {
   Args args(words, {.options = {"scene", "planner", "seed", "time-limit", "out", "test-fault", "profile", "clearance",
                                 "threads", "progress-every"},
-                    .flags = {"task-only", "json", "quiet", "verbose", "params", "markdown"},
+                    .flags = {"task-only", "json", "quiet", "verbose", "params", "markdown", "no-scene-check"},
                     .repeated = {"set"}});
   if (args.has("params")) {
     const auto planner = args.get("planner");
@@ -105,7 +127,9 @@ int runPlan(const std::vector<std::string>& words) {
   resolveParameters(planner_name, params);  // every name and value checked before the scene is read
   const double progress_every = args.number("progress-every", 0.5);
   DASH_THROW_UNLESS(progress_every >= 0.0, "--progress-every must be 0 or more");
-  const Scene scene = loadScene(args.require("scene"), RobotLibrary::loadDefault());
+  const std::string scene_path = args.require("scene");
+  const Scene scene = loadScene(scene_path, RobotLibrary::loadDefault());
+  if (!args.has("no-scene-check") && reportSceneProblems(scene, scene_path)) return kExitBadInput;
   PlannerSettings settings;
   settings.seed = static_cast<std::uint64_t>(args.integer("seed", 1));
   settings.time_limit = args.number("time-limit", 600.0);

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <regex>
 #include <set>
 #include <string>
 
@@ -102,6 +103,20 @@ TEST(BatchSpec, ExpandsToStableKeysWithPlannersSideBySide) {
   const std::string listing = formatRunList(spec, runs);
   EXPECT_NE(listing.find("batch tiny: 8 runs"), std::string::npos) << listing;
   EXPECT_NE(listing.find("sorting/robots=4,objects=8/seed=4/lazy-dash"), std::string::npos);
+}
+
+TEST(BatchSpec, TheRunListSaysOneRunAndAShortDurationInMinutesAndSeconds) {
+  // One run of 5 s: "1 run" and a duration in seconds, not "1 runs" and "at most 0.0 h".
+  const std::string text = R"({"name": "tiny", "time_limit": 5, "memory_limit": 1024,
+    "scenarios": [{"family": "sorting", "params": {"robots": 4, "objects": 4}}],
+    "planners": [{"name": "lazy-dash"}], "seeds": [1]})";
+  const BatchSpec spec = parseBatchSpec(text, "spec.json", kFast);
+  const std::vector<RunSpec> runs = expandRuns(spec);
+  ASSERT_EQ(runs.size(), 1u);
+  const std::string listing = formatRunList(spec, runs);
+  EXPECT_NE(listing.find("batch tiny: 1 run ("), std::string::npos) << listing;
+  EXPECT_EQ(listing.find(" h "), std::string::npos) << listing;
+  EXPECT_TRUE(std::regex_search(listing, std::regex(R"(at most \d+s \(every run)"))) << listing;
 }
 
 TEST(BatchSpec, RunSpecRoundTripsThroughJson) {

@@ -23,6 +23,16 @@ TEST_F(SecurityTest, ChangesNeedTheToken) {
   EXPECT_EQ(http->get("/api/batches").json()["batches"].size(), 1u) << "nothing was launched";
 }
 
+TEST_F(SecurityTest, TheTokenRouteAcceptsOnlyThisServersToken) {
+  const Reply right = http->get("/api/token", kToken);
+  EXPECT_EQ(right.status, 200) << right.body;
+  EXPECT_EQ(right.json()["valid"], true) << right.body;
+  const Reply wrong = http->get("/api/token", "not-the-token");
+  EXPECT_EQ(wrong.status, 401);
+  EXPECT_NE(wrong.json()["error"].get<std::string>().find("wrong token"), std::string::npos) << wrong.body;
+  EXPECT_EQ(http->get("/api/token").status, 401);
+}
+
 TEST_F(SecurityTest, BadBodiesGetClearJsonErrors) {
   const Reply not_json = http->post("/api/batches", "{\"name\": ");
   EXPECT_EQ(not_json.status, 400);
@@ -79,6 +89,28 @@ TEST_F(SecurityTest, StaticFilesAndVendorAllowList) {
   const Reply post404 = http->post("/api/nothing", "{}");
   EXPECT_EQ(post404.status, 404);
   EXPECT_TRUE(post404.json().contains("error"));
+}
+
+TEST_F(SecurityTest, StaticFilesCarryAnETagAndAnswer304WhenItMatches) {
+  const Reply first = http->get("/js/app.js");
+  ASSERT_EQ(first.status, 200);
+  const std::string tag = first.header("ETag");
+  ASSERT_FALSE(tag.empty()) << "no ETag on a static file";
+  EXPECT_EQ(first.header("Cache-Control"), "no-cache");
+  const auto ask = [&](const std::string& if_none_match) {
+    return http->raw("GET /js/app.js HTTP/1.1\r\nHost: 127.0.0.1\r\nIf-None-Match: " + if_none_match +
+                     "\r\nConnection: close\r\n\r\n");
+  };
+  for (const std::string& header : {tag, "\"other\", " + tag, "W/" + tag, std::string("*")}) {
+    const std::string answer = ask(header);
+    ASSERT_GE(answer.size(), 12u) << header;
+    EXPECT_EQ(answer.substr(9, 3), "304") << header;
+    EXPECT_EQ(answer.find("import "), std::string::npos) << header << ": a 304 carried the body";
+  }
+  const std::string changed = ask("\"0-0\"");
+  EXPECT_EQ(changed.substr(9, 3), "200");
+  EXPECT_NE(changed.find("import "), std::string::npos);
+  EXPECT_NE(http->get("/").header("ETag"), tag) << "two files with one tag";
 }
 
 TEST_F(SecurityTest, NoCorsAndOnlyLoopbackHostNames) {

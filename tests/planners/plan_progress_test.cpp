@@ -1,7 +1,9 @@
 // Progress on the command line: ProgressSink's line carries conflict resolution's steps scheduled of
 // the plan's while the scheduler reports them, its ticker prints again when nothing happens, and
-// `dashbench plan` prints both, and the peak memory at the end.
+// `dashbench plan` prints both, and the peak memory at the end; `dashbench plan` checks the scene
+// first and names its problem instead of planning it to "infeasible".
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <sys/stat.h>
 
@@ -140,6 +142,24 @@ TEST(PlanCli, PrintsConflictResolutionProgressAndThePeakMemory) {
   EXPECT_TRUE(ended) << run.output;
   EXPECT_TRUE(robots) << run.output;
   EXPECT_TRUE(std::regex_search(run.output, std::regex(R"(peak memory: [0-9]+\.[0-9] MB)"))) << run.output;
+}
+
+TEST(PlanCli, NamesTheSceneProblemOfAnObjectBelowTheTableInsteadOfPlanning) {
+  test::TempDir dir;
+  const std::string scene = dir.file("s.json");
+  const test::CliRun gen = test::runDashbench("scenario sorting --seed 1 robots=2 objects=2 -o '" + scene + "'");
+  ASSERT_EQ(gen.exit_code, 0) << gen.output;
+  nlohmann::json j = nlohmann::json::parse(readFile(scene));
+  auto& object = j["objects"][0];
+  object["start"]["p"][2] = object["start"]["p"][2].get<double>() - 0.5;  // 0.5 m below the table
+  const std::string sunk = dir.file("sunk.json");
+  std::ofstream(sunk) << j.dump(2);
+  const std::string id = object["id"].get<std::string>();
+  const test::CliRun run = test::runDashbench("plan --scene '" + sunk + "' --seed 1 --time-limit 60");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("object " + id + " does not rest on a surface"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("nothing planned"), std::string::npos) << run.output;
+  EXPECT_EQ(run.output.find("infeasible"), std::string::npos) << run.output;
 }
 
 TEST(PlanCli, RejectsANegativeProgressPeriod) {

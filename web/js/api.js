@@ -13,21 +13,38 @@ export function getToken() {
   return localStorage.getItem(TOKEN_KEY) || '';
 }
 
+/// Whether the server takes the saved token: true, false (refused), or null (no token, or no answer).
+export async function checkToken() {
+  if (!getToken()) return null;
+  try {
+    await request('GET', '/api/token', { quiet: true });
+    return true;
+  } catch (e) {
+    return e.status === 401 ? false : null;
+  }
+}
+
 export function setToken(token) {
   if (token) localStorage.setItem(TOKEN_KEY, token);
   else localStorage.removeItem(TOKEN_KEY);
   window.dispatchEvent(new CustomEvent('dashbench-token'));
 }
 
-async function request(method, path, { body, auth = true, text = false } = {}) {
+async function request(method, path, { body, auth = true, text = false, quiet = false } = {}) {
   const headers = {};
   if (body !== undefined) headers['Content-Type'] = 'application/json';
   if (auth && getToken()) headers.Authorization = `Bearer ${getToken()}`;
-  const res = await fetch(path, {
-    method,
-    headers,
-    body: body === undefined ? undefined : typeof body === 'string' ? body : JSON.stringify(body),
-  });
+  let res;
+  try {
+    res = await fetch(path, {
+      method,
+      headers,
+      body: body === undefined ? undefined : typeof body === 'string' ? body : JSON.stringify(body),
+    });
+  } catch (e) {
+    // fetch's own words ("Failed to fetch") say nothing to people: the server is gone or unreachable.
+    throw new ApiError(0, `the dashboard's server does not answer (${path}): is \`dashbench serve\` still running?`, null);
+  }
   const raw = await res.text();
   let data = null;
   if (!text || !res.ok) {
@@ -40,7 +57,7 @@ async function request(method, path, { body, auth = true, text = false } = {}) {
   if (!res.ok) {
     const message = (data && data.error) || `${res.status} ${res.statusText}`;
     const err = new ApiError(res.status, message, data);
-    if (res.status === 401) window.dispatchEvent(new CustomEvent('dashbench-unauthorized', { detail: message }));
+    if (res.status === 401 && !quiet) window.dispatchEvent(new CustomEvent('dashbench-unauthorized', { detail: message }));
     throw err;
   }
   return text ? raw : data;

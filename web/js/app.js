@@ -1,7 +1,7 @@
 // The dashboard's shell: hash routes (#/launch, #/runs, #/compare, #/run/UUID, #/query, #/dispatch;
 // each page's settings follow a '?', see url_state.js),
 // the token box, the live-updates indicator, and error banners.
-import { getToken, setToken } from './api.js';
+import { checkToken, getToken, setToken } from './api.js';
 import { connectEvents } from './events.js';
 import { clear, errorBox } from './dom.js';
 import * as launch from './pages/launch.js';
@@ -53,9 +53,22 @@ function setupToken() {
   const panel = document.getElementById('token-panel');
   const input = document.getElementById('token-input');
   const button = document.getElementById('token-button');
-  const refresh = () => {
-    button.textContent = getToken() ? 'Token ✓' : 'Token';
-    button.title = getToken() ? 'token saved in this browser' : 'no token: changes will be refused';
+  // ✓ only for a token the server took (GET /api/token), ✗ for one it refused.
+  let checking = 0;
+  const show = (text, title, state) => {
+    button.textContent = text;
+    button.title = title;
+    button.dataset.token = state;
+  };
+  const refresh = async () => {
+    if (!getToken()) return show('Token', 'no token: changes will be refused', 'none');
+    const mine = ++checking;
+    show('Token …', 'checking the token with the server', 'checking');
+    const ok = await checkToken();
+    if (mine !== checking) return;
+    if (ok === true) show('Token ✓', 'the server takes this token', 'valid');
+    else if (ok === false) show('Token ✗', 'the server refuses this token: paste the one in its token file (data/token)', 'refused');
+    else show('Token ?', 'token saved; the server did not answer, so it is not checked', 'unchecked');
   };
   button.addEventListener('click', () => {
     panel.hidden = !panel.hidden;
@@ -74,6 +87,7 @@ function setupToken() {
   window.addEventListener('dashbench-unauthorized', (e) => {
     banner(`${e.detail} — enter the token (Token button, top right).`);
     panel.hidden = false;
+    refresh();
   });
   refresh();
 }

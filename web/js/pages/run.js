@@ -17,20 +17,33 @@ import { mountRunDispatch } from './run_dispatch.js';
 import { drawPhaseBreakdown, PHASES_HELP } from '../run_phases.js';
 
 const MAX_OVERLAYS = 5;
+// The paper's names of the representations (Lazy-DaSH, Sec. III) in the run's "sizes" line.
+const SIZES_HELP = 'H_T: task space hypergraph · H_TE: task-extended hypergraph (the task plan search) · H_M: motion hypergraph · H_ME: motion-extended hypergraph (the motion query)';
 const UUID_RE = /^[0-9A-Fa-f-]{8,64}$/;
 
+const PICK_PAGE = 50;
+
+/// Without a run in the URL: every run, newest first, a page at a time (numeric ids, durations with
+/// their units); the Runs page filters and sorts them.
 async function pickRun(root) {
-  root.append(el('h1', { text: 'Run detail' }), el('p', { class: 'muted', text: 'Pick a run (or open one from the Runs page).' }));
-  const list = await api.get('/api/runs?limit=25&sort=id&order=desc');
-  root.append(
-    el(
-      'div',
-      { class: 'panel' },
-      table(['run', 'family', 'config', 'status', 'total_time'], list.runs, {
-        cell: (c, v, r) => (c === 'run' ? el('a', { href: `#/run/${r.uuid}`, class: 'mono', text: r.uuid.slice(0, 8) }) : c === 'status' ? badge(v) : v),
-      }),
-    ),
-  );
+  root.append(el('h1', { text: 'Run detail' }), el('p', {}, 'Pick a run, or filter and sort them on the ', el('a', { href: '#/runs', text: 'Runs page' }), '.'));
+  const box = el('div', { class: 'panel', 'data-testid': 'run-picker' });
+  root.append(box);
+  const columns = ['id', 'family', 'parameters', 'config', 'status', 'total time', 'makespan'];
+  const show = async (offset) => {
+    const list = await api.get(`/api/runs${query({ limit: PICK_PAGE, offset, sort: 'id', order: 'desc' })}`);
+    const rows = list.runs.map((r) => ({ ...r, parameters: paramsText(r.params), 'total time': fmtSeconds(r.total_time), makespan: typeof r.makespan === 'number' ? `${fmtNumber(r.makespan)} s` : '' }));
+    const prev = el('button', { type: 'button', class: 'small secondary', disabled: offset === 0, onclick: () => show(Math.max(0, offset - PICK_PAGE)) }, '‹ newer');
+    const next = el('button', { type: 'button', class: 'small secondary', disabled: offset + PICK_PAGE >= list.total, onclick: () => show(offset + PICK_PAGE) }, 'older ›');
+    const shown = list.total ? `runs ${offset + 1}–${offset + list.runs.length} of ${list.total}, newest first` : 'no runs yet';
+    clear(box).append(
+      el('div', { class: 'pager', 'data-testid': 'run-picker-pager', 'data-total': list.total }, prev, el('span', { text: shown }), next),
+      el('div', { class: 'table-wrap' }, table(columns, rows, {
+        cell: (c, v, r) => (c === 'id' ? el('a', { href: `#/run/${r.uuid}`, title: r.uuid, text: String(v) }) : c === 'status' ? badge(v) : v),
+      })),
+    );
+  };
+  await show(0);
 }
 
 export function mount(root, args, params = new URLSearchParams()) {
@@ -77,6 +90,10 @@ export function mount(root, args, params = new URLSearchParams()) {
   const overlayBox = el('div', { class: 'viewer', 'data-testid': 'viewer-overlay', hidden: true });
   const viewers = el('div', { class: 'viewers' }, viewerBox, overlayBox);
   const viewerNote = el('div', { class: 'muted', 'data-testid': 'viewer-note' });
+  const planHeading = el('h2', { 'data-testid': 'plan-heading', text: 'Plan in 3D' });
+  // The 3D view's code starts loading now, while the run's data comes (not after it).
+  const viewerModule = import('../viewer3d.js');
+  viewerModule.catch(() => {}); // reported where it is used
   // "Dispatch this plan" (run_dispatch.js), below the plan it would send.
   const dispatchSlot = el('div', { 'data-testid': 'run-dispatch-slot' });
 
@@ -88,7 +105,7 @@ export function mount(root, args, params = new URLSearchParams()) {
     el(
       'div',
       { class: 'panel' },
-      el('h2', { text: 'Plan in 3D' }),
+      planHeading,
       viewerNote,
       viewers,
       playback.element,
@@ -97,7 +114,13 @@ export function mount(root, args, params = new URLSearchParams()) {
     dispatchSlot,
     el('div', { class: 'panel' }, el('h2', { text: 'Events' }), eventsBox),
   );
-  mountRunDispatch(dispatchSlot, uuid);
+  // "Dispatch this plan" only for a run that has a plan (a timed-out run has none to send).
+  let dispatchMounted = false;
+  function showDispatch(d) {
+    if (dispatchMounted || !d.run.has_plan) return;
+    dispatchMounted = true;
+    mountRunDispatch(dispatchSlot, uuid);
+  }
 
   function renderHeader(d) {
     const r = d.run;
@@ -154,7 +177,15 @@ export function mount(root, args, params = new URLSearchParams()) {
       ['total time', r.total_time === null ? '—' : fmtSeconds(r.total_time)],
       ['makespan', r.makespan === null ? '—' : `${fmtNumber(r.makespan)} s`],
       ['scheduling', workLine],
-      ['sizes', LAYERS.map((l) => `${LAYER_STYLES[l].label} ${fmtNumber(r[`${l}_vertices`])}/${fmtNumber(r[`${l}_hyperarcs`])}`).join('  ')],
+      [
+        'sizes (vertices/hyperarcs)',
+        el(
+          'span',
+          { 'data-testid': 'run-sizes' },
+          LAYERS.map((l) => `${LAYER_STYLES[l].label} ${fmtNumber(r[`${l}_vertices`])}/${fmtNumber(r[`${l}_hyperarcs`])}`).join('  '),
+          el('div', { class: 'muted', style: 'font: 12px/1.4 system-ui, sans-serif; word-break: normal', text: SIZES_HELP }),
+        ),
+      ],
       ['events', Object.entries(d.event_counts).map(([k, v]) => `${k} ${v}`).join(', ')],
       ['download', downloads],
     ];
@@ -267,7 +298,7 @@ export function mount(root, args, params = new URLSearchParams()) {
   async function buildViewer(box, id, run, stale = () => false) {
     const [scene, models] = await Promise.all([api.get(`/api/runs/${id}/scene`), api.get('/api/robots')]);
     const plan = run.has_plan ? await api.get(`/api/runs/${id}/plan`) : null;
-    const { PlanViewer } = await import('../viewer3d.js');
+    const { PlanViewer } = await viewerModule;
     if (stale()) return null;
     if (box === viewerBox && viewer) {
       viewer.dispose();
@@ -288,6 +319,8 @@ export function mount(root, args, params = new URLSearchParams()) {
       const built = await buildViewer(viewerBox, uuid, d.run, () => seq !== viewerSeq);
       if (!built) return;
       viewer = built.viewer; // buildViewer disposed the one before
+      planHeading.textContent = built.plan ? 'Plan in 3D' : 'Scene in 3D (no plan)';
+      playback.element.hidden = !built.plan;
       let note = built.plan
         ? `${built.scene.name}: ${built.scene.robots.length} robots, ${built.scene.objects.length} objects; makespan ${fmtNumber(viewer.player.duration)} s.`
         : `This run has no motion plan (${d.run.status}${d.settings && d.settings.task_only ? ', task only' : ''}): the robots stand at home.${d.run.status === 'running' ? ' The plan appears here when the run ends.' : ''}`;
@@ -314,6 +347,7 @@ export function mount(root, args, params = new URLSearchParams()) {
     const d = await api.get(`/api/runs/${uuid}`);
     detail = d;
     renderHeader(d);
+    showDispatch(d);
     drawPhaseBreakdown(phases.box, phaseTable, d);
     return d;
   }
@@ -350,9 +384,14 @@ export function mount(root, args, params = new URLSearchParams()) {
     try {
       const d = await loadDetail();
       if (overlays.length) await loadOverlays();
-      renderTimeline(await api.get(`/api/runs/${uuid}/timeline`));
-      await loadEvents();
-      await loadViewer(detail || d); // the latest detail: the run may have ended meanwhile
+      // The 3D view builds while the timeline and the events load (it used to wait for both).
+      await Promise.all([
+        loadViewer(detail || d),
+        (async () => {
+          renderTimeline(await api.get(`/api/runs/${uuid}/timeline`));
+          await loadEvents();
+        })(),
+      ]);
     } catch (e) {
       root.prepend(errorBox(e.message));
     }

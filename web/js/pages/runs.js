@@ -4,7 +4,7 @@
 // (#/runs?q=...&sort=total_time&order=asc). Selected runs go to Compare (plots and side by side).
 import { api, query } from '../api.js';
 import { on, debounce } from '../events.js';
-import { el, clear, badge, fmtNumber, fmtSeconds, errorBox } from '../dom.js';
+import { el, clear, badge, fmtNumber, fmtSeconds, errorBox, plural } from '../dom.js';
 import { writeState, readString, readNumber, readList } from '../url_state.js';
 
 const COLUMNS_KEY = 'dashbench.runs.columns';
@@ -119,6 +119,13 @@ export function mount(root, args, urlParams = new URLSearchParams()) {
     }
   }
 
+  /// A column's header: its label less what the cells say themselves (durations carry their unit,
+  /// "9.8 ms", so "total time", not "total time (s)"); the run id is "id" (the label is its title).
+  function headerText(col) {
+    if (col.name === 'id') return 'id';
+    return col.group === 'time' ? col.label.replace(/\s*\(s\)$/, '') : col.label;
+  }
+
   function cell(col, value, run) {
     if (col.name === 'status') return badge(value);
     if (col.name === 'uuid' || col.name === 'id') {
@@ -140,8 +147,8 @@ export function mount(root, args, urlParams = new URLSearchParams()) {
         const sorted = state.sort === c.name;
         const th = el('th', {
           class: `sortable ${sorted ? `sorted-${state.order}` : ''}`,
-          title: `${c.name}: click or Enter to sort`,
-          text: c.label,
+          title: `${c.label} (${c.name}): click or Enter to sort`,
+          text: headerText(c),
           tabindex: 0,
           'data-column': c.name,
           'aria-sort': sorted ? (state.order === 'asc' ? 'ascending' : 'descending') : 'none',
@@ -188,7 +195,7 @@ export function mount(root, args, urlParams = new URLSearchParams()) {
     }
     for (const r of list.runs) state.families.set(r.uuid, r.family);
     updateSelectionInfo();
-    total.textContent = `${list.total} runs`;
+    total.textContent = plural(list.total, 'run');
     total.dataset.total = list.total;
     clear(pager);
     const pages = Math.max(1, Math.ceil(list.total / state.limit));
