@@ -15,6 +15,8 @@
 //   5  dash_runs.time_validation
 //   6  dash_progress.progress_phase, progress_done, progress_total, progress_rate, progress_current (how
 //      far a long phase has got: conflict resolution's steps scheduled of the plan's)
+//   7  dash_dispatches.execution ("timed" or "tpg"), dash_dispatch_arms.segments (execution by
+//      dependencies: each step's planned and executed times, JSON)
 #include <string>
 
 #include "engine/core/check.h"
@@ -23,7 +25,7 @@ struct sqlite3;
 
 namespace dash::log {
 
-inline constexpr int kSchemaVersion = 6;
+inline constexpr int kSchemaVersion = 7;
 /// PRAGMA application_id of a dashbench results file ("DaSH").
 inline constexpr int kApplicationId = 0x44615348;
 
