@@ -77,12 +77,9 @@ const char* const kPlanHelp =
     "  --profile NAME   paper: every extension beyond the published algorithm off; default: none\n"
     "                   (--set applies after the profile)\n"
     "  --params         list the planner parameters (both planners without --planner) and exit\n"
-    "  --markdown       with --params: as the Markdown table of docs/planners.md
-"
-    "  --no-scene-check plan without checking the scene first (the planner then reports what it finds)
-"
-    "Exit codes: 0 solved, 3 not solved in time or infeasible, 2 bad input (a scene with problems too).
-";
+    "  --markdown       with --params: as the Markdown table of docs/planners.md\n"
+    "  --no-scene-check plan without checking the scene first (the planner then reports what it finds)\n"
+    "Exit codes: 0 solved, 3 not solved in time or infeasible, 2 bad input (a scene with problems too).\n";
 
 namespace {
 std::atomic<bool> g_stop{false};
