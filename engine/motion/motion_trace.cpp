@@ -5,6 +5,8 @@
 // (farther back-offs along the same approach axes), then global sampling. A small object whose methods
 // are the query's steps: one robot's part in one task step (visit), the way home (home).
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include "engine/motion/motion_layer.h"
 #include "engine/robots/kinematics.h"
@@ -37,6 +39,18 @@ struct GiverState {
   JointVector q_post;
   Vec3 approach_W = Vec3::UnitZ();
 };
+
+/// In a handover the partner stands at its transition configuration while this robot approaches (the
+/// giver, holding the object) and while this robot retreats (giver first: the receiver holding the
+/// object; then the receiver: the giver where its retreat ended, empty-handed). Before and after.
+std::pair<std::optional<RobotState>, std::optional<RobotState>> partnersAround(const TaskArc& a,
+                                                                               const TransitionConfig& tc,
+                                                                               bool receiver, const GiverState& giver) {
+  if (a.type != TaskArcType::kHandover) return {};
+  if (receiver)
+    return {RobotState{a.robot, tc.q, HeldObject{a.object, tc.X_TO}}, RobotState{a.robot, giver.q_post, HeldObject{}}};
+  return {std::nullopt, RobotState{a.robot2, tc.q2, HeldObject{a.object, tc.X_TO2}}};
+}
 
 }  // namespace
 
@@ -122,18 +136,7 @@ bool MotionTrace::visit(int k, int role, GiverState& giver) {
   v.held_before = held.before;
   v.held_after = held.after;
   const bool is_giver = a.type == TaskArcType::kHandover && !receiver;
-  // In a handover the partner stands at its transition configuration while this robot approaches (the
-  // giver, holding the object) and while this robot retreats (giver first: the receiver holding the
-  // object; then the receiver: the giver where its retreat ended, empty-handed).
-  std::optional<RobotState> partner_before, partner_after;
-  if (a.type == TaskArcType::kHandover) {
-    if (receiver) {
-      partner_before = RobotState{a.robot, tc.q, HeldObject{a.object, tc.X_TO}};
-      partner_after = RobotState{a.robot, giver.q_post, HeldObject{}};
-    } else {
-      partner_after = RobotState{a.robot2, tc.q2, HeldObject{a.object, tc.X_TO2}};
-    }
-  }
+  const auto [partner_before, partner_after] = partnersAround(a, tc, receiver, giver);
   // The giver brings the object straight to the handover pose; everyone else approaches along the TCP
   // axis so that fingers slide around the object instead of sweeping through it.
   v.q_pre = is_giver ? v.q : layer.backedOff(r, v.q, held.before, layouts[k], {}, 0.0, partner_before).value_or(v.q);

@@ -360,6 +360,8 @@ async function main() {
       await page.locator('[data-testid=dispatch-link]').click();
       await page.waitForSelector('[data-testid=dispatch-run], [data-testid=dispatch-missing]');
       if (await page.locator('[data-testid=dispatch-missing]').count()) return;
+      // The page may still be drawing the previous route's form: wait for the run from the link.
+      await page.waitForFunction((id) => document.querySelector('[data-testid=dispatch-run]')?.value === id, solved[0].uuid, { timeout: 15000 }).catch(() => {});
       expect((await page.locator('[data-testid=dispatch-run]').inputValue()) === solved[0].uuid, 'the run did not reach the Dispatch page');
       await page.locator('[data-testid=time-scale]').fill('2');
       await page.waitForFunction(() => location.hash.includes('scale=2'));
