@@ -81,10 +81,10 @@ bool MotionConstraintSet::contains(const MotionConstraint& c) const {
   return false;
 }
 
-std::size_t MotionConstraintSet::liftAll() {
-  const std::size_t n = constraints_.size() - lifted_;
+std::pair<std::size_t, std::size_t> MotionConstraintSet::liftAll() {
+  const std::size_t first = lifted_;
   lifted_ = constraints_.size();
-  return n;
+  return {first, lifted_};
 }
 
 std::vector<Aabb> MotionConstraintSet::regionsFor(const TaskPlan& plan, int robot, int step,

@@ -69,8 +69,8 @@ class MotionConstraintSet {
   /// up to step `step` of `plan`, ending at transition configuration q: what its move into that step
   /// keeps out of.
   std::vector<Aabb> regionsFor(const TaskPlan& plan, int robot, int step, const JointVector& q) const;
-  /// Lifts every constraint (a restart: new samples); returns how many there were.
-  std::size_t liftAll();
+  /// Lifts every constraint in force (a restart: new samples); returns their indices [first, last).
+  std::pair<std::size_t, std::size_t> liftAll();
 
  private:
   std::vector<MotionConstraint> constraints_;

@@ -315,9 +315,11 @@ bool LazyDashRun::restart(const std::string& why) {
   if (!params_.restart_when_exhausted || deadline_.expired()) return false;
   task_.restart("restart after: " + why);
   // New samples lift the motion constraints too (paper, "Theoretical Properties").
-  if (const std::size_t lifted = motion_constraints_.liftAll(); lifted > 0)
-    emitter_.constraint(log::ConstraintKind::Motion, log::ConstraintAction::Lifted, 0,
-                        std::to_string(lifted) + " motion constraints", {}, "restart after: " + why);
+  // Each lifted event names the constraint it lifts, as the task constraints' do.
+  const auto [first, last] = motion_constraints_.liftAll();
+  for (std::size_t id = first; id < last; ++id)
+    emitter_.constraint(log::ConstraintKind::Motion, log::ConstraintAction::Lifted, static_cast<std::uint32_t>(id),
+                        motion_constraints_.all()[id].describe(scene_), {}, "restart after: " + why);
   last_restart_ = why;
   emitter_.counter("restarts", task_.restarts());
   if (params_.budget_growth && task_.restarts() <= kMaxRestartGrowths) motion_.scaleBudget(kBudgetGrowth);

@@ -123,7 +123,7 @@ TEST(MotionConstraintRegion, AHistoryIsMatchedByTheRobotsOwnTransitionsNotByTheS
   EXPECT_EQ(scoped.regionsFor(plan, 0, 2, JointVector::Constant(6, 0.5)).size(), 1u);
   EXPECT_TRUE(scoped.regionsFor(plan, 0, 2, q).empty());
   // A restart lifts them all.
-  EXPECT_EQ(scoped.liftAll(), 1u);
+  EXPECT_EQ(scoped.liftAll(), (std::pair<std::size_t, std::size_t>{0, 1}));
   EXPECT_TRUE(scoped.regionsFor(plan, 0, 2, JointVector::Constant(6, 0.5)).empty());
   EXPECT_EQ(scoped.size(), 1u);  // kept for the record
 }
