@@ -164,11 +164,4 @@ std::optional<JointVector> MotionLayer::farthestBackOff(int robot, const JointVe
   return std::nullopt;
 }
 
-MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
-                                    const TaskSpace& space, const Deadline& deadline) {
-  MotionLayerResult result = trace(plan, transitions, space, deadline);
-  if (result.status != MotionStatus::kTimeout) recordInHypergraph(plan, transitions, space, result, deadline);
-  return result;
-}
-
 }  // namespace dash
