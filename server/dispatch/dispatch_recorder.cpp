@@ -35,7 +35,8 @@ Json recordToJson(const log::DispatchRecord& r) {
                     {"message", a.message},
                     {"duration", a.duration},
                     {"max_deviation", a.max_deviation},
-                    {"samples", a.samples}});
+                    {"samples", a.samples},
+                    {"segments", a.segments.empty() ? Json(nullptr) : Json::parse(a.segments, nullptr, false)}});
   }
   Json preflight = nullptr;
   if (!r.preflight.empty()) preflight = Json::parse(r.preflight, nullptr, false);
@@ -51,6 +52,7 @@ Json recordToJson(const log::DispatchRecord& r) {
           {"planner", r.planner},
           {"requested_by", r.requested_by},
           {"client", r.client},
+          {"execution", r.execution},
           {"time_scale", r.time_scale},
           {"duration", r.duration},
           {"elapsed", r.elapsed},
@@ -76,6 +78,7 @@ log::DispatchRecord DispatchRecorder::toRecord(const DispatchStatus& s, const st
   r.requested_by = s.origin.requested_by.empty() ? "token holder" : s.origin.requested_by;
   r.client = s.origin.client;
   r.time_scale = s.time_scale;
+  r.execution = s.execution;
   r.duration = s.duration;
   r.elapsed = s.start_time_us != 0 ? std::max(0.0, s.elapsed) : 0.0;
   r.preflight = preflight_json;
@@ -92,6 +95,7 @@ log::DispatchRecord DispatchRecorder::toRecord(const DispatchStatus& s, const st
     arm.duration = a.duration;
     arm.max_deviation = a.max_deviation;
     arm.samples = a.samples;
+    if (s.execution == "tpg") arm.segments = segmentsToJson(a.segments);
     r.arms.push_back(std::move(arm));
   }
   return r;
