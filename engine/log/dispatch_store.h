@@ -1,7 +1,7 @@
 #pragma once
 // The dispatch history in the results database (schema version 3: dash_dispatches and one
-// dash_dispatch_arms row per arm; version 7: how it ran and each step's times). The server's dispatch service writes a record when a dispatch
-// starts and again when it ends (or when a request is refused before anything moved); the dashboard
+// dash_dispatch_arms row per arm; version 8: how it ran and each step's times). The server's dispatch
+// service writes a record when a dispatch starts and again when it ends (or when a request is refused before anything moved); the dashboard
 // reads it back. Plain strings and numbers only: the dispatch vocabulary stays in server/dispatch.
 //
 // Uses its own SQLite connection (busy timeout), guarded by a mutex: any thread may call it.

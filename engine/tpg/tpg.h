@@ -70,7 +70,10 @@ struct BuildOptions {
   /// held object it takes or lets go may touch, and count as meeting only if closer than -resolution.
   double resolution = 0.0005;
   double min_cut = 0.002;        ///< m of motion: overlapping segments are not cut finer than this
-  int max_evaluations = 20000;   ///< per pair of segments: past it they count as meeting
+  int max_evaluations = 20000;   ///< per pair of segments the plan runs at once: past it they count as meeting
+  /// Per pair the plan runs one after the other: past it they count as meeting, which only adds an
+  /// edge the plan's own timing already keeps (a pair proved apart needs no edge).
+  int max_ordered_evaluations = 400;
 };
 
 struct BuildStats {

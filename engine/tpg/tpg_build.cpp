@@ -49,7 +49,8 @@ class Builder {
   void replayHolders();
   void makePieces();
   bool findConflicts();
-  bool orderPair(int a, int b);
+  bool orderOverlapping(int a, int b);
+  void addPredecessors(const std::vector<int>& from, const std::vector<int>& to);
   /// Whether the pieces meet: for pieces the plan runs at once, at distance 0 (a handover's gripper
   /// and the object may touch); for the others, within the clearance.
   bool meetCached(int a, int b, bool overlap);
@@ -63,6 +64,8 @@ class Builder {
   double eventTime(int position) const { return plan_.events[at(order_[at(position)])].t; }
   Pose tcp(int arm, double t) const;
   void addEdge(int from_arm, int from_slot, int to_arm, int to_slot, Edge::Why why);
+  /// sweeps_.prepare, kept across cutting rounds (a piece not cut again is the same piece).
+  void prepareCached(Piece& piece);
 
   const Scene& scene_;
   const Plan& plan_;
@@ -81,6 +84,7 @@ class Builder {
   std::vector<int> slot_of_event_;              ///< per event position: slot index on its arm
   std::set<std::tuple<int, int, int, int, int>> edges_;  ///< (from arm, from slot, to arm, to slot, why)
   std::map<std::tuple<int, double, double, int, double, double>, bool> meet_cache_;
+  std::map<std::tuple<int, double, double>, Piece> prepared_;  ///< (arm, t0, t1) -> prepared piece
   std::vector<std::pair<int, double>> pending_;  ///< cuts asked for in this round: (arm, t)
   int forced_ = 0;
   bool last_round_ = false;  ///< no more cuts: overlapping pairs that meet are ordered by start (forced)
@@ -216,7 +220,7 @@ void Builder::makePieces() {
         piece.adjacent_next = scene_.objectIndex(e.object);
         break;
       }
-      sweeps_.prepare(piece);
+      prepareCached(piece);
       slot_of_piece_.emplace_back(arm, static_cast<int>(slots_[at(arm)].size()));
       slots_[at(arm)].push_back({static_cast<int>(pieces_.size()), -1});
       pieces_.push_back(std::move(piece));
@@ -224,6 +228,18 @@ void Builder::makePieces() {
     addEvents(std::numeric_limits<double>::infinity());
   }
   max_pieces_ = std::max(max_pieces_, static_cast<int>(pieces_.size()));
+}
+
+void Builder::prepareCached(Piece& piece) {
+  const auto key = std::make_tuple(piece.arm, piece.t0, piece.t1);
+  if (auto it = prepared_.find(key); it != prepared_.end()) {
+    piece.moves = it->second.moves;
+    piece.rate = it->second.rate;
+    piece.box = it->second.box;
+    return;
+  }
+  sweeps_.prepare(piece);
+  prepared_.emplace(key, piece);
 }
 
 void Builder::addEdge(int from_arm, int from_slot, int to_arm, int to_slot, Edge::Why why) {
@@ -237,7 +253,8 @@ bool Builder::meetCached(int a, int b, bool overlap) {
   const Piece& pb = pieces_[at(b)];
   const auto key = std::make_tuple(pa.arm, pa.t0, pa.t1, pb.arm, pb.t0, pb.t1);
   if (auto it = meet_cache_.find(key); it != meet_cache_.end()) return it->second;
-  const bool meet = sweeps_.meet(pa, pb, overlap ? touching() : Sweeps::Thresholds{options_.clearance, options_.clearance});
+  const bool meet = overlap ? sweeps_.meet(pa, pb, touching(), options_.max_evaluations)
+                            : sweeps_.meet(pa, pb, {options_.clearance, options_.clearance}, options_.max_ordered_evaluations);
   meet_cache_.emplace(key, meet);
   return meet;
 }
@@ -247,25 +264,19 @@ Sweeps::Thresholds Builder::touching() const { return {0.0, -options_.resolution
 /// Running first, then waiting for it, is safe for `first` and `then`: first's sweep stays apart from
 /// where `then` waits (its start), and then's sweep from where `first` stopped (its end).
 bool Builder::sequential(const Piece& first, const Piece& then) {
-  return !sweeps_.meet(first, sweeps_.stillAt(then, 0.0), touching()) &&
-         !sweeps_.meet(then, sweeps_.stillAt(first, 1.0), touching());
+  return !sweeps_.meet(first, sweeps_.stillAt(then, 0.0), touching(), options_.max_evaluations) &&
+         !sweeps_.meet(then, sweeps_.stillAt(first, 1.0), touching(), options_.max_evaluations);
 }
 
-/// Orders one pair of pieces of two arms that may meet; asks for finer cuts where the plan runs them
-/// at once and neither order is proved safe (returns false then).
-bool Builder::orderPair(int a, int b) {
+/// Orders one pair of pieces of two arms that the plan runs at once (their times overlap) and that may
+/// meet; asks for finer cuts where neither order is proved safe (returns false then).
+bool Builder::orderOverlapping(int a, int b) {
   const Piece& pa = pieces_[at(a)];
   const Piece& pb = pieces_[at(b)];
   if (pa.box.exteriorDistance(pb.box) > options_.clearance) return true;
-  const bool overlap = std::min(pa.t1, pb.t1) - std::max(pa.t0, pb.t0) > kTimeTolerance;
-  if (!meetCached(a, b, overlap)) return true;  // at once: apart at 0 (a handover's contact may touch)
+  if (!meetCached(a, b, true)) return true;  // apart at 0 (a handover's contact may touch)
   const auto [arm_a, slot_a] = slot_of_piece_[at(a)];
   const auto [arm_b, slot_b] = slot_of_piece_[at(b)];
-  if (!overlap) {  // the plan's order, kept
-    if (pa.t1 <= pb.t0 + kTimeTolerance) addEdge(arm_a, slot_a, arm_b, slot_b, Edge::Why::kSwept);
-    else addEdge(arm_b, slot_b, arm_a, slot_a, Edge::Why::kSwept);
-    return true;
-  }
   auto contains = [](const Piece& h, const Piece& x) {
     return h.t0 <= x.t0 + kTimeTolerance && x.t1 <= h.t1 + kTimeTolerance;
   };
@@ -310,6 +321,32 @@ bool Builder::orderPair(int a, int b) {
   return false;
 }
 
+/// Swept edges into each piece of `to` from the pieces of `from` that end before it starts: only the
+/// latest such piece that meets it (the earlier ones run before that one, so their edges would be
+/// implied by the arm's order). Prefix boxes stop the scan once nothing earlier can come near.
+void Builder::addPredecessors(const std::vector<int>& from, const std::vector<int>& to) {
+  std::vector<Aabb> prefix(from.size());
+  for (std::size_t k = 0; k < from.size(); ++k) {
+    if (k > 0) prefix[k] = prefix[k - 1];
+    prefix[k].extend(pieces_[at(from[k])].box);
+  }
+  const double c = options_.clearance;
+  std::size_t before = 0;  // pieces of `from` that end before the target starts
+  for (int y : to) {
+    const Piece& py = pieces_[at(y)];
+    while (before < from.size() && pieces_[at(from[before])].t1 <= py.t0 + kTimeTolerance) ++before;
+    for (std::size_t k = before; k-- > 0;) {
+      if (prefix[k].exteriorDistance(py.box) > c) break;
+      const int x = from[k];
+      if (pieces_[at(x)].box.exteriorDistance(py.box) > c || !meetCached(x, y, false)) continue;
+      const auto [arm_x, slot_x] = slot_of_piece_[at(x)];
+      const auto [arm_y, slot_y] = slot_of_piece_[at(y)];
+      addEdge(arm_x, slot_x, arm_y, slot_y, Edge::Why::kSwept);
+      break;
+    }
+  }
+}
+
 bool Builder::findConflicts() {
   pending_.clear();
   edges_.clear();
@@ -325,9 +362,19 @@ bool Builder::findConflicts() {
     for (int b = a + 1; b < arms; ++b) {
       if (arm_box[at(a)].isEmpty() || arm_box[at(b)].isEmpty()) continue;
       if (arm_box[at(a)].exteriorDistance(arm_box[at(b)]) > options_.clearance) continue;
+      // Pairs the plan runs at once (each arm's pieces are in time order: a sliding window).
+      std::size_t first = 0;
       for (int i : of_arm[at(a)]) {
-        for (int j : of_arm[at(b)]) orderPair(i, j);
+        const Piece& pa = pieces_[at(i)];
+        while (first < of_arm[at(b)].size() && pieces_[at(of_arm[at(b)][first])].t1 <= pa.t0 + kTimeTolerance) ++first;
+        for (std::size_t k = first; k < of_arm[at(b)].size(); ++k) {
+          const int j = of_arm[at(b)][k];
+          if (pieces_[at(j)].t0 >= pa.t1 - kTimeTolerance) break;
+          orderOverlapping(i, j);
+        }
       }
+      addPredecessors(of_arm[at(a)], of_arm[at(b)]);
+      addPredecessors(of_arm[at(b)], of_arm[at(a)]);
     }
   }
   if (pending_.empty()) return false;
@@ -507,7 +554,8 @@ Graph Builder::build(BuildStats* stats) {
 Graph buildGraph(const Scene& scene, const Plan& plan, const BuildOptions& options, BuildStats* stats) {
   DASH_THROW_UNLESS(options.clearance >= 0.0 && options.clearance <= 0.1, "clearance must be within 0 .. 0.1 m");
   DASH_THROW_UNLESS(options.resolution > 0.0 && options.resolution <= 0.01, "resolution must be within 0 .. 0.01 m");
-  DASH_THROW_UNLESS(options.min_cut > 0.0 && options.max_evaluations > 0, "min_cut and max_evaluations must be positive");
+  DASH_THROW_UNLESS(options.min_cut > 0.0 && options.max_evaluations > 0 && options.max_ordered_evaluations > 0,
+                    "min_cut, max_evaluations and max_ordered_evaluations must be positive");
   Builder builder(scene, plan, options);
   return builder.build(stats);
 }

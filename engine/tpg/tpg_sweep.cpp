@@ -1,6 +1,8 @@
 #include "engine/tpg/tpg_sweep.h"
 
 #include <algorithm>
+#include <array>
+#include <queue>
 #include <limits>
 
 #include "engine/collision/distance_queries.h"
@@ -76,34 +78,49 @@ Sweeps::Distances Sweeps::distance(const Piece& a, const std::vector<Part>& pa, 
   return best;
 }
 
-bool Sweeps::meet(const Piece& a, const Piece& b, Thresholds th) {
+bool Sweeps::meet(const Piece& a, const Piece& b, Thresholds th, long long budget) {
   const double reach = std::max(th.normal, th.contact);
   if (a.box.exteriorDistance(b.box) > reach) return false;
+  // Best first: the cell least proved apart is split next, so a pair that meets is found early; a
+  // pair proved apart costs the same in any order.
   struct Cell {
     double u0, u1, v0, v1;
+    double margin;  ///< how far the cell is proved apart (< 0: not yet)
+    bool operator<(const Cell& o) const { return margin > o.margin; }
   };
-  std::vector<Cell> stack{{0.0, 1.0, 0.0, 1.0}};
   std::vector<Part> pa, pb;
-  long long budget = options_.max_evaluations;
-  while (!stack.empty()) {
-    const Cell cell = stack.back();
-    stack.pop_back();
+  enum class Verdict { kMeets, kApart, kOpen };
+  auto evaluate = [&](Cell& cell) {
     const double sa = a.rate * (cell.u1 - cell.u0) / 2;
     const double sb = b.rate * (cell.v1 - cell.v0) / 2;
     pose(a, (cell.u0 + cell.u1) / 2, pa);
     pose(b, (cell.v0 + cell.v1) / 2, pb);
     const Distances d = distance(a, pa, b, pb, reach + sa + sb);
-    if (--budget < 0 || d.normal <= th.normal || d.contact <= th.contact) return true;
-    if (d.normal - sa - sb > th.normal && d.contact - sa - sb > th.contact) continue;
-    if (sa + sb <= options_.resolution / 2) return true;
-    if (sa >= sb) {
-      const double m = (cell.u0 + cell.u1) / 2;
-      stack.push_back({cell.u0, m, cell.v0, cell.v1});
-      stack.push_back({m, cell.u1, cell.v0, cell.v1});
+    if (--budget < 0 || d.normal <= th.normal || d.contact <= th.contact) return Verdict::kMeets;
+    cell.margin = std::min(d.normal - th.normal, d.contact - th.contact) - sa - sb;
+    if (cell.margin > 0.0) return Verdict::kApart;
+    return sa + sb <= options_.resolution / 2 ? Verdict::kMeets : Verdict::kOpen;
+  };
+  std::priority_queue<Cell> open;
+  Cell root{0.0, 1.0, 0.0, 1.0, 0.0};
+  switch (evaluate(root)) {
+    case Verdict::kMeets: return true;
+    case Verdict::kApart: return false;
+    case Verdict::kOpen: open.push(root);
+  }
+  while (!open.empty()) {
+    const Cell cell = open.top();
+    open.pop();
+    std::array<Cell, 2> halves{cell, cell};
+    if (a.rate * (cell.u1 - cell.u0) >= b.rate * (cell.v1 - cell.v0)) {
+      halves[0].u1 = halves[1].u0 = (cell.u0 + cell.u1) / 2;
     } else {
-      const double m = (cell.v0 + cell.v1) / 2;
-      stack.push_back({cell.u0, cell.u1, cell.v0, m});
-      stack.push_back({cell.u0, cell.u1, m, cell.v1});
+      halves[0].v1 = halves[1].v0 = (cell.v0 + cell.v1) / 2;
+    }
+    for (Cell& half : halves) {
+      const Verdict v = evaluate(half);
+      if (v == Verdict::kMeets) return true;
+      if (v == Verdict::kOpen) open.push(half);
     }
   }
   return false;

@@ -46,8 +46,8 @@ class Sweeps {
     double contact = 0.0;
   };
   /// Some pair of the two pieces' parts comes within its threshold somewhere (or cannot be proved
-  /// apart to `resolution` within the evaluation budget).
-  bool meet(const Piece& a, const Piece& b, Thresholds thresholds);
+  /// apart to `resolution` within `budget` distance evaluations).
+  bool meet(const Piece& a, const Piece& b, Thresholds thresholds, long long budget);
   /// The piece's parts come within the clearance of `object` resting at X_WO.
   bool meetsObject(const Piece& a, int object, const Pose& X_WO);
   /// The piece held still at fraction u (0: its start, 1: its end), prepared.
