@@ -2,7 +2,8 @@
 # Issue 39: executed against planned makespan, timed against tpg (execution by dependencies), with
 # simulated arms that behave and that misbehave. One sorting plan with handovers (2 robots, 2 objects,
 # Lazy-DaSH seed 1), a server on loopback and two `dashbench controller --driver sim` agents per
-# setting; every dispatch at time_scale 0.8. Prints one line per (setting, execution).
+# setting; every dispatch at time_scale 0.8. Prints one line per (setting, execution) and appends it
+# to $OUT/results.csv (setting, execution, repeat, state, planned s, executed s, reason).
 #   experiments/tpg/run.sh [REPEATS]      (environment: DASHBENCH_BIN, OUT, PORT)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -48,31 +49,42 @@ start_agents() {  # $1: extra options of ur5e_0, $2: of ur5e_1
 }
 stop_agents() { for pid in "${AGENTS[@]}"; do kill "$pid" 2>/dev/null || true; done; wait "${AGENTS[@]}" 2>/dev/null || true; }
 
-dispatch() {  # $1: setting name, $2: execution
+dispatch() {  # $1: setting name, $2: execution, $3: repeat
   local reply
   reply=$(curl -s -X POST "$URL/api/dispatch" -H "Authorization: Bearer $(cat "$OUT/token")" \
     -H 'Content-Type: application/json' --data-binary "@$OUT/body-$2.json")
+  if ! grep -q '"dispatch_id"' <<< "$reply"; then
+    echo "$1 $2 refused: ${reply:0:300}"
+    echo "$1,$2,$3,refused,,,see the output" >> "$OUT/results.csv"
+    return
+  fi
   for _ in $(seq 600); do
     sleep 0.5
     status=$(curl -s "$URL/api/dispatch" -H "Authorization: Bearer $(cat "$OUT/token")")
     if python3 -c 'import json,sys; sys.exit(0 if json.loads(sys.argv[1]).get("final") else 1)' "$status"; then break; fi
   done
-  python3 -c '
-import json, sys
-s = json.loads(sys.argv[3])
-print(f"{sys.argv[1]:10s} {sys.argv[2]:6s} state={s[\"state\"]:9s} planned={s[\"duration\"]:7.2f} s executed={s[\"elapsed\"]:7.2f} s ratio={s[\"elapsed\"]/s[\"duration\"]:5.2f} {s[\"reason\"][:90]}")
-' "$1" "$2" "$status"
+  python3 - "$1" "$2" "$status" "$3" "$OUT/results.csv" <<'PY'
+import csv, json, sys
+setting, mode, text, repeat, path = sys.argv[1:6]
+s = json.loads(text)
+ratio = s["elapsed"] / s["duration"] if s["duration"] > 0 else 0.0
+print(f"{setting:10s} {mode:6s} state={s['state']:9s} planned={s['duration']:7.2f} s executed={s['elapsed']:7.2f} s "
+      f"ratio={ratio:5.2f} {s['reason'][:90]}")
+with open(path, "a", newline="") as f:
+    csv.writer(f).writerow([setting, mode, repeat, s["state"], f"{s['duration']:.3f}", f"{s['elapsed']:.3f}", s["reason"]])
+PY
 }
 
+echo "setting,execution,repeat,state,planned_s,executed_s,reason" > "$OUT/results.csv"
 # Fresh agents for every dispatch: an aborted one leaves its arms where they stopped.
 for r in $(seq "$REPEATS"); do
   for mode in timed tpg; do
     start_agents "" ""
-    dispatch nominal "$mode"
+    dispatch nominal "$mode" "$r"
     stop_agents
     start_agents "--sim-speed 0.7 --sim-gripper-time 1 --sim-gripper-jitter 0.2 --sim-seed $r" \
                  "--sim-gripper-time 1 --sim-gripper-jitter 0.2 --sim-pause-rate 0.2 --sim-pause-max 1 --sim-seed $((r + 100))"
-    dispatch perturbed "$mode"
+    dispatch perturbed "$mode" "$r"
     stop_agents
   done
 done

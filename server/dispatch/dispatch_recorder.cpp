@@ -24,6 +24,13 @@ std::string isoOfSteady(std::int64_t steady_us) {
   return log::isoTimeFromUnixMillis(unixMillisNow() - (steadyMicros() - steady_us) / 1000);
 }
 
+/// The stored steps of an arm (JSON text), null when there are none or they do not parse.
+Json segmentsOrNull(const std::string& text) {
+  if (text.empty()) return nullptr;
+  Json parsed = Json::parse(text, nullptr, false);
+  return parsed.is_discarded() ? Json(nullptr) : parsed;
+}
+
 Json recordToJson(const log::DispatchRecord& r) {
   Json arms = Json::array();
   for (const log::DispatchArmRecord& a : r.arms) {
@@ -36,7 +43,7 @@ Json recordToJson(const log::DispatchRecord& r) {
                     {"duration", a.duration},
                     {"max_deviation", a.max_deviation},
                     {"samples", a.samples},
-                    {"segments", a.segments.empty() ? Json(nullptr) : Json::parse(a.segments, nullptr, false)}});
+                    {"segments", segmentsOrNull(a.segments)}});
   }
   Json preflight = nullptr;
   if (!r.preflight.empty()) preflight = Json::parse(r.preflight, nullptr, false);

@@ -158,19 +158,25 @@ std::string DispatchService::newIdLocked() {
   return "d" + std::to_string(wallMillis()) + "-" + id_tag_ + "-" + std::to_string(next_dispatch_++);
 }
 
-void DispatchService::noteRefusedLocked(const Plan& plan, const DispatchOptions& options, const DispatchOrigin& origin,
-                                        const PreflightReport& report, const std::string& reason) {
+DispatchStatus DispatchService::newStatusLocked(const Plan& plan, const DispatchOptions& options,
+                                                const DispatchOrigin& origin, DispatchState state) {
   DispatchStatus st;
   st.id = newIdLocked();
   st.origin = origin;
-  st.state = DispatchState::kRefused;
-  st.reason = reason;
+  st.state = state;
   st.scene = plan.scene;
   st.planner = plan.planner;
   st.execution = options.execution;
   st.time_scale = options.time_scale;
   st.created_us = now();
   st.created_unix_ms = wallMillis();
+  return st;
+}
+
+void DispatchService::noteRefusedLocked(const Plan& plan, const DispatchOptions& options, const DispatchOrigin& origin,
+                                        const PreflightReport& report, const std::string& reason) {
+  DispatchStatus st = newStatusLocked(plan, options, origin, DispatchState::kRefused);
+  st.reason = reason;
   st.end_time_us = st.created_us;
   st.final = true;
   for (const RobotTrajectory& r : plan.robots) {
@@ -261,16 +267,8 @@ bool DispatchService::agentsUnchangedLocked(const std::vector<ControllerInfo>& s
 void DispatchService::newRunLocked(const Plan& plan, const DispatchOptions& options, const DispatchOrigin& origin,
                                    const PreflightReport& preflight) {
   Run run;
+  run.status = newStatusLocked(plan, options, origin, DispatchState::kArming);
   DispatchStatus& st = run.status;
-  st.id = newIdLocked();
-  st.origin = origin;
-  st.state = DispatchState::kArming;
-  st.scene = plan.scene;
-  st.planner = plan.planner;
-  st.execution = options.execution;
-  st.time_scale = options.time_scale;
-  st.created_us = now();
-  st.created_unix_ms = wallMillis();
   st.path_tolerance = options.path_tolerance.value_or(config_.path_tolerance);
   st.start_tolerance = options.start_tolerance.value_or(config_.start_tolerance);
   st.goal_tolerance = options.goal_tolerance.value_or(config_.goal_tolerance);

@@ -193,6 +193,9 @@ class DispatchService {
                             const std::vector<ControllerInfo>& snapshot) const;
   std::string newIdLocked();
   /// The record of a request refused before any goal went out; tells the listeners.
+  /// A new dispatch's status: a fresh id, who asked, the plan's scene and planner, the options, now.
+  DispatchStatus newStatusLocked(const Plan& plan, const DispatchOptions& options, const DispatchOrigin& origin,
+                                 DispatchState state);
   void noteRefusedLocked(const Plan& plan, const DispatchOptions& options, const DispatchOrigin& origin,
                          const PreflightReport& report, const std::string& reason);
   bool allArmsDoneLocked() const;
