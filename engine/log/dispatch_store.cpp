@@ -15,7 +15,7 @@ namespace {
 
 constexpr const char* kSelectDispatch =
     "SELECT id, created, started, ended, state, reason, run_uuid, scene, planner, requested_by, client, time_scale, "
-    "duration, elapsed, preflight FROM dash_dispatches";
+    "duration, elapsed, preflight, execution FROM dash_dispatches";
 
 DispatchRecord readDispatch(const sql::Statement& st) {
   DispatchRecord r;
@@ -43,6 +43,8 @@ DispatchRecord readDispatch(const sql::Statement& st) {
   r.duration = number();
   r.elapsed = number();
   r.preflight = text();
+  r.execution = text();
+  if (r.execution.empty()) r.execution = "timed";
   return r;
 }
 
@@ -65,8 +67,8 @@ struct DispatchStore::Impl {
 
   void readArms(DispatchRecord& r) const {
     sql::Statement st(db.get(),
-                      "SELECT robot, driver, status, result, result_code, message, duration, max_deviation, samples "
-                      "FROM dash_dispatch_arms WHERE dispatch_id = ? ORDER BY ordinal");
+                      "SELECT robot, driver, status, result, result_code, message, duration, max_deviation, samples, "
+                      "segments FROM dash_dispatch_arms WHERE dispatch_id = ? ORDER BY ordinal");
     st.bind(1, r.id);
     while (st.step()) {
       DispatchArmRecord a;
@@ -79,6 +81,7 @@ struct DispatchStore::Impl {
       a.duration = st.columnOptDouble(6).value_or(0.0);
       a.max_deviation = st.columnOptDouble(7).value_or(0.0);
       a.samples = static_cast<int>(st.columnOptInt(8).value_or(0));
+      a.segments = st.isNull(9) ? "" : st.columnText(9);
       r.arms.push_back(std::move(a));
     }
   }
@@ -106,22 +109,22 @@ void DispatchStore::save(const DispatchRecord& r) {
   try {
     sql::Statement up(db,
                       "INSERT OR REPLACE INTO dash_dispatches (id, created, started, ended, state, reason, run_uuid, "
-                      "scene, planner, requested_by, client, time_scale, duration, elapsed, preflight) "
-                      "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+                      "scene, planner, requested_by, client, time_scale, duration, elapsed, preflight, execution) "
+                      "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
     auto b = up.binder();
     b(r.id)(r.created).orNull(r.started).orNull(r.ended)(r.state).orNull(r.reason).orNull(r.run_uuid).orNull(r.scene);
-    b.orNull(r.planner).orNull(r.requested_by).orNull(r.client)(r.time_scale)(r.duration)(r.elapsed).orNull(r.preflight);
+    b.orNull(r.planner).orNull(r.requested_by).orNull(r.client)(r.time_scale)(r.duration)(r.elapsed).orNull(r.preflight)(r.execution);
     up.run();
     sql::Statement del(db, "DELETE FROM dash_dispatch_arms WHERE dispatch_id = ?");
     del.bind(1, r.id).run();
     sql::Statement arm(db,
                        "INSERT INTO dash_dispatch_arms (dispatch_id, robot, ordinal, driver, status, result, "
-                       "result_code, message, duration, max_deviation, samples) VALUES (?,?,?,?,?,?,?,?,?,?,?)");
+                       "result_code, message, duration, max_deviation, samples, segments) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)");
     int ordinal = 0;
     for (const DispatchArmRecord& a : r.arms) {
       auto ab = arm.binder();
       ab(r.id)(a.robot)(ordinal++).orNull(a.driver).orNull(a.status)(a.result)(a.result_code).orNull(a.message)(a.duration);
-      ab(a.max_deviation)(a.samples);
+      ab(a.max_deviation)(a.samples).orNull(a.segments);
       arm.run();
     }
     sql::exec(db, "COMMIT");

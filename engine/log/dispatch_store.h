@@ -1,7 +1,7 @@
 #pragma once
 // The dispatch history in the results database (schema version 3: dash_dispatches and one
-// dash_dispatch_arms row per arm). The server's dispatch service writes a record when a dispatch
-// starts and again when it ends (or when a request is refused before anything moved); the dashboard
+// dash_dispatch_arms row per arm; version 8: how it ran and each step's times). The server's dispatch
+// service writes a record when a dispatch starts and again when it ends (or when a request is refused before anything moved); the dashboard
 // reads it back. Plain strings and numbers only: the dispatch vocabulary stays in server/dispatch.
 //
 // Uses its own SQLite connection (busy timeout), guarded by a mutex: any thread may call it.
@@ -25,6 +25,9 @@ struct DispatchArmRecord {
   double duration = 0.0;       ///< s: when its goal ends
   double max_deviation = 0.0;  ///< rad (m): measured against planned
   int samples = 0;             ///< joint states received
+  /// Execution by dependencies: [{"node", "kind", "planned": [start, end], "executed": [start, end]}]
+  /// as JSON text (s from the start; executed null where it never ran); empty for a timed dispatch.
+  std::string segments;
 };
 
 struct DispatchRecord {
@@ -40,6 +43,7 @@ struct DispatchRecord {
   std::string requested_by;  ///< the user label of the request, else "token holder"
   std::string client;        ///< the requesting client's address
   double time_scale = 1.0;
+  std::string execution = "timed";  ///< "timed" (one common start) or "tpg" (by dependencies)
   double duration = 0.0;  ///< s: the latest arm end time
   double elapsed = 0.0;   ///< s from the start time to the end (0 if never started)
   std::string preflight;  ///< the pre-flight report as JSON text ("" if none)

@@ -306,6 +306,19 @@ void migrateToV7(sqlite3* db) {
   }
 }
 
+// Execution by dependencies (issue 39): how a dispatch ran, and per arm the planned and executed
+// times of each step (JSON). NULL in older records. Only the columns missing, as v6 and v7.
+void migrateToV8(sqlite3* db) {
+  const std::array<std::pair<const char*, const char*>, 2> columns = {
+      {{"dash_dispatches", "execution TEXT"}, {"dash_dispatch_arms", "segments TEXT"}}};
+  for (const auto& [table, column] : columns) {
+    const std::string name = std::string(column).substr(0, std::string(column).find(' '));
+    if (sql::selectInt(db, std::string("SELECT COUNT(*) FROM pragma_table_info('") + table + "') WHERE name = '" + name +
+                               "'") == 0)
+      sql::exec(db, std::string("ALTER TABLE ") + table + " ADD COLUMN " + column);
+  }
+}
+
 struct Migration {
   int to;  ///< the version after it
   void (*apply)(sqlite3* db);
@@ -320,6 +333,7 @@ constexpr std::array<Migration, kSchemaVersion> kMigrations = {{
     {5, migrateToV5},
     {6, migrateToV6},
     {7, migrateToV7},
+    {8, migrateToV8},
 }};
 
 std::string newerMessage(int version) {

@@ -15,6 +15,9 @@
 //   5  dash_runs.time_validation
 //   6  dash_progress.progress_phase, progress_done, progress_total, progress_rate, progress_current (how
 //      far a long phase has got: conflict resolution's steps scheduled of the plan's)
+//   7  dash_runs.wall_time, phase_accounting (one phase accounting for both planners)
+//   8  dash_dispatches.execution ("timed" or "tpg"), dash_dispatch_arms.segments (execution by
+//      dependencies: each step's planned and executed times, JSON)
 #include <string>
 
 #include "engine/core/check.h"
@@ -23,7 +26,7 @@ struct sqlite3;
 
 namespace dash::log {
 
-inline constexpr int kSchemaVersion = 7;
+inline constexpr int kSchemaVersion = 8;
 /// PRAGMA application_id of a dashbench results file ("DaSH").
 inline constexpr int kApplicationId = 0x44615348;
 

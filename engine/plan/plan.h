@@ -59,6 +59,9 @@ struct Plan {
   /// the plan (sortRobots puts them in scene order). Output follows this order, so it is deterministic.
   std::vector<RobotTrajectory> robots;
   std::vector<PlanEvent> events;  ///< file order; need not be sorted by time
+  /// The optional "tpg" field (the temporal plan graph, engine/tpg/tpg.h, docs/formats.md) as compact
+  /// JSON text of an object; empty when the plan has none. engine/tpg parses and checks its content.
+  std::string tpg;
 
   const RobotTrajectory* findRobot(const std::string& id) const;  ///< nullptr if absent
   RobotTrajectory* findRobot(const std::string& id);

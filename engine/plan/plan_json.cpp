@@ -140,6 +140,11 @@ Plan parsePlan(const std::string& json_text, const std::string& source_name) {
   const Json& events = r.array(r.field(root, "", "events"), "events");
   plan.events.reserve(events.size());
   for (std::size_t i = 0; i < events.size(); ++i) plan.events.push_back(parseEvent(r, events[i], Reader::index("events", i)));
+  // The optional temporal plan graph: kept as text here; engine/tpg checks what it says.
+  if (const auto it = root.find("tpg"); it != root.end() && !it->is_null()) {
+    r.requireObject(*it, "tpg");
+    plan.tpg = it->dump();
+  }
   return plan;
 }
 
@@ -186,6 +191,11 @@ std::string planToJson(const Plan& plan) {
     events.push_back(std::move(j));
   }
   root["events"] = events;
+  if (!plan.tpg.empty()) {
+    Json tpg = Json::parse(plan.tpg, nullptr, /*allow_exceptions=*/false);
+    DASH_THROW_UNLESS(tpg.is_object(), "the plan's tpg field is not a JSON object");
+    root["tpg"] = std::move(tpg);
+  }
   return root.dump(1) + "\n";
 }
 

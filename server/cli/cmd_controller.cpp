@@ -23,6 +23,7 @@ const char* const kControllerHelp =
     "http://192.168.1.10:8080), take dispatched trajectories from it (server-sent events: trajectory,\n"
     "start, abort) and report the arm's joint states and status back (50 Hz while moving). Reconnects on\n"
     "its own; if the connection drops while the arm moves, the arm is stopped. Stop with Ctrl-C.\n"
+    "A server that refuses the token (HTTP 401) ends the agent with exit status 2 and says so.\n"
     "\n"
     "Common options:\n"
     "  --model NAME            robot model (data/robots/NAME.json), default ur5e\n"
@@ -31,7 +32,13 @@ const char* const kControllerHelp =
     "\n"
     "--driver sim: a simulated arm that follows the trajectory in real time within the model's speeds.\n"
     "  --sim-start Q1,..,QN    initial joint state (default all zeros)\n"
-    "  --sim-speed S           fault injection: follow at S times real time (0.5 = lag)\n"
+    "  --sim-speed S           follow at S times the plan's speed (0.7 = a lowered speed slider)\n"
+    "  --sim-pause-rate R      pause at random, R times per second of motion on average (default 0)\n"
+    "  --sim-pause-max SEC     each pause lasts 0 .. SEC seconds, uniformly (default 0)\n"
+    "  --sim-gripper-time SEC  a grasp or release takes SEC seconds (default 0: at once); the goal ends\n"
+    "                          only once the gripper has finished\n"
+    "  --sim-gripper-jitter SEC  each gripper move takes --sim-gripper-time plus or minus up to SEC\n"
+    "  --sim-seed N            seed of the pauses and the jitter (default 1)\n"
     "  --sim-stop-at SEC       fault injection: stop silently SEC seconds after the start\n"
     "  --sim-refuse            fault injection: refuse every goal (INVALID_GOAL)\n"
     "  --sim-drop-at SEC       fault injection: drop the server connection SEC seconds after the start\n"
@@ -88,7 +95,8 @@ int port(const Args& args, const std::string& name, int fallback) {
 
 int runController(const std::vector<std::string>& words) {
   Args args(words, {.options = {"server", "robot", "token-file", "driver", "model", "report-hz", "sim-start",
-                                "sim-speed", "sim-stop-at", "sim-drop-at", "robot-ip", "host-ip", "listen-host",
+                                "sim-speed", "sim-stop-at", "sim-drop-at", "sim-pause-rate", "sim-pause-max",
+                                "sim-gripper-time", "sim-gripper-jitter", "sim-seed", "robot-ip", "host-ip", "listen-host",
                                 "reverse-port", "script-port", "trajectory-port", "script-command-port", "rtde-port",
                                 "read-timeout-ms", "keepalive-ms", "point-type", "gripper", "gripper-host",
                                 "gripper-port", "rtde-hz", "stale-ms", "gripper-speed", "gripper-force"},
@@ -121,7 +129,17 @@ int runController(const std::vector<std::string>& words) {
       sim.initial = JointVector::Map(q.data(), static_cast<Eigen::Index>(q.size()));
     }
     sim.speed = args.number("sim-speed", 1.0);
-    DASH_THROW_UNLESS(sim.speed > 0.0, "--sim-speed must be positive");
+    DASH_THROW_UNLESS(sim.speed > 0.0 && sim.speed <= 10.0, "--sim-speed must be within 0 .. 10");
+    sim.pause_rate = args.number("sim-pause-rate", 0.0);
+    sim.pause_max = args.number("sim-pause-max", 0.0);
+    sim.gripper_time = args.number("sim-gripper-time", 0.0);
+    sim.gripper_jitter = args.number("sim-gripper-jitter", 0.0);
+    sim.seed = static_cast<std::uint64_t>(args.integer("sim-seed", 1));
+    DASH_THROW_UNLESS(sim.pause_rate >= 0.0 && sim.pause_rate <= 100.0, "--sim-pause-rate: 0 to 100 per second");
+    DASH_THROW_UNLESS(sim.pause_max >= 0.0 && sim.pause_max <= 60.0, "--sim-pause-max: 0 to 60 s");
+    DASH_THROW_UNLESS(sim.gripper_time >= 0.0 && sim.gripper_time <= 30.0, "--sim-gripper-time: 0 to 30 s");
+    DASH_THROW_UNLESS(sim.gripper_jitter >= 0.0 && sim.gripper_jitter <= sim.gripper_time,
+                      "--sim-gripper-jitter: 0 to --sim-gripper-time");
     if (args.has("sim-stop-at")) sim.stop_at = args.number("sim-stop-at", 0.0);
     sim.refuse = args.has("sim-refuse");
     driver = std::make_unique<dispatch::SimDriver>(model, sim);
@@ -184,10 +202,15 @@ int runController(const std::vector<std::string>& words) {
                  model.name.c_str(), agent.server_url.c_str());
   }
   controller.start();
-  while (!g_stop) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  std::string fatal;
+  while (!g_stop && (fatal = controller.fatalError()).empty()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   driver->abort("the controller is stopping");
   controller.stop();
   driver->shutdown();
+  if (!fatal.empty()) {
+    std::fprintf(stderr, "dashbench controller: error: %s\n", fatal.c_str());
+    return kExitBadInput;
+  }
   return kExitOk;
 }
 

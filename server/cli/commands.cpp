@@ -19,6 +19,8 @@ int runFk(const std::vector<std::string>& words);
 extern const char* const kFkHelp;
 int runIk(const std::vector<std::string>& words);
 extern const char* const kIkHelp;
+int runTpg(const std::vector<std::string>& words);
+extern const char* const kTpgHelp;
 int runController(const std::vector<std::string>& words);
 extern const char* const kControllerHelp;
 int runBatch(const std::vector<std::string>& words);
@@ -41,6 +43,8 @@ const std::vector<Command>& allCommands() {
       {"plan", "plan a scene with Lazy-DaSH (or DaSH); write the plan, or print the task-level schedule",
        kPlanHelp, runPlan},
       {"validate", "check a plan file against its scene and the plan contract", kValidateHelp, runValidate},
+      {"tpg", "the temporal plan graph of a plan (execution by dependencies) and its replay check", kTpgHelp,
+       runTpg},
       {"fk", "forward kinematics of a robot model (flange and TCP poses)", kFkHelp, runFk},
       {"ik", "all inverse-kinematics solutions of a robot model for a TCP pose", kIkHelp, runIk},
       {"controller", "the agent next to one arm: takes dispatched plans from the server (sim or UR driver)",

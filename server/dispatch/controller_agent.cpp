@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 namespace dash::dispatch {
 
@@ -58,6 +59,44 @@ std::int64_t ControllerAgent::clockOffsetUs() const {
   return offset_us_;
 }
 
+std::string ControllerAgent::fatalError() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return fatal_;
+}
+
+void ControllerAgent::refusedToken(int status) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!fatal_.empty()) return;
+    fatal_ = "the server at " + options_.server_url + " refused this agent's token (HTTP " + std::to_string(status) +
+             "): the token file must hold the token of that server (the one `dashbench serve` uses); giving up";
+  }
+  log(fatalError());
+  cv_.notify_all();
+}
+
+void ControllerAgent::logGoalEnd(const DriverProgress& p, ArmStatus& logged) {
+  if (p.status == logged) return;
+  logged = p.status;
+  if (!isFinal(p.status)) return;
+  std::string id;
+  std::string took;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    id = dispatch_id_;
+    if (start_local_us_) {
+      char text[48];
+      std::snprintf(text, sizeof text, " after %.2f s", (steadyMicros() - *start_local_us_) * 1e-6);
+      took = text;
+    }
+  }
+  const std::string result = p.status == ArmStatus::kSucceeded
+                                 ? "succeeded"
+                                 : std::string(armStatusName(p.status)) + ": " + resultCodeName(p.result) +
+                                       (p.message.empty() ? "" : ": " + p.message);
+  log("goal " + id + ": " + result + took);
+}
+
 void ControllerAgent::log(const std::string& line) const {
   if (options_.log) options_.log(options_.robot + ": " + line);
 }
@@ -92,6 +131,7 @@ bool ControllerAgent::handleEvent(const std::string& event, const std::string& d
       log("connected (session " + hello.session + ")");
     } else if (event == "trajectory") {
       const TrajectoryCommand cmd = parseTrajectoryCommand(data);
+      std::lock_guard<std::mutex> goal_lock(goal_mutex_);
       {
         std::lock_guard<std::mutex> lock(mutex_);
         dispatch_id_ = cmd.dispatch_id;
@@ -129,7 +169,7 @@ bool ControllerAgent::handleEvent(const std::string& event, const std::string& d
 void ControllerAgent::streamLoop() {
   double delay = options_.reconnect_delay;
   const std::string path = "/api/controllers/" + options_.robot + "/stream";
-  while (!stopping_) {
+  while (!stopping_ && fatalError().empty()) {
     {
       std::unique_lock<std::mutex> lock(mutex_);
       const std::int64_t wait = away_until_us_ - steadyMicros();
@@ -174,6 +214,10 @@ void ControllerAgent::streamLoop() {
       driver_.abort("lost the connection to the server");
       log("lost the server while running a goal: arm stopped");
     }
+    if (status == 401 || status == 403) {
+      refusedToken(status);
+      break;
+    }
     if (was_connected) {
       log("disconnected from " + options_.server_url);
     } else if (status != 0 && status != 200) {
@@ -200,6 +244,7 @@ void ControllerAgent::reportLoop() {
   const auto headers = authHeaders(options_.token);
 
   std::vector<JointSample> batch;
+  ArmStatus logged = driver_.progress().status;
   DriverProgress last_sent;
   bool sent_any = false;
   std::int64_t next_sample = steadyMicros();
@@ -219,7 +264,9 @@ void ControllerAgent::reportLoop() {
     if (now >= next_sample) next_sample = std::max(next_sample + sample_period, now);
 
     const DriverState s = driver_.state();
+    std::unique_lock<std::mutex> goal_lock(goal_mutex_);
     const DriverProgress p = driver_.progress();
+    logGoalEnd(p, logged);
     std::string session, dispatch_id;
     bool connected = false;
     bool synchronised = false;
@@ -240,6 +287,7 @@ void ControllerAgent::reportLoop() {
       session = session_;
       dispatch_id = dispatch_id_;
     }
+    goal_lock.unlock();
     if (s.valid) {
       const std::int64_t measured = s.stamp_us != 0 ? s.stamp_us : now;
       batch.push_back({measured + offset, s.q, s.qd});
@@ -276,6 +324,10 @@ void ControllerAgent::reportLoop() {
       std::lock_guard<std::mutex> lock(mutex_);
       reconnect_ = true;
       continue;
+    }
+    if (res->status == 401 || res->status == 403) {
+      refusedToken(res->status);
+      break;
     }
     if (res->status != 200) {
       log("state report refused: HTTP " + std::to_string(res->status) + " " + res->body);

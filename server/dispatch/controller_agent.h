@@ -3,7 +3,9 @@
 // server, takes its commands from a server-sent event stream (dispatch_protocol.h) and reports the
 // arm's joint states and status back in batched POSTs (50 Hz while a goal is armed or running).
 // It reconnects on its own after a dropped connection; if the connection drops while the arm is
-// moving, it stops the arm first (the server aborts the other arms on its side).
+// moving, it stops the arm first (the server aborts the other arms on its side). A server that
+// refuses the token (HTTP 401 or 403) will not take it later either: the agent says so and gives up
+// (fatalError()). Every goal's end is logged with its result.
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -46,6 +48,8 @@ class ControllerAgent {
 
   bool connected() const;
   int connections() const;  ///< command streams opened so far (1 + reconnections)
+  /// Why the agent gave up (the server refused its token), or empty while it keeps going.
+  std::string fatalError() const;
   /// Estimated server clock minus local steady clock, in microseconds.
   std::int64_t clockOffsetUs() const;
 
@@ -55,10 +59,17 @@ class ControllerAgent {
   bool handleEvent(const std::string& event, const std::string& data);
   void log(const std::string& line) const;
   void kick();  ///< report now (a status change)
+  /// Gives up for good: the server refused the token (HTTP `status`).
+  void refusedToken(int status);
+  /// Logs the goal's end once, when the driver's status becomes final.
+  void logGoalEnd(const DriverProgress& p, ArmStatus& logged);
 
   AgentOptions options_;
   ArmDriver& driver_;
   mutable std::mutex mutex_;
+  /// Held while a goal is loaded (its id set and the driver's status changed together) and while a
+  /// report reads them, so a report never pairs a new goal's id with the previous goal's status.
+  std::mutex goal_mutex_;
   std::condition_variable cv_;
   std::atomic<bool> stopping_{false};
   bool connected_ = false;
@@ -70,6 +81,7 @@ class ControllerAgent {
   bool dropped_ = false;
   std::int64_t away_until_us_ = 0;
   bool kicked_ = false;
+  std::string fatal_;
   // Clock offset: the estimate from the round trip with the smallest delay among the recent ones.
   std::int64_t offset_us_ = 0;
   bool offset_known_ = false;

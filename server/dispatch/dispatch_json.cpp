@@ -97,6 +97,28 @@ std::string controllersToJson(const std::vector<ControllerInfo>& list, std::int6
 
 std::string preflightToJson(const PreflightReport& report) { return preflightJson(report).dump(); }
 
+namespace {
+
+Json segmentsJson(const std::vector<SegmentRecord>& segments) {
+  Json out = Json::array();
+  for (const SegmentRecord& r : segments) {
+    out.push_back({{"node", r.node},
+                   {"kind", r.kind},
+                   {"planned", Json::array({r.planned_start, r.planned_end})},
+                   {"executed", Json::array({r.start < 0 ? Json(nullptr) : Json(r.start), r.end < 0 ? Json(nullptr) : Json(r.end)})}});
+  }
+  return out;
+}
+
+/// Execution by dependencies: where the arm is in its steps and what it waits for.
+Json tpgArmJson(const ArmDispatchStatus& a) {
+  return {{"step", a.step}, {"steps", a.steps}, {"waiting_for", a.waiting_for}, {"segments", segmentsJson(a.segments)}};
+}
+
+}  // namespace
+
+std::string segmentsToJson(const std::vector<SegmentRecord>& segments) { return segmentsJson(segments).dump(); }
+
 std::string dispatchStatusToJson(const DispatchStatus& s) {
   Json arms = Json::array();
   for (const ArmDispatchStatus& a : s.arms) {
@@ -114,6 +136,7 @@ std::string dispatchStatusToJson(const DispatchStatus& s) {
                {"samples", a.samples},
                {"path_tolerance", vec(a.path_tolerance)},
                {"goal_tolerance", vec(a.goal_tolerance)}};
+    if (s.execution == "tpg") aj.update(tpgArmJson(a));
     if (!a.trace.empty()) {
       Json trace = Json::array();
       for (const TracePoint& p : a.trace) trace.push_back(Json::array({p.t, vec(p.planned), vec(p.actual)}));
@@ -129,6 +152,7 @@ std::string dispatchStatusToJson(const DispatchStatus& s) {
               {"final", s.final},
               {"scene", s.scene},
               {"planner", s.planner},
+              {"execution", s.execution},
               {"time_scale", s.time_scale},
               {"duration", s.duration},
               {"elapsed", s.elapsed},
@@ -173,6 +197,9 @@ DispatchRequestBody parseDispatchRequest(const std::string& body) {
     }
     out.options.time_scale = numOr(o, "time_scale", 1.0, p);
     if (o.contains("validate_geometry")) out.options.validate_geometry = boolOr(o, "validate_geometry", true, p);
+    out.options.execution = strOr(o, "execution", "timed", p);
+    DASH_THROW_UNLESS(out.options.execution == "timed" || out.options.execution == "tpg",
+                      p + ".execution: \"timed\" (one common start) or \"tpg\" (by dependencies)");
     for (const char* key : {"start_delay", "start_tolerance"}) {
       DASH_THROW_UNLESS(!o.contains(key) || o[key].get<double>() >= 0.0, p + "." + key + ": must not be negative");
     }

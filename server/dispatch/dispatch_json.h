@@ -23,6 +23,9 @@ std::string preflightToJson(const PreflightReport& report);
 ///  "tolerances": {...}, "arms": [{"robot", "driver", "status", "done", "result": {...}, "duration",
 ///  "t", "planned", "actual", "deviation", "max_deviation", "samples", "trace"?: [[t, planned, actual]]}]}
 std::string dispatchStatusToJson(const DispatchStatus& status);
+/// [{"node", "kind", "planned": [start, end], "executed": [start, end]}] (executed ends null where not
+/// reached): execution by dependencies, per arm.
+std::string segmentsToJson(const std::vector<SegmentRecord>& segments);
 
 /// A dispatch request body: {"plan": {...} | "plan text", "scene": {...} | "scene text"} or
 /// {"run_id": "..."}, with optional "options": {"start_delay", "start_tolerance", "path_tolerance",

@@ -24,6 +24,13 @@ std::string isoOfSteady(std::int64_t steady_us) {
   return log::isoTimeFromUnixMillis(unixMillisNow() - (steadyMicros() - steady_us) / 1000);
 }
 
+/// The stored steps of an arm (JSON text), null when there are none or they do not parse.
+Json segmentsOrNull(const std::string& text) {
+  if (text.empty()) return nullptr;
+  Json parsed = Json::parse(text, nullptr, false);
+  return parsed.is_discarded() ? Json(nullptr) : parsed;
+}
+
 Json recordToJson(const log::DispatchRecord& r) {
   Json arms = Json::array();
   for (const log::DispatchArmRecord& a : r.arms) {
@@ -35,7 +42,8 @@ Json recordToJson(const log::DispatchRecord& r) {
                     {"message", a.message},
                     {"duration", a.duration},
                     {"max_deviation", a.max_deviation},
-                    {"samples", a.samples}});
+                    {"samples", a.samples},
+                    {"segments", segmentsOrNull(a.segments)}});
   }
   Json preflight = nullptr;
   if (!r.preflight.empty()) preflight = Json::parse(r.preflight, nullptr, false);
@@ -51,6 +59,7 @@ Json recordToJson(const log::DispatchRecord& r) {
           {"planner", r.planner},
           {"requested_by", r.requested_by},
           {"client", r.client},
+          {"execution", r.execution},
           {"time_scale", r.time_scale},
           {"duration", r.duration},
           {"elapsed", r.elapsed},
@@ -76,6 +85,7 @@ log::DispatchRecord DispatchRecorder::toRecord(const DispatchStatus& s, const st
   r.requested_by = s.origin.requested_by.empty() ? "token holder" : s.origin.requested_by;
   r.client = s.origin.client;
   r.time_scale = s.time_scale;
+  r.execution = s.execution;
   r.duration = s.duration;
   r.elapsed = s.start_time_us != 0 ? std::max(0.0, s.elapsed) : 0.0;
   r.preflight = preflight_json;
@@ -92,6 +102,7 @@ log::DispatchRecord DispatchRecorder::toRecord(const DispatchStatus& s, const st
     arm.duration = a.duration;
     arm.max_deviation = a.max_deviation;
     arm.samples = a.samples;
+    if (s.execution == "tpg") arm.segments = segmentsToJson(a.segments);
     r.arms.push_back(std::move(arm));
   }
   return r;

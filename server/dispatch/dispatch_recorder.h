@@ -27,9 +27,11 @@ class DispatchRecorder : public DispatchListener {
   void onDispatchFinished(const DispatchStatus& status) override;
 
   /// {"dispatches": [record...], "total"}: newest first. A record: {"id", "created", "started",
-  /// "ended", "state", "reason", "run_id", "scene", "planner", "requested_by", "client", "time_scale",
-  /// "duration", "elapsed", "preflight": {...} | null, "arms": [{"robot", "driver", "status",
-  /// "result": {"code", "name", "message"}, "duration", "max_deviation", "samples"}]}.
+  /// "ended", "state", "reason", "run_id", "scene", "planner", "requested_by", "client", "execution",
+  /// "time_scale", "duration", "elapsed", "preflight": {...} | null, "arms": [{"robot", "driver", "status",
+  /// "result": {"code", "name", "message"}, "duration", "max_deviation", "samples", "segments": [{"node",
+  /// "kind", "planned": [start, end], "executed": [start, end]}] | null}]}. "duration" is the planned
+  /// makespan (scaled), "elapsed" the executed one.
   std::string historyJson(int limit, int offset) const;
   /// One record's JSON; empty if there is no such dispatch.
   std::string recordJson(const std::string& id) const;

@@ -1,9 +1,15 @@
 #pragma once
 // DispatchService: the server side of dispatching plans to real (or simulated) arms. It keeps the
 // registry of controller agents (one per robot, connected over HTTP: dispatch_protocol.h), runs the
-// pre-flight checks (preflight.h), sends each arm its goal, starts every arm at one common time a
-// little in the future, compares every measured state with the plan while they move, and aborts every
-// arm on a path deviation, a fault, a lost agent, a missed deadline, or a request.
+// pre-flight checks (preflight.h), and executes the plan one of two ways:
+//  - "timed" (the default): sends each arm its goal, starts every arm at one common time a little in
+//    the future, and compares every measured state with the plan at the same time;
+//  - "tpg" (by dependencies, tpg_execution.h): sends each arm its next segment of the plan's temporal
+//    plan graph once the segments it waits for are reported done, and compares every measured state
+//    with the segment's path.
+// Either way it aborts every arm on a path deviation, a fault, a lost agent, a missed deadline, or a
+// request. Sources: dispatch_service.cpp (requests), dispatch_agents.cpp (agents' streams and
+// reports), dispatch_monitor.cpp (while arms move), dispatch_tpg.cpp (execution by dependencies).
 //
 // HTTP is elsewhere: dispatch_routes.h mounts the service on an httplib::Server. Persistence and the
 // dashboard attach through DispatchListener. Thread safe; one dispatch at a time.
@@ -31,6 +37,8 @@
 #include "server/dispatch/dispatch_protocol.h"
 #include "server/dispatch/dispatch_status.h"
 #include "server/dispatch/preflight.h"
+#include "server/dispatch/tpg_execution.h"
+#include "engine/tpg/tpg.h"
 
 namespace dash::dispatch {
 
@@ -64,6 +72,11 @@ struct DispatchConfig {
   std::size_t trace_max = 4000;      ///< trace points kept per arm
   bool validate_geometry = true;     ///< pre-flight runs the validator's collision sampling
   int validator_threads = 0;         ///< 0 = the hardware's
+  /// Execution by dependencies: a segment may take segment_time_factor x its planned duration plus
+  /// segment_time_margin s before the arm counts as stalled; a grasp or release gripper_allowance s more.
+  double segment_time_factor = 3.0;
+  double segment_time_margin = 2.0;
+  double gripper_allowance = 5.0;
 };
 
 /// Per-request overrides of the config (unset: the config's value).
@@ -79,6 +92,8 @@ struct DispatchOptions {
   /// smallest scale that passes).
   double time_scale = 1.0;
   std::optional<bool> validate_geometry;
+  /// "timed": one common start, the plan's timetable; "tpg": by dependencies (tpg_execution.h).
+  std::string execution = "timed";
 };
 
 struct DispatchOutcome {
@@ -160,6 +175,7 @@ class DispatchService {
     std::vector<std::int64_t> last_sample_us;  ///< server time a sample of the arm last arrived
     std::int64_t deadline_us = 0;
     std::int64_t settle_deadline_us = 0;
+    std::optional<TpgRun> tpg;  ///< execution by dependencies
   };
   void monitorLoop();
   void abortLocked(const std::string& reason, DispatchState state);
@@ -177,9 +193,34 @@ class DispatchService {
                             const std::vector<ControllerInfo>& snapshot) const;
   std::string newIdLocked();
   /// The record of a request refused before any goal went out; tells the listeners.
+  /// A new dispatch's status: a fresh id, who asked, the plan's scene and planner, the options, now.
+  DispatchStatus newStatusLocked(const Plan& plan, const DispatchOptions& options, const DispatchOrigin& origin,
+                                 DispatchState state);
   void noteRefusedLocked(const Plan& plan, const DispatchOptions& options, const DispatchOrigin& origin,
                          const PreflightReport& report, const std::string& reason);
   bool allArmsDoneLocked() const;
+  // dispatch() in steps (dispatch_service.cpp).
+  bool beginRequestLocked(DispatchOutcome& outcome, std::vector<ControllerInfo>& snapshot);
+  bool agentsUnchangedLocked(const std::vector<ControllerInfo>& snapshot, DispatchOutcome& outcome);
+  void newRunLocked(const Plan& plan, const DispatchOptions& options, const DispatchOrigin& origin,
+                    const PreflightReport& preflight);
+  void armAndStartLocked(std::unique_lock<std::mutex>& lock, const DispatchOptions& options, DispatchOutcome& outcome);
+  std::string armingRefusalLocked(bool& timed_out) const;
+  void refuseArmedLocked(const std::string& refusal);
+  // Execution by dependencies (dispatch_tpg.cpp).
+  /// The plan's graph (its "tpg" field, else built), with the check "tpg_graph" added to `report`
+  /// (segment speeds at the time scale included); nullopt when that check fails.
+  std::optional<tpg::Graph> tpgGraph(const Plan& plan, const Scene& scene, const DispatchOptions& options,
+                                     PreflightReport& report) const;
+  void startTpgLocked(const Plan& plan, const tpg::Graph& graph, DispatchOutcome& outcome);
+  /// Sends every step whose predecessors are done; finishes the dispatch when every step is.
+  void releaseTpgLocked();
+  void processTpgStatusLocked(std::size_t arm, const AgentReport& report);
+  /// Aborts (and returns true) when a running step has taken longer than its allowance.
+  bool checkTpgDeadlinesLocked();
+  /// Arms waiting between steps when an abort comes have nothing to stop: done, cancelled.
+  void settleIdleTpgArmsLocked();
+  void fillTpgStatusLocked(DispatchStatus& status) const;
   /// Queues a listener call (under the lock); drainNotes() makes the calls, in order, outside it.
   void noteLocked(std::function<void(DispatchListener&)> call);
   void drainNotes();

@@ -28,6 +28,18 @@ struct TracePoint {
   JointVector actual;
 };
 
+/// One step of an arm in execution by dependencies (tpg_execution.h): planned and executed times.
+struct SegmentRecord {
+  int node = -1;            ///< node of the temporal plan graph
+  std::string kind;         ///< "motion", "gripper", "hold", "inspect"
+  double planned_start = 0.0;  ///< s from the start, as the plan (scaled) has it
+  double planned_end = 0.0;
+  double start = -1.0;      ///< s from the dispatch's start when it was sent (-1: not yet)
+  double end = -1.0;        ///< s when its agent reported it done (-1: not yet)
+  JointVector q_start;      ///< measured when it started (empty if no sample yet)
+  JointVector q_end;        ///< measured when it ended
+};
+
 struct ArmDispatchStatus {
   std::string robot;
   std::string driver;
@@ -45,6 +57,11 @@ struct ArmDispatchStatus {
   JointVector path_tolerance;  ///< per joint, resolved for this arm's joints (0: not checked)
   JointVector goal_tolerance;
   std::vector<TracePoint> trace;  ///< filled only when asked for
+  // Execution by dependencies ("tpg") only:
+  int step = -1;             ///< the step it is on (steps when every step is done)
+  int steps = 0;
+  std::string waiting_for;   ///< what its current step waits for; empty when it runs or is done
+  std::vector<SegmentRecord> segments;  ///< every step, planned vs executed
 };
 
 /// Who asked for a dispatch and what it was (for the record: the results database keeps it).
@@ -61,6 +78,7 @@ struct DispatchStatus {
   std::string reason;  ///< why it ended (empty while active and on success)
   std::string scene;
   std::string planner;
+  std::string execution = "timed";  ///< "timed" (one common start) or "tpg" (by dependencies)
   double time_scale = 1.0;
   double duration = 0.0;  ///< s: the latest arm end time
   std::int64_t created_us = 0;

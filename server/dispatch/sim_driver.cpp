@@ -10,7 +10,8 @@ SimDriver::SimDriver(const RobotModel& model, SimDriverOptions options)
     : model_name_(model.name),
       joint_names_(model.joint_names),
       velocity_max_(model.limits.velocity_max),
-      options_(std::move(options)) {
+      options_(std::move(options)),
+      rng_(options_.seed) {
   q_ = options_.initial.size() == model.dof() ? options_.initial : JointVector::Zero(model.dof());
   qd_ = JointVector::Zero(model.dof());
   thread_ = std::thread([this] { loop(); });
@@ -60,6 +61,9 @@ ResultCode SimDriver::load(const ArmTrajectory& trajectory, const GoalLimits& li
   limits_ = limits;
   started_ = false;
   next_gripper_ = 0;
+  tau_ = 0.0;
+  paused_until_ = {};
+  gripper_done_at_.reset();
   gripper_log_.clear();
   progress_ = {ArmStatus::kArmed, ResultCode::kSuccessful, ""};
   return code;
@@ -78,6 +82,7 @@ void SimDriver::abort(const std::string& reason) {
     progress_ = {ArmStatus::kAborted, ResultCode::kCancelled, reason};
     qd_.setZero();
     started_ = false;
+    gripper_done_at_.reset();
     last_abort_ = SteadyClock::now();
   }
 }
@@ -129,29 +134,52 @@ void SimDriver::stepLocked(SteadyClock::time_point now, double dt) {
     qd_.setZero();
     return;
   }
-  const double tau = elapsed * options_.speed;
-  const JointVector target = goal_.positionAt(tau);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  if (now >= paused_until_) {
+    if (options_.pause_rate > 0.0 && tau_ < goal_.duration() && unit(rng_) < options_.pause_rate * dt) {
+      paused_until_ = now + std::chrono::microseconds(static_cast<std::int64_t>(unit(rng_) * options_.pause_max * 1e6));
+    } else {
+      tau_ += std::min(dt, elapsed) * options_.speed;
+    }
+  }
+  const JointVector target = goal_.positionAt(tau_);
   const JointVector before = q_;
   for (Eigen::Index j = 0; j < q_.size(); ++j) {
     const double max_step = velocity_max_[j] * dt;
     q_[j] += std::clamp(target[j] - q_[j], -max_step, max_step);
   }
   qd_ = (q_ - before) / dt;
-  while (next_gripper_ < goal_.gripper.size() && goal_.gripper[next_gripper_].t <= tau) {
-    const GripperCommand& g = goal_.gripper[next_gripper_++];
-    gripper_closed_ = g.action == GripperCommand::Action::kGrasp;
-    gripper_log_.emplace_back(elapsed, g.action);
-  }
+  stepGripperLocked(now, elapsed);
   const JointVector& goal = goal_.points.back().positions;
   const ToleranceCheck off = checkTolerance(q_, goal, limits_.goalTolerance(q_.size()));
-  if (tau >= goal_.endTime() && !off.violated) {
+  const bool gripper_busy = gripper_done_at_.has_value();
+  if (tau_ >= goal_.endTime() && !off.violated && !gripper_busy) {
     progress_ = {ArmStatus::kSucceeded, ResultCode::kSuccessful, ""};
     qd_.setZero();
-  } else if (tau >= goal_.endTime() + limits_.goal_time_tolerance) {
+  } else if (tau_ >= goal_.endTime() + limits_.goal_time_tolerance) {
     progress_ = {ArmStatus::kFailed, ResultCode::kGoalToleranceViolated,
-                 describeViolation(off, joint_names_, "goal", tau) + ", goal time tolerance " +
-                     std::to_string(limits_.goal_time_tolerance) + " s"};
+                 (gripper_busy ? std::string("the gripper is still moving") : describeViolation(off, joint_names_, "goal", tau_)) +
+                     ", goal time tolerance " + std::to_string(limits_.goal_time_tolerance) + " s"};
     qd_.setZero();
+  }
+}
+
+void SimDriver::stepGripperLocked(SteadyClock::time_point now, double elapsed) {
+  if (gripper_done_at_ && now >= *gripper_done_at_) {
+    gripper_closed_ = gripper_target_closed_;
+    gripper_done_at_.reset();
+  }
+  while (!gripper_done_at_ && next_gripper_ < goal_.gripper.size() && goal_.gripper[next_gripper_].t <= tau_) {
+    const GripperCommand& g = goal_.gripper[next_gripper_++];
+    gripper_target_closed_ = g.action == GripperCommand::Action::kGrasp;
+    gripper_log_.emplace_back(elapsed, g.action);
+    std::uniform_real_distribution<double> jitter(-options_.gripper_jitter, options_.gripper_jitter);
+    const double takes = std::max(0.0, options_.gripper_time + (options_.gripper_jitter > 0.0 ? jitter(rng_) : 0.0));
+    if (takes <= 0.0) {
+      gripper_closed_ = gripper_target_closed_;
+    } else {
+      gripper_done_at_ = now + std::chrono::microseconds(static_cast<std::int64_t>(takes * 1e6));
+    }
   }
 }
 

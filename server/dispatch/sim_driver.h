@@ -1,13 +1,17 @@
 #pragma once
 // A simulated arm for `dashbench controller --driver sim`: it follows its goal in real time along the
 // same curve the server expects (ArmTrajectory::positionAt), never faster than the model's
-// velocity_max, and reports the state it actually reached. Faults can be injected for tests:
-// lag (speed < 1), a silent stop mid-trajectory, a refused goal. (A dropped connection is the agent's
-// --sim-drop-at, in AgentOptions.)
+// velocity_max, and reports the state it actually reached. It can misbehave the way real arms do
+// (issue 39): run slower than planned (speed < 1, a lowered speed slider), pause at random (a PC
+// stall, a protective slowdown), and take time to close or open its gripper (a Hand-E takes about a
+// second, more or less depending on the object); a goal ends only once its gripper has finished.
+// Faults for tests: a silent stop mid-trajectory, a refused goal. (A dropped connection is the
+// agent's --sim-drop-at, in AgentOptions.)
 #include <atomic>
 #include <condition_variable>
 #include <mutex>
 #include <optional>
+#include <random>
 #include <thread>
 
 #include "engine/robots/robot_model.h"
@@ -22,6 +26,11 @@ struct SimDriverOptions {
   bool refuse = false;               ///< refuse every goal (INVALID_GOAL)
   double step = 0.004;               ///< s per simulation step
   bool gripper = true;               ///< simulate a gripper (grasp closes it, release opens it)
+  double pause_rate = 0.0;           ///< pauses per second of motion, at random (0: none)
+  double pause_max = 0.0;            ///< s: each pause lasts uniformly 0 .. this
+  double gripper_time = 0.0;         ///< s a gripper move takes (0: at once)
+  double gripper_jitter = 0.0;       ///< s: each move takes gripper_time plus or minus up to this
+  std::uint64_t seed = 1;            ///< of the pauses and the gripper's jitter
 };
 
 class SimDriver : public ArmDriver {
@@ -49,6 +58,8 @@ class SimDriver : public ArmDriver {
  private:
   void loop();
   void stepLocked(std::chrono::steady_clock::time_point now, double dt);
+  /// Fires the gripper commands the arm has reached (one move at a time) and ends a finished move.
+  void stepGripperLocked(std::chrono::steady_clock::time_point now, double elapsed);
 
   std::string model_name_;
   std::vector<std::string> joint_names_;
@@ -68,6 +79,11 @@ class SimDriver : public ArmDriver {
   std::chrono::steady_clock::time_point start_time_;
   std::size_t next_gripper_ = 0;
   bool gripper_closed_ = false;
+  double tau_ = 0.0;  ///< how far along its goal the arm is (s of trajectory time)
+  std::chrono::steady_clock::time_point paused_until_;
+  std::optional<std::chrono::steady_clock::time_point> gripper_done_at_;  ///< a gripper move in progress
+  bool gripper_target_closed_ = false;
+  std::mt19937_64 rng_;
   std::vector<std::pair<double, GripperCommand::Action>> gripper_log_;
   std::optional<std::chrono::steady_clock::time_point> last_abort_;
   std::thread thread_;

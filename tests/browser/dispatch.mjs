@@ -10,7 +10,9 @@
 // every arm reports CANCELLED (Abort by the Esc key); during a long live dispatch with the 3D view
 // drawn by software WebGL (SwiftShader), a click on "Abort every arm" a few seconds in stops every
 // arm within 1 s of the click, and the live view is on screen without scrolling; on the run's own page, "Dispatch this plan" passes its pre-flight
-// check (the table shows every check), enables Dispatch and starts a dispatch that succeeds. No
+// check (the table shows every check), enables Dispatch and starts a dispatch that succeeds; by
+// dependencies (execution tpg, one arm slowed to 0.7), the arms table shows each arm's step and what
+// it waits for, the dispatch succeeds, and the Run page plots its planned and executed makespan. No
 // console errors.
 // Exit: 0 passed, 1 failed, 77 skipped (Chromium cannot start here).
 import { spawn } from 'node:child_process';
@@ -148,10 +150,10 @@ async function main() {
     agents = startAgents();
     // Restarts agent `i` at `q` and waits for the registry to have it (its n-th reconnection) ready.
     const reconnects = robots.map(() => 0);
-    const restart = async (i, q) => {
+    const restart = async (i, q, extra = []) => {
       await stopChild(agents[i]);
       const id = robots[i];
-      agents[i] = startChild(['controller', '--server', url, '--robot', id, '--token-file', tokenFile, '--driver', 'sim', '--model', modelOf[id], '--sim-start', q.join(','), '--quiet'], id);
+      agents[i] = startChild(['controller', '--server', url, '--robot', id, '--token-file', tokenFile, '--driver', 'sim', '--model', modelOf[id], '--sim-start', q.join(','), '--quiet', ...extra], id);
       reconnects[i] += 1;
       for (let n = 0; ; n++) {
         const c = (await apiGet('/api/controllers')).controllers.find((x) => x.robot === id);
@@ -358,6 +360,50 @@ async function main() {
         await sleep(100);
       }
       expect(record.state === 'succeeded' && record.run_id === run.uuid && record.requested_by === 'run page', `record: ${JSON.stringify(record)}\n${agentLogs()}`);
+    });
+
+    await step('Dispatch by dependencies: each arm\'s step and what it waits for, live; success; the Run page plots planned against executed makespan', async () => {
+      // The second arm slowed to 0.7 of the plan's speed: by the clock it would leave its path; by
+      // dependencies the first arm waits for it where the graph says.
+      await restart(0, plan.robots[robots[0]].points[0].q);
+      await restart(1, plan.robots[robots[1]].points[0].q, ['--sim-speed', '0.7']);
+      await page.goto('about:blank');
+      await page.goto(`${url}/#/dispatch?run=${run.uuid}&execution=tpg`);
+      await page.waitForSelector('[data-testid=dispatch-status][data-id]');
+      const before = await page.getAttribute('[data-testid=dispatch-status]', 'data-id');
+      expect((await page.locator('[data-testid=execution]').inputValue()) === 'tpg', 'the execution in the link is not chosen');
+      await page.locator('[data-testid=preflight]').click();
+      await page.waitForSelector('[data-testid=preflight-result][data-passed]', { timeout: 60000 });
+      const checks = await page.locator('[data-testid=preflight-result]').textContent();
+      expect((await page.getAttribute('[data-testid=preflight-result]', 'data-passed')) === '1' && checks.includes('tpg_graph'), `pre-flight: ${checks}`);
+      await page.locator('[data-testid=start]').click();
+      await page.waitForFunction((first) => {
+        const s = document.querySelector('[data-testid=dispatch-status]');
+        return s.dataset.state === 'running' && s.dataset.id !== first;
+      }, before, { timeout: 60000 });
+      const id = await page.getAttribute('[data-testid=dispatch-status]', 'data-id');
+      const head = await page.locator('[data-testid=arms-table] thead').textContent();
+      expect(head.includes('step') && head.includes('waiting for'), `arms table head: ${head}`);
+      // Some arm waits for the other, and says for what ("waits for ur5e_1 step 7 (motion)").
+      await page.waitForFunction(() => [...document.querySelectorAll('[data-testid=arm-waiting]')].some((c) => /^waits for \S+ step \d+ \(\w+\)/.test(c.textContent)), null, { timeout: 60000 });
+      const waiting = (await page.locator('[data-testid=arm-waiting]').allTextContents()).join(' | ');
+      console.log(`  seen: ${waiting}; steps ${(await page.locator('[data-testid=arm-step]').allTextContents()).join(' | ')}`);
+      await page.screenshot({ path: path.join(ARTIFACTS, 'dispatch-tpg-running.png'), fullPage: true });
+      await page.waitForSelector('[data-testid=dispatch-status][data-final="1"]', { timeout: (3 * Number(run.makespan) + 60) * 1000 });
+      const state = await page.getAttribute('[data-testid=dispatch-status]', 'data-state');
+      expect(state === 'succeeded', `the dispatch by dependencies ended ${state}: ${await page.locator('[data-testid=dispatch-status]').textContent()}\n${agentLogs()}`);
+      for (const robot of robots) await page.waitForSelector(`[data-testid=arms-table] tr[data-robot="${robot}"][data-result=SUCCESSFUL]`);
+      const record = await apiGet(`/api/dispatches/${id}`);
+      expect(record.execution === 'tpg' && record.arms.every((a) => Array.isArray(a.segments) && a.segments.length > 0 && a.segments.every((g) => g.executed[1] !== null)), `record: ${JSON.stringify(record).slice(0, 400)}`);
+      await page.goto(`${url}/#/run/${run.uuid}`);
+      const row = page.locator(`[data-testid=run-dispatch-makespans] tr[data-dispatch="${id}"]`);
+      await row.waitFor({ timeout: 30000 });
+      const planned = Number(await row.getAttribute('data-planned'));
+      const executed = Number(await row.getAttribute('data-executed'));
+      expect((await row.getAttribute('data-execution')) === 'tpg' && executed > planned && planned > 0, `makespan row: ${await row.textContent()}`);
+      expect((await page.locator('[data-testid=run-dispatch-makespans] tr[data-execution=timed]').count()) > 0, 'the timed dispatches of this plan are not plotted');
+      console.log(`  planned ${planned.toFixed(2)} s, executed ${executed.toFixed(2)} s by dependencies with one arm at 0.7 speed`);
+      await page.screenshot({ path: path.join(ARTIFACTS, 'run-makespans.png'), fullPage: true });
     });
 
     await step('no console error', async () => {

@@ -65,6 +65,9 @@ TEST_F(ControllerCli, TwoRobotPlanSucceeds) {
   }
   EXPECT_EQ(ur_.robot->programProblem(), "");
   EXPECT_FALSE(ur_.robot->halted()) << ur_.robot->haltReason();
+  // Each agent's log says when its goal ended, and how (issue 41: it used to stop at "start in").
+  EXPECT_NE(sim_->log().find(": succeeded after "), std::string::npos) << sim_->log();
+  EXPECT_NE(ur_.agent->log().find(": succeeded after "), std::string::npos) << ur_.agent->log();
   EXPECT_EQ(sim_->stop(), 0) << sim_->log();
   // Ctrl-C / SIGTERM: the UR agent sends MODE_STOPPED before it closes its sockets.
   EXPECT_EQ(ur_.robot->stoppedByPcAt(), 0);
@@ -83,6 +86,18 @@ TEST_F(ControllerCli, StopInjectedOnTheCommandLineAbortsBothArms) {
   EXPECT_NE(st->reason.find("ur5e_1 left its path: joint 5 (wrist_3_joint)"), std::string::npos) << st->reason;
   EXPECT_EQ(test::armStatus(*st, "ur5e_0")->result, ResultCode::kCancelled);
   EXPECT_FALSE(ur_.robot->cancelTimes().empty());
+}
+
+TEST(ControllerCliArgs, WrongTokenEndsTheAgentWithTwoSayingTheServerRefusedIt) {
+  DispatchConfig config;
+  test::TestServer server(config);
+  const std::string wrong = test::writeTokenFile("dispatch_cli_wrong_token.txt", "not-the-server-token");
+  test::ChildProcess agent(test::dashbenchCommand({"controller", "--server", server.url(), "--robot", "ur5e_1",
+                                                  "--token-file", wrong, "--driver", "sim"}),
+                           {.output = ::testing::TempDir() + "dispatch_cli_wrong_token.log"});
+  const std::optional<int> status = agent.wait(10.0);
+  EXPECT_EQ(status, std::optional<int>(2)) << agent.log();
+  EXPECT_NE(agent.log().find("refused this agent's token (HTTP 401)"), std::string::npos) << agent.log();
 }
 
 TEST(ControllerCliArgs, BadArgumentsExitWithTwo) {

@@ -218,11 +218,11 @@ std::string csv(const JointVector& q) {
 }
 
 CliUrArm startCliUrArm(const std::string& url, const std::string& robot, const JointVector& initial,
-                       const std::string& token_file, const std::string& log_name) {
+                       const std::string& token_file, const std::string& log_name, const UrArmSetup& setup) {
   CliUrArm arm;
-  arm.gripper = std::make_unique<SimGripper>();
+  arm.gripper = std::make_unique<SimGripper>(setup.gripper);
   const std::vector<int> ports = freePorts(4);  // reverse, script, trajectory, script command
-  SimUrRobotOptions options;
+  SimUrRobotOptions options = setup.robot;
   options.initial = initial;
   options.reverse_port = ports[0];
   options.script_port = ports[1];

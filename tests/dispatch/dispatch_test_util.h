@@ -177,8 +177,9 @@ struct CliUrArm {
     gripper.reset();
   }
 };
+/// `setup`: the simulated robot's and gripper's options (the robot's `initial` and ports are set here).
 CliUrArm startCliUrArm(const std::string& url, const std::string& robot, const JointVector& initial,
-                       const std::string& token_file, const std::string& log_name);
+                       const std::string& token_file, const std::string& log_name, const UrArmSetup& setup = {});
 /// `dashbench controller --driver sim --sim-start INITIAL [extra...]` as a child process.
 std::unique_ptr<ChildProcess> startCliSimArm(const std::string& url, const std::string& robot,
                                              const JointVector& initial, const std::string& token_file,

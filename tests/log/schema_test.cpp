@@ -384,6 +384,40 @@ TEST(Schema, AVersion5FileGetsProgressColumnsInItsSnapshots) {
   EXPECT_EQ(testing::integrityCheck(path), "ok");
 }
 
+// Version 8 added how a dispatch ran and each step's times. A version-7 file (those columns dropped)
+// migrates: its dispatches stay, read as timed with no steps, and new records keep both.
+TEST(Schema, AVersion7FileKeepsItsDispatchesAndGetsExecutionAndSegments) {
+  testing::TempDir dir;
+  const std::string path = dir.file("v7.db");
+  DispatchRecord old{.id = "d1-7", .created = isoTimeFromUnixMillis(1767225600000), .state = "succeeded"};
+  old.arms = {{.robot = "ur5e_0", .driver = "sim", .status = "succeeded", .result = "SUCCESSFUL", .samples = 42}};
+  { DispatchStore(path).save(old); }
+  setUserVersion(path, 7,
+                 "ALTER TABLE dash_dispatches DROP COLUMN execution; ALTER TABLE dash_dispatch_arms DROP COLUMN "
+                 "segments;");
+  EXPECT_THROW(DispatchStore(path, OpenMode::ReadOnly), SchemaError);  // read-only cannot migrate
+
+  DispatchStore store(path);
+  EXPECT_EQ(ResultsDb(path, OpenMode::ReadOnly).schemaVersion(), kSchemaVersion);
+  const auto back = store.get("d1-7");
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->state, "succeeded");
+  EXPECT_EQ(back->execution, "timed");
+  ASSERT_EQ(back->arms.size(), 1u);
+  EXPECT_EQ(back->arms[0].samples, 42);
+  EXPECT_EQ(back->arms[0].segments, "");
+  DispatchRecord tpg{.id = "d1-8", .created = isoTimeFromUnixMillis(1767225700000), .state = "succeeded"};
+  tpg.execution = "tpg";
+  tpg.arms = {{.robot = "ur5e_0", .segments = R"([{"node":0,"kind":"motion","planned":[0,1],"executed":[0,1.2]}])"}};
+  store.save(tpg);
+  const auto saved = store.get("d1-8");
+  ASSERT_TRUE(saved.has_value());
+  EXPECT_EQ(saved->execution, "tpg");
+  EXPECT_EQ(saved->arms.at(0).segments, tpg.arms[0].segments);
+  EXPECT_EQ(store.count(), 2);
+  EXPECT_EQ(testing::integrityCheck(path), "ok");
+}
+
 TEST(Schema, ANewerVersionGivesAClearError) {
   testing::TempDir dir;
   const std::string path = dir.file("future.db");

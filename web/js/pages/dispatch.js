@@ -40,6 +40,12 @@ export function mount(root, args, params = new URLSearchParams()) {
     const runInput = el('input', { type: 'text', size: 40, placeholder: 'uuid of a solved run', list: 'dispatch-runs', 'data-testid': 'dispatch-run' });
     const runList = el('datalist', { id: 'dispatch-runs' });
     const scale = el('input', { type: 'number', value: 1, min: 0.1, step: 0.5, style: 'width:5em', 'data-testid': 'time-scale' });
+    const execution = el(
+      'select',
+      { 'data-testid': 'execution', title: 'timed: every arm follows the plan’s clock; by dependencies: each arm moves on when what it waits for is done (docs/dispatch.md)' },
+      el('option', { value: 'timed', text: 'timed' }),
+      el('option', { value: 'tpg', text: 'by dependencies (tpg)' }),
+    );
     const user = el('input', { type: 'text', size: 12, placeholder: 'your name', value: localStorage.getItem(USER_KEY) || '', 'data-testid': 'dispatch-user' });
     const check = el('button', { type: 'button', class: 'secondary', 'data-testid': 'preflight' }, 'Pre-flight check');
     const start = el('button', { type: 'button', disabled: true, 'data-testid': 'start' }, 'Start');
@@ -59,8 +65,8 @@ export function mount(root, args, params = new URLSearchParams()) {
         'div',
         { class: 'panel' },
         el('h2', { text: 'Dispatch a plan' }),
-        el('div', { class: 'muted', text: 'Dry-run with --driver sim agents first. Check, then Start; a time scale > 1 slows every arm alike.' }),
-        el('div', { class: 'toolbar' }, runInput, runList, el('label', {}, 'time scale', scale), el('label', {}, 'who', user), check, start),
+        el('div', { class: 'muted', text: 'Dry-run with --driver sim agents first. Check, then Start; a time scale > 1 slows every arm alike. By dependencies, a lagging arm makes the arms that depend on it wait instead of stopping them all.' }),
+        el('div', { class: 'toolbar' }, runInput, runList, el('label', {}, 'time scale', scale), el('label', {}, 'execution', execution), el('label', {}, 'who', user), check, start),
         preflightBox,
         message,
       ),
@@ -93,7 +99,7 @@ export function mount(root, args, params = new URLSearchParams()) {
     function requestBody() {
       const label = user.value.trim();
       localStorage.setItem(USER_KEY, label);
-      return { run_id: runInput.value.trim(), options: { time_scale: Number(scale.value) || 1 }, user: label || undefined };
+      return { run_id: runInput.value.trim(), options: { time_scale: Number(scale.value) || 1, execution: execution.value }, user: label || undefined };
     }
 
     // The verdict in one line; the table of checks (one row per check and arm) folded away when they
@@ -118,9 +124,11 @@ export function mount(root, args, params = new URLSearchParams()) {
     // The run and the time scale are in the URL (#/dispatch?run=UUID&scale=2): a link from a run's page.
     if (params.get('run')) runInput.value = params.get('run').slice(0, 64);
     if (Number(params.get('scale')) > 0) scale.value = params.get('scale');
-    const saveUrl = () => writeState({ run: runInput.value.trim(), scale: scale.value }, { scale: '1' });
+    if (params.get('execution') === 'tpg') execution.value = 'tpg';
+    const saveUrl = () => writeState({ run: runInput.value.trim(), scale: scale.value, execution: execution.value }, { scale: '1', execution: 'timed' });
     runInput.addEventListener('input', saveUrl);
     scale.addEventListener('input', saveUrl);
+    execution.addEventListener('change', saveUrl);
 
     let checkedFor = '';
     runInput.addEventListener('input', () => {
@@ -129,6 +137,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       delete preflightBox.dataset.passed;
     });
     scale.addEventListener('input', () => (start.disabled = true));
+    execution.addEventListener('change', () => (start.disabled = true));
 
     check.addEventListener('click', async () => {
       clear(message);
@@ -152,7 +161,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       const req = requestBody();
       if (JSON.stringify([req.run_id, req.options]) !== checkedFor) {
         start.disabled = true;
-        message.append(errorBox('The plan or the time scale changed since the check: check again.'));
+        message.append(errorBox('The plan, the time scale or the execution changed since the check: check again.'));
         return;
       }
       start.disabled = true;

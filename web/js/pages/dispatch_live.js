@@ -76,19 +76,34 @@ export function statusLine(s) {
   ];
 }
 
-/// One row per arm: status, progress, joint error now and at most, samples, result.
+/// Execution by dependencies: the step an arm is on ("4 / 75 motion") and what it waits for.
+function stepCells(a) {
+  const segments = a.segments || [];
+  const current = a.step < a.steps ? segments[a.step] : null;
+  const step = a.steps > 0 ? `${Math.min(a.step + 1, a.steps)} / ${a.steps}${current ? ` ${current.kind}` : ''}` : '';
+  return [
+    el('td', { class: 'num', 'data-testid': 'arm-step', text: step }),
+    el('td', { class: a.waiting_for ? 'muted' : '', 'data-testid': 'arm-waiting', text: a.waiting_for ? `waits for ${a.waiting_for}` : a.done ? '' : 'running' }),
+  ];
+}
+
+/// One row per arm: status, progress, (by dependencies: step, what it waits for,) joint error now and
+/// at most, samples, result.
 export function armsTable(s) {
-  const head = ['robot', 'driver', 'status', 'progress', 'joint error', 'max error', 'samples', 'result'];
+  const tpg = s.execution === 'tpg';
+  const head = ['robot', 'driver', 'status', 'progress', ...(tpg ? ['step', 'waiting for'] : []), 'joint error', 'max error', 'samples', 'result'];
   const tolerance = (s.tolerances && s.tolerances.path) || 0;
   const rows = (s.arms || []).map((a) => {
-    const progress = a.duration > 0 ? Math.max(0, a.t) / a.duration : a.done ? 1 : 0;
+    const fraction = tpg ? (a.steps > 0 ? a.step / a.steps : 0) : a.duration > 0 ? Math.max(0, a.t) / a.duration : 0;
+    const progress = a.done && a.result && a.result.name === 'SUCCESSFUL' ? 1 : fraction;
     return el(
       'tr',
-      { 'data-robot': a.robot, 'data-status': a.status, 'data-result': a.done ? a.result.name : '', 'data-progress': progress.toFixed(3) },
+      { 'data-robot': a.robot, 'data-status': a.status, 'data-result': a.done ? a.result.name : '', 'data-progress': progress.toFixed(3), 'data-step': tpg ? String(a.step) : '' },
       el('td', { text: a.robot }),
       el('td', { text: a.driver }),
-      el('td', {}, badge(a.status)),
+      el('td', {}, badge(tpg && a.waiting_for ? 'waiting' : a.status)),
       el('td', {}, el('div', { class: 'toolbar', style: 'margin:0' }, progressBar(progress, 'running'), el('span', { text: `${Math.round(100 * clamp01(progress))} %` }))),
+      ...(tpg ? stepCells(a) : []),
       el('td', { class: `num${tolerance && a.deviation > 0.5 * tolerance ? ' error' : ''}`, text: `${a.deviation.toFixed(4)} rad` }),
       el('td', { class: 'num', text: `${a.max_deviation.toFixed(4)} rad` }),
       el('td', { class: 'num', text: String(a.samples) }),
@@ -100,7 +115,7 @@ export function armsTable(s) {
 
 /// The recorded dispatches, newest first (GET /api/dispatches).
 export function historyTable(h) {
-  const head = ['created', 'id', 'state', 'who', 'client', 'run', 'elapsed', 'arms', 'reason'];
+  const head = ['created', 'id', 'state', 'execution', 'who', 'client', 'run', 'planned', 'elapsed', 'arms', 'reason'];
   const row = (d) =>
     el(
       'tr',
@@ -108,9 +123,11 @@ export function historyTable(h) {
       el('td', { text: d.created.replace('T', ' ').replace('Z', '') }),
       el('td', { class: 'mono', text: d.id }),
       el('td', {}, badge(d.state)),
+      el('td', { text: d.execution === 'tpg' ? 'by dependencies' : 'timed' }),
       el('td', { text: d.requested_by }),
       el('td', { text: d.client }),
       el('td', {}, d.run_id ? el('a', { href: `#/run/${d.run_id}`, text: d.run_id.slice(0, 8) }) : ''),
+      el('td', { class: 'num', text: fmtSeconds(d.duration) }),
       el('td', { class: 'num', text: d.started ? fmtSeconds(d.elapsed) : '' }),
       el('td', { text: d.arms.map((a) => `${a.robot}: ${a.result ? a.result.name : 'not started'}`).join(', ') }),
       el('td', { text: d.reason }),

@@ -2,11 +2,43 @@
 // controllers connected now (on request, and again whenever the time scale changes after a check;
 // nothing is sent to the arms), their result check by check, and a Dispatch button that is enabled
 // only while the result shown passed for the options shown. The server checks again before anything moves (POST
-// /api/dispatch with {"run_id"}); the live view and Abort are on the Dispatch page.
+// /api/dispatch with {"run_id"}); the live view and Abort are on the Dispatch page. Below it, the
+// recorded dispatches of this plan: planned against executed makespan, timed or by dependencies.
 import { api } from '../api.js';
-import { el, clear, fmtNumber, errorBox, table } from '../dom.js';
+import { el, clear, fmtNumber, fmtSeconds, errorBox, table } from '../dom.js';
 
 const USER_KEY = 'dashbench.dispatch.user'; // shared with the Dispatch page
+
+const HISTORY_LIMIT = 200;
+
+/// Two bars per recorded dispatch of this run: the planned makespan (at its time scale) and the time
+/// it took, on one scale.
+function makespanPlot(dispatches) {
+  const longest = Math.max(...dispatches.map((d) => Math.max(d.duration, d.elapsed)), 1e-9);
+  const bar = (value, cls, label) =>
+    el('div', { class: 'toolbar', style: 'margin:0' }, el('div', { class: 'progress', style: 'width:320px' }, el('div', { class: cls, style: `width:${((100 * value) / longest).toFixed(1)}%` })), el('span', { text: label }));
+  const rows = dispatches.map((d) =>
+    el(
+      'tr',
+      { 'data-dispatch': d.id, 'data-execution': d.execution, 'data-planned': d.duration.toFixed(3), 'data-executed': d.elapsed.toFixed(3) },
+      el('td', { text: `${d.created.replace('T', ' ').replace('Z', '')} ${d.execution === 'tpg' ? 'by dependencies' : 'timed'} (${d.state})` }),
+      el('td', {}, bar(d.duration, 'solved', `planned ${fmtSeconds(d.duration)} (time scale ${fmtNumber(d.time_scale)})`), bar(d.elapsed, d.state === 'succeeded' ? 'running' : 'failed', `executed ${fmtSeconds(d.elapsed)}${d.duration > 0 ? ` (${fmtNumber(d.elapsed / d.duration)} ×)` : ''}`)),
+    ),
+  );
+  return el('table', { class: 'data' }, el('tbody', {}, rows));
+}
+
+async function loadMakespans(box, runId) {
+  try {
+    const h = await api.get(`/api/dispatches?limit=${HISTORY_LIMIT}`);
+    const mine = h.dispatches.filter((d) => d.run_id === runId && d.started);
+    clear(box);
+    if (mine.length === 0) return;
+    box.append(el('h3', { text: 'Planned and executed makespan' }), el('div', { class: 'muted', text: `This plan's dispatches among the last ${HISTORY_LIMIT} recorded, newest first. Executed: from the common start to the last arm's end.` }), makespanPlot(mine));
+  } catch {
+    clear(box); // the history needs the token and a recording server; the panel works without it
+  }
+}
 
 function checksTable(report) {
   return table(['name', 'robot', 'passed', 'message'], report.checks || [], {
@@ -17,25 +49,29 @@ function checksTable(report) {
 /// Mounts the panel for run `runId` into `slot` (the run page's place for it).
 export function mountRunDispatch(slot, runId) {
   const scale = el('input', { type: 'number', value: 1, min: 0.1, step: 0.1, style: 'width:5em', 'data-testid': 'run-dispatch-scale' });
+  const execution = el('select', { 'data-testid': 'run-dispatch-execution' }, el('option', { value: 'timed', text: 'timed' }), el('option', { value: 'tpg', text: 'by dependencies (tpg)' }));
   const user = el('input', { type: 'text', size: 12, placeholder: 'your name', value: localStorage.getItem(USER_KEY) || '', 'data-testid': 'run-dispatch-user' });
   const recheck = el('button', { type: 'button', class: 'secondary', 'data-testid': 'run-dispatch-check' }, 'Pre-flight check');
   const go = el('button', { type: 'button', disabled: true, 'data-testid': 'run-dispatch-start' }, 'Dispatch this plan');
   const result = el('div', { 'data-testid': 'run-dispatch-preflight' });
   const message = el('div', { 'data-testid': 'run-dispatch-message' });
+  const makespans = el('div', { 'data-testid': 'run-dispatch-makespans' });
   const panel = el(
     'div',
     { class: 'panel', 'data-testid': 'run-dispatch' },
     el('h2', { text: 'Dispatch this plan' }),
     el('div', { class: 'muted', text: 'Pre-flight: every arm of the plan connected, ready and at its start, speeds within limits at this time scale, the plan valid. Nothing moves until you press Dispatch; watch and abort on the Dispatch page.' }),
-    el('div', { class: 'toolbar' }, el('label', {}, 'time scale', scale), el('label', {}, 'who', user), recheck, go, el('a', { href: '#/dispatch', text: 'Dispatch page' })),
+    el('div', { class: 'toolbar' }, el('label', {}, 'time scale', scale), el('label', {}, 'execution', execution), el('label', {}, 'who', user), recheck, go, el('a', { href: '#/dispatch', text: 'Dispatch page' })),
     result,
     message,
+    makespans,
   );
   slot.replaceChildren(panel);
+  loadMakespans(makespans, runId);
 
   let passedFor = ''; // the options the result shown passed for
   let sequence = 0;   // answers to older checks are dropped
-  const options = () => ({ time_scale: Number(scale.value) || 1 });
+  const options = () => ({ time_scale: Number(scale.value) || 1, execution: execution.value });
 
   async function check() {
     const mine = ++sequence;
@@ -89,6 +125,9 @@ export function mountRunDispatch(slot, runId) {
     }
   });
   recheck.addEventListener('click', check);
+  execution.addEventListener('change', () => {
+    if (result.dataset.passed !== undefined) check();
+  });
   scale.addEventListener('change', () => {
     if (result.dataset.passed !== undefined) check(); // keep the result shown true to the options shown
   });
