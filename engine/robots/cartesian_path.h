@@ -1,0 +1,41 @@
+#pragma once
+// Straight-line TCP motions as joint-space paths. A plan joins its points by straight joint-space
+// segments (formats.md), and a joint-space segment between two configurations whose TCPs lie on a
+// line sags off that line: over a 35 cm cubby approach by millimetres, enough to press a held item
+// into the pedestal it is put on (issue 36, item 9). The approaches to and retreats from a transition
+// configuration (grasp, placement, handover, inspection) of both planners are therefore Cartesian
+// paths: waypoints on the TCP's straight line (inverse kinematics on the branch that joins the two
+// ends), close enough that every point within `reach` of the TCP strays less than `deviation` from
+// where the straight line puts it between two consecutive waypoints.
+#include <optional>
+#include <vector>
+
+#include "engine/robots/robot_model.h"
+
+namespace dash {
+
+/// m: the most any point within the reach of the TCP may stray from the straight line between two
+/// waypoints (0.02 mm: a fifth of the tolerance at a held object's lowest face, kHeldBottomTolerance).
+inline constexpr double kCartesianDeviation = 2e-5;
+
+struct CartesianPathOptions {
+  double deviation = kCartesianDeviation;
+  /// m: points this far from the TCP (a held object's corners) are kept within `deviation` too, so a
+  /// turn of the tool counts as reach times its angle.
+  double reach = 0.15;
+  int max_points = 1024;  ///< a line that needs more waypoints is refused
+};
+
+/// The path q_from -> q_to (both included, exactly) whose TCP follows the straight line between
+/// their TCP poses (position linearly, orientation by slerp): between two consecutive waypoints the
+/// joint-space segment keeps every point within options.reach of the TCP within options.deviation
+/// of the line (measured at its quarters and middle). nullopt when
+/// the two ends are not on one IK branch along the line (a waypoint has no IK solution near the
+/// joint-space segment, as at a wrist flip or out of reach) or it needs more than max_points.
+std::optional<std::vector<JointVector>> cartesianPath(const RobotModel& model, const Pose& X_WB, const JointVector& q_from,
+                                                      const JointVector& q_to, const CartesianPathOptions& options = {});
+
+/// Sum of the joint-space lengths (Euclidean) of the path's segments.
+double pathLength(const std::vector<JointVector>& path);
+
+}  // namespace dash
