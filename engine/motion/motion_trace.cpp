@@ -102,7 +102,8 @@ bool MotionTrace::backOutOfLastRetreat(int r) {
   StepVisit& last = result.robots[r].visits.back();
   const auto post = layer.farthestBackOff(r, last.q, last.held_after, layouts[last.step + 1]);
   if (!post) return false;
-  last.q_post = at[r] = *post;
+  setRetreat(last, post);
+  at[r] = last.q_post;
   return true;
 }
 
@@ -139,12 +140,12 @@ bool MotionTrace::visit(int k, int role, GiverState& giver) {
   const auto [partner_before, partner_after] = partnersAround(a, tc, receiver, giver);
   // The giver brings the object straight to the handover pose; everyone else approaches along the TCP
   // axis so that fingers slide around the object instead of sweeping through it.
-  v.q_pre = is_giver ? v.q : layer.backedOff(r, v.q, held.before, layouts[k], {}, 0.0, partner_before).value_or(v.q);
+  setApproach(v, is_giver ? std::nullopt : layer.backedOff(r, v.q, held.before, layouts[k], {}, 0.0, partner_before));
   // The giver cannot back off (its approach axis leads out of reach): the receiver pulls the object out
   // of the giver's open fingers along the giver's approach axis instead.
   const bool own_axis = !(receiver && !giver.backs_off);
   const std::optional<Vec3> retreat_axis = own_axis ? std::optional<Vec3>() : giver.approach_W;
-  v.q_post = layer.backedOff(r, v.q, held.after, layouts[k + 1], retreat_axis, 0.0, partner_after).value_or(v.q);
+  setRetreat(v, layer.backedOff(r, v.q, held.after, layouts[k + 1], retreat_axis, 0.0, partner_after));
   if (is_giver) {
     giver.q_post = v.q_post;
     giver.backs_off = (v.q_post - v.q).cwiseAbs().maxCoeff() > 1e-12;
@@ -164,7 +165,7 @@ bool MotionTrace::visit(int k, int role, GiverState& giver) {
     bool changed = false;
     if (!is_giver)
       if (auto pre = layer.farthestBackOff(r, v.q, held.before, layouts[k])) {
-        v.q_pre = *pre;
+        setApproach(v, pre);
         changed = true;
       }
     if (backOutOfLastRetreat(r)) changed = true;

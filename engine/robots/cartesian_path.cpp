@@ -80,8 +80,9 @@ bool refine(const Line& line, double s0, const JointVector& q0, double s1, const
 
 }  // namespace
 
-std::optional<std::vector<JointVector>> cartesianPath(const RobotModel& model, const Pose& X_WB, const JointVector& q_from,
-                                                      const JointVector& q_to, const CartesianPathOptions& options) {
+std::optional<std::vector<JointVector>> cartesianPath(const RobotModel& model, const Pose& X_WB,
+                                                      const JointVector& q_from, const JointVector& q_to,
+                                                      const CartesianPathOptions& options) {
   const Pose X0 = forwardKinematics(model, X_WB, q_from).X_WT;
   const Pose X1 = forwardKinematics(model, X_WB, q_to).X_WT;
   const Line line{model, X_WB, X0.translation(), X1.translation(), Quat(X0.linear()), Quat(X1.linear()), options};
@@ -89,6 +90,18 @@ std::optional<std::vector<JointVector>> cartesianPath(const RobotModel& model, c
   if ((q_to - q_from).cwiseAbs().maxCoeff() <= 0.0) return path;
   if (!refine(line, 0.0, q_from, 1.0, q_to, 0, path)) return std::nullopt;
   return path;
+}
+
+bool backsOffSideways(const Pose& X_WT, const std::optional<Vec3>& direction_W) {
+  const Vec3 axis_W = direction_W ? direction_W->normalized() : Vec3(X_WT.linear().col(2));
+  return std::abs(axis_W.z()) < 0.7;
+}
+
+Pose backOffPose(const Pose& X_WT, double distance, double lift, const std::optional<Vec3>& direction_W) {
+  Pose X_WTpre =
+      direction_W ? makePose(distance * direction_W->normalized()) * X_WT : X_WT * makePose(Vec3(0, 0, -distance));
+  if (backsOffSideways(X_WT, direction_W)) X_WTpre = makePose(Vec3(0, 0, lift)) * X_WTpre;
+  return X_WTpre;
 }
 
 double pathLength(const std::vector<JointVector>& path) {

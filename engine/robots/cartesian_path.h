@@ -32,8 +32,17 @@ struct CartesianPathOptions {
 /// of the line (measured at its quarters and middle). nullopt when
 /// the two ends are not on one IK branch along the line (a waypoint has no IK solution near the
 /// joint-space segment, as at a wrist flip or out of reach) or it needs more than max_points.
-std::optional<std::vector<JointVector>> cartesianPath(const RobotModel& model, const Pose& X_WB, const JointVector& q_from,
-                                                      const JointVector& q_to, const CartesianPathOptions& options = {});
+std::optional<std::vector<JointVector>> cartesianPath(const RobotModel& model, const Pose& X_WB,
+                                                      const JointVector& q_from, const JointVector& q_to,
+                                                      const CartesianPathOptions& options = {});
+
+/// Whether a back-off from the TCP pose X_WT runs sideways: along its approach axis (its z), or along
+/// the world direction direction_W when given, within about 45 degrees of horizontal.
+bool backsOffSideways(const Pose& X_WT, const std::optional<Vec3>& direction_W = {});
+/// Where a back-off from X_WT by `distance` goes (the same axis); a sideways one also rises by `lift`,
+/// so that an object resting on a board or pedestal comes down onto it (and lifts off it) on a slope
+/// rather than sliding along it. Both planners' approaches and retreats (issue 36, item 9).
+Pose backOffPose(const Pose& X_WT, double distance, double lift, const std::optional<Vec3>& direction_W = {});
 
 /// Sum of the joint-space lengths (Euclidean) of the path's segments.
 double pathLength(const std::vector<JointVector>& path);

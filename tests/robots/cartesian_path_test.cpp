@@ -2,12 +2,13 @@
 // pedestal (issue 36, item 9): stocking 3 layers / 18 objects, seed 1, Lazy-DaSH seed 1, ur5e_0 putting
 // new_0 (a 4 cm cube) into the deepest slot of cubby c2 from 35 cm back and 15 mm up. Its one
 // joint-space segment q_pre -> q took the cube 0.84 mm into shelf_c2_l0_d2_pedestal.
+#include "engine/robots/cartesian_path.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <limits>
 
-#include "engine/robots/cartesian_path.h"
 #include "engine/robots/kinematics.h"
 #include "tests/common/robot_library.h"
 
@@ -26,12 +27,12 @@ JointVector jv(std::initializer_list<double> v) {
 // The scene's robot base, the grasp and the support, as the scene and plan files have them.
 const Pose kBase = makePose(Vec3(0.0, -0.8, 0.0), quatFromXYZW({0.0, 0.0, 0.7071067811865477, 0.7071067811865475}));
 const Pose kGrasp = makePose(Vec3::Zero(), quatFromXYZW({0.5, 0.5, -0.5, 0.5}));  // X_TO of new_0
-constexpr double kHalf = 0.02;        // the cube's half size, m
-constexpr double kSupportTop = 0.21;  // the pedestal's top face, m
-const JointVector kQPre = jv({2.267870406076017, -1.0739551346086238, 2.5606670430722103, 1.6548807451262064,
-                              -0.6970740792811211, 0.0});
-const JointVector kQ = jv({2.6918335950351437, -0.8024386068897624, 1.8402394654282053, 2.1037917950513503,
-                           -1.121037268240248, 0.0});
+constexpr double kHalf = 0.02;                                                    // the cube's half size, m
+constexpr double kSupportTop = 0.21;                                              // the pedestal's top face, m
+const JointVector kQPre =
+    jv({2.267870406076017, -1.0739551346086238, 2.5606670430722103, 1.6548807451262064, -0.6970740792811211, 0.0});
+const JointVector kQ =
+    jv({2.6918335950351437, -0.8024386068897624, 1.8402394654282053, 2.1037917950513503, -1.121037268240248, 0.0});
 
 /// Height of the held cube's lowest corner above the pedestal's top at q, m.
 double bottomGap(const JointVector& q) {
@@ -49,7 +50,8 @@ double bottomGap(const JointVector& q) {
 double lowestGap(const std::vector<JointVector>& path) {
   double lowest = bottomGap(path.front());
   for (std::size_t i = 1; i < path.size(); ++i)
-    for (int k = 1; k <= 400; ++k) lowest = std::min(lowest, bottomGap(path[i - 1] + (k / 400.0) * (path[i] - path[i - 1])));
+    for (int k = 1; k <= 400; ++k)
+      lowest = std::min(lowest, bottomGap(path[i - 1] + (k / 400.0) * (path[i] - path[i - 1])));
   return lowest;
 }
 
@@ -61,7 +63,7 @@ TEST(CartesianPath, TheCubbyPlacementThatScrapedNowStaysAboveThePedestalAndEndsO
   ASSERT_GE(path->size(), 3u);
   EXPECT_EQ(path->front(), kQPre);
   EXPECT_EQ(path->back(), kQ);
-  EXPECT_GT(lowestGap(*path), -1e-4);  // never more than 0.1 mm below the support's top
+  EXPECT_GT(lowestGap(*path), -1e-4);                  // never more than 0.1 mm below the support's top
   EXPECT_LT(std::abs(bottomGap(path->back())), 1e-4);  // and ends on it
   // Every sampled TCP position lies on the straight line between the ends.
   const Vec3 a = forwardKinematics(ur5e(), kBase, kQPre).X_WT.translation();
@@ -69,7 +71,8 @@ TEST(CartesianPath, TheCubbyPlacementThatScrapedNowStaysAboveThePedestalAndEndsO
   const Vec3 u = (b - a).normalized();
   for (std::size_t i = 1; i < path->size(); ++i)
     for (int k = 0; k <= 20; ++k) {
-      const Vec3 p = forwardKinematics(ur5e(), kBase, (*path)[i - 1] + (k / 20.0) * ((*path)[i] - (*path)[i - 1])).X_WT.translation();
+      const Vec3 p = forwardKinematics(ur5e(), kBase, (*path)[i - 1] + (k / 20.0) * ((*path)[i] - (*path)[i - 1]))
+                         .X_WT.translation();
       EXPECT_LT(((p - a) - (p - a).dot(u) * u).norm(), 2e-5);
     }
 }
