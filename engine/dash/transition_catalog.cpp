@@ -31,7 +31,7 @@ std::optional<std::vector<JointVector>> backOff(TransitionSampler& sampler, int 
   std::sort(candidates.begin(), candidates.end(),
             [&](const JointVector& a, const JointVector& b) { return jointDistance(a, q) < jointDistance(b, q); });
   for (const JointVector& cand : candidates) {
-    std::optional<std::vector<JointVector>> path = cartesianPath(*r.model, r.X_WB, q, cand);
+    std::optional<std::vector<JointVector>> path = backOffLine(*r.model, r.X_WB, q, cand);
     if (!path) continue;
     bool free = true;
     for (std::size_t i = path->size(); free && i-- > 1;) free = sampler.staticFree({robot, (*path)[i], held});

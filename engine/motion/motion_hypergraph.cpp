@@ -70,10 +70,12 @@ VertexId MotionHypergraph::taskVertex(int task, bool done) {
   return addVertex(MotionVertex{-1, TaskElement::taskState(task, done), {}});
 }
 
-std::optional<HyperarcId> MotionHypergraph::move(VertexId from, VertexId to, const std::vector<JointVector>& path) {
+std::optional<HyperarcId> MotionHypergraph::move(VertexId from, VertexId to, const std::vector<JointVector>& path,
+                                                  bool validated) {
   if (from == to) return std::nullopt;
+  const std::size_t before = paths_.size();
   const HyperarcId id = addArc({from}, {to}, MotionArc{MotionArcType::kMove, {}}, "move");
-  paths_[id.value()] = path;
+  if (validated || paths_.size() > before) paths_[id.value()] = path;
   return id;
 }
 
@@ -109,44 +111,34 @@ std::size_t MotionHypergraph::coupledHyperarcCount() const {
   return n;
 }
 
-MotionQueryCounts MotionHypergraph::query(HyperarcId source, const std::vector<HyperarcId>& sequence,
-                                          std::optional<HyperarcId> sink, const Deadline& deadline) {
-  MotionQueryCounts counts;
-  HyperpathSearchParams params;
-  params.algorithm = HyperpathAlgorithm::kGreedy;
-  params.deadline = deadline;
-  params.maxDepth = sequence.size() + 1;
-  // Only the schedule's next hyperarc may be expanded; the sink once the schedule is done. A trace
-  // that stopped early has no sink: the source stands in for it and is never allowed.
-  const HyperarcId goal = sink.value_or(source);
-  params.allowed = [&](const HyperpathState& state, HyperarcId arc) {
-    const std::size_t depth = state.depth();
-    if (arc == goal) return sink.has_value() && depth == sequence.size();
-    return depth < sequence.size() && sequence[depth] == arc;
-  };
-  // A robot may come back to a vertex it left (the same handover configuration for two objects): the
-  // vertices seen so far are part of the state, so that such a state is not taken for a visited one.
-  params.historyRelevant = [](VertexId) { return true; };
-  const std::size_t vertex_base = extended_vertices_, arc_base = extended_hyperarcs_;
-  params.onExtendedVertex = [&](const ExtendedVertex& v) {
-    ++counts.extended_vertices;
-    emitter_->vertex(log::Layer::MotionExtended, static_cast<std::uint32_t>(vertex_base + v.id.value()),
-                     std::to_string(v.vertex.value()));
-  };
-  params.onExtendedHyperarc = [&](const ExtendedHyperarc& a) {
-    ++counts.extended_hyperarcs;
-    if (!emitter_->enabled()) return;
-    std::vector<std::uint32_t> head, tail;
-    for (ExtendedVertexId v : a.produced) head.push_back(static_cast<std::uint32_t>(vertex_base + v.value()));
-    for (ExtendedVertexId v : a.consumed) tail.push_back(static_cast<std::uint32_t>(vertex_base + v.value()));
-    emitter_->hyperarc(log::Layer::MotionExtended, arcTypeName(graph_.property(a.hyperarc)),
-                       static_cast<std::uint32_t>(arc_base + a.id.value()), std::move(head), std::move(tail));
-  };
-  const HyperpathResult found = findHyperpath(graph_, HyperpathQuery{source, goal}, params);
-  counts.reached_sink = found.found() && sink.has_value();
-  extended_vertices_ += counts.extended_vertices;
-  extended_hyperarcs_ += counts.extended_hyperarcs;
-  return counts;
+void MotionHypergraph::beginQuery() {
+  query_ = {};
+  instance_.clear();
+}
+
+ExtendedMotionVertex MotionHypergraph::newInstance(VertexId v) {
+  const auto id = static_cast<ExtendedMotionVertex>(extended_vertices_++);
+  ++query_.extended_vertices;
+  instance_[v.value()] = id;
+  emitter_->vertex(log::Layer::MotionExtended, id, std::to_string(v.value()));
+  return id;
+}
+
+ExtendedMotionVertex MotionHypergraph::instanceOf(VertexId v) {
+  const auto it = instance_.find(v.value());
+  return it != instance_.end() ? it->second : newInstance(v);
+}
+
+std::uint32_t MotionHypergraph::take(HyperarcId arc) {
+  std::vector<std::uint32_t> tail, head;
+  for (VertexId v : graph_.tail(arc)) tail.push_back(instanceOf(v));
+  for (VertexId v : graph_.head(arc)) head.push_back(newInstance(v));
+  const auto id = static_cast<std::uint32_t>(extended_hyperarcs_++);
+  ++query_.extended_hyperarcs;
+  if (graph_.property(arc).type == MotionArcType::kSink) query_.reached_sink = true;
+  if (emitter_->enabled())
+    emitter_->hyperarc(log::Layer::MotionExtended, arcTypeName(graph_.property(arc)), id, std::move(head), std::move(tail));
+  return id;
 }
 
 }  // namespace dash::lazy

@@ -14,13 +14,15 @@
 // two vertices the same hyperarc, so H_M grows only when a task plan needs an element it lacks. Sizes
 // are the live structure's. The path of a move is the last one validated for it.
 //
-// The motion query (paper, "Query (Motion-extended Hypergraph)") is a hyperpath search over H_M from
-// the source, expanding only the motion hyperarcs of the current unvalidated schedule in its order;
-// H_ME is counted from that search's own workspace (extended vertices and hyperarcs), as H_TE is.
+// The motion query (paper, "Query (Motion-extended Hypergraph)", motion_query.cpp) searches H_M guided by
+// the task plan and validates lazily: it takes a hyperarc once its motion is validated. Its workspace is
+// H_ME: each hyperarc taken is one extended hyperarc, the instances of its head new extended vertices;
+// branches the query backtracks from stay in the workspace and in the counts.
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "engine/geometry/pose.h"
@@ -76,6 +78,9 @@ struct MotionQueryCounts {
   bool reached_sink = false;
 };
 
+/// An instance of a motion vertex in a query's workspace (H_ME).
+using ExtendedMotionVertex = std::uint32_t;
+
 class MotionHypergraph {
  public:
   using Graph = Hypergraph<MotionVertex, MotionArc>;
@@ -89,16 +94,25 @@ class MotionHypergraph {
   /// A task's state (pending or done: the lab's inspections), with no configuration.
   VertexId taskVertex(int task, bool done);
   /// A move of one robot; `path` (from -> to) is stored as the arc's pi. Empty when from == to (no arc).
-  std::optional<HyperarcId> move(VertexId from, VertexId to, const std::vector<JointVector>& path);
+  /// A path not `validated` (construction's stand-in) is stored only on a new arc: an arc H_M already
+  /// holds keeps the path last validated for it.
+  std::optional<HyperarcId> move(VertexId from, VertexId to, const std::vector<JointVector>& path,
+                                 bool validated = true);
   HyperarcId transition(const TaskArc& action, std::vector<VertexId> tail, std::vector<VertexId> head);
   HyperarcId source(std::vector<VertexId> head);
   HyperarcId sink(std::vector<VertexId> tail);
 
-  /// The motion query along a schedule: a hyperpath search from `source` that may expand only
-  /// sequence[depth] at each depth, and the sink once the sequence is done. Without a sink (a trace
-  /// that stopped at a motion failure) the search walks what was traced and ends there.
-  MotionQueryCounts query(HyperarcId source, const std::vector<HyperarcId>& sequence,
-                          std::optional<HyperarcId> sink, const Deadline& deadline);
+  /// The path of a move, once the query validated one (H_M keeps the last validated path).
+  void setPath(HyperarcId move, const std::vector<JointVector>& path) { paths_[move.value()] = path; }
+
+  /// A new motion query's workspace (H_ME): nothing taken yet.
+  void beginQuery();
+  /// The query takes `arc` (validated): one extended hyperarc consuming the current instance of each
+  /// tail vertex (created for a vertex the branch has not reached: the source's tail is empty), and a
+  /// new instance of each head vertex. Returns the extended hyperarc's id within the run.
+  std::uint32_t take(HyperarcId arc);
+  /// The current query's counts.
+  const MotionQueryCounts& queryCounts() const { return query_; }
 
   const Graph& graph() const { return graph_; }
   std::size_t vertexCount() const { return graph_.vertexCount(); }
@@ -120,6 +134,11 @@ class MotionHypergraph {
   std::vector<std::vector<JointVector>> paths_;  ///< per hyperarc (moves only)
   std::size_t extended_vertices_ = 0;
   std::size_t extended_hyperarcs_ = 0;
+  MotionQueryCounts query_;
+  /// Per H_M vertex, its latest instance in the current query's workspace (absent: not reached).
+  std::unordered_map<std::uint32_t, ExtendedMotionVertex> instance_;
+  ExtendedMotionVertex newInstance(VertexId v);
+  ExtendedMotionVertex instanceOf(VertexId v);
 };
 
 }  // namespace dash::lazy

@@ -104,10 +104,9 @@ std::optional<std::vector<JointVector>> MotionLayer::connect(int robot, const Jo
   return roadmap(robot, motion.held.holding()).query(from, to, motion, deadline);
 }
 
-std::optional<std::vector<JointVector>> MotionLayer::backedOff(int robot, const JointVector& q, const HeldObject& held,
-                                                               const ObjectLayout& layout,
-                                                               const std::optional<Vec3>& direction_W, double distance,
-                                                               const std::optional<RobotState>& partner) {
+std::optional<JointVector> MotionLayer::backedOff(int robot, const JointVector& q, const HeldObject& held,
+                                                  const ObjectLayout& layout, const std::optional<Vec3>& direction_W,
+                                                  double distance, const std::optional<RobotState>& partner) {
   const SceneRobot& r = world_->scene().robots[robot];
   const Pose X_WT = forwardKinematics(*r.model, r.X_WB, q).X_WT;
   const double d = distance > 0.0 ? distance : params_.approach_distance;
@@ -123,8 +122,9 @@ std::optional<std::vector<JointVector>> MotionLayer::backedOff(int robot, const 
     std::sort(candidates.begin(), candidates.end(),
               [&](const JointVector& a, const JointVector& b) { return jointDistance(a, q) < jointDistance(b, q); });
     for (const JointVector& cand : candidates) {
-      std::optional<std::vector<JointVector>> path = cartesianPath(*r.model, r.X_WB, q, cand);
-      if (path && backOffFree(robot, *path, held, layout, partner)) return path;
+      // The path the visit will have (backOffPath of these ends: cartesianPath is deterministic).
+      const std::optional<std::vector<JointVector>> path = backOffLine(*r.model, r.X_WB, q, cand);
+      if (path && backOffFree(robot, *path, held, layout, partner)) return cand;
     }
   }
   return std::nullopt;
@@ -151,10 +151,10 @@ bool MotionLayer::backOffFree(int robot, const std::vector<JointVector>& path, c
   return true;
 }
 
-std::optional<std::vector<JointVector>> MotionLayer::farthestBackOff(int robot, const JointVector& q,
-                                                                     const HeldObject& held, const ObjectLayout& layout) {
+std::optional<JointVector> MotionLayer::farthestBackOff(int robot, const JointVector& q, const HeldObject& held,
+                                                        const ObjectLayout& layout) {
   for (auto d = params_.deep_approach_distances.rbegin(); d != params_.deep_approach_distances.rend(); ++d)
-    if (auto path = backedOff(robot, q, held, layout, {}, *d)) return path;
+    if (auto q_back = backedOff(robot, q, held, layout, {}, *d)) return q_back;
   return std::nullopt;
 }
 
@@ -168,11 +168,10 @@ void setRetreat(StepVisit& v, const std::optional<std::vector<JointVector>>& bac
   v.q_post = v.retreat.back();
 }
 
-MotionLayerResult MotionLayer::plan(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
-                                    const TaskSpace& space, const Deadline& deadline) {
-  MotionLayerResult result = trace(plan, transitions, space, deadline);
-  if (result.status != MotionStatus::kTimeout) recordInHypergraph(plan, transitions, space, result, deadline);
-  return result;
+void MotionLayer::setBackOffPaths(StepVisit& v, int robot) const {
+  const SceneRobot& r = world_->scene().robots[robot];
+  setApproach(v, backOffPath(*r.model, r.X_WB, v.q, v.q_pre));
+  setRetreat(v, backOffPath(*r.model, r.X_WB, v.q, v.q_post));
 }
 
 }  // namespace dash

@@ -1,11 +1,13 @@
 #pragma once
-// The motion planning layer of Lazy-DaSH (paper, "Motion Planning Layer"): the motion hypergraph H_M is
-// built only for the task space elements of the current task plan, anchored at the transition
-// configurations task conflict detection already sampled; moves between them are planned lazily in the
-// motion query, in schedule order, against the objects resting at that point of the schedule
-// (straight segment first, then the robot's edge-unvalidated roadmap). The result is an optimistic
-// schedule: each robot's motions are collision-free in its own composition space; other robots are
-// ignored until conflict resolution.
+// The motion planning layer of Lazy-DaSH (paper, "Motion Planning Layer"). Representation construction
+// first: the motion hypergraph H_M for the task space elements of the current task plan, anchored at
+// the transition configurations task conflict detection already sampled, its moves not yet validated
+// (motion_construction.cpp). Then the motion query (motion_query.cpp): a search over H_M guided by the
+// task plan that validates lazily in schedule order, against the objects resting at that point of the
+// schedule (straight segment first, then the robot's edge-unvalidated roadmap), grows H_M where a move
+// fails and backtracks. The result is an optimistic schedule: each robot's motions are collision-free in
+// its own composition space; other robots are ignored until conflict resolution.
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -76,7 +78,17 @@ struct MotionLayerResult {
   JointVector failed_q;
   bool ends_free = false;
   std::string reason;
+  /// Hyperarcs of the hyperpath the motion query found in H_M (source and sink included; 0 when it
+  /// found none). The query's H_ME holds at least these, and also the branches it backtracked from.
+  std::size_t hyperpath_hyperarcs = 0;
+  /// Moves the query expanded and found invalid (dead branches of H_ME), and backtracks to a robot's
+  /// previous visit (its retreat left for a farther one stays in H_ME too). H_ME of this query holds
+  /// exactly hyperpath_hyperarcs + failed_moves + backtracks hyperarcs when it reached the sink.
+  std::size_t failed_moves = 0;
+  std::size_t backtracks = 0;
 };
+
+struct MotionAnchors;  // motion_anchors.h
 
 class MotionLayer {
  public:
@@ -102,13 +114,18 @@ class MotionLayer {
   std::size_t motionHyperarcs() const { return graph_.hyperarcCount(); }
   std::size_t extendedVertices() const { return graph_.extendedVertexCount(); }
   std::size_t extendedHyperarcs() const { return graph_.extendedHyperarcCount(); }
+  /// Over every motion query of the run: how often a query backtracked to a robot's previous visit.
+  std::int64_t queryBacktracks() const { return query_backtracks_; }
+  /// Over every motion query of the run: moves expanded and found invalid.
+  std::int64_t queryFailedMoves() const { return query_failed_moves_; }
 
   /// A path from -> to in `context`: the straight segment if it is free, else a roadmap query.
   std::optional<std::vector<JointVector>> connect(int robot, const JointVector& from, const JointVector& to,
                                                   const MotionContext& context, const Deadline& deadline);
 
  private:
-  friend struct MotionTrace;  // motion_trace.cpp: the motion query along the schedule
+  friend struct MotionConstruction;  // motion_construction.cpp: H_M for a task plan, before the query
+  friend struct MotionQuery;         // motion_query.cpp: the search over H_M along the task plan
   /// The end of a missing move that is in collision ("start", "approach start", "transition") and
   /// with what; empty when all three are free.
   std::string collidingEnd(int robot, const JointVector& from, const JointVector& q_pre, const JointVector& q,
@@ -117,31 +134,29 @@ class MotionLayer {
   std::string endInRegion(int robot, const JointVector& from, const JointVector& q_pre, const MotionContext& context) const;
   /// ": the <end> configuration is in collision (...)", or that the roadmap found no way between valid ends.
   static std::string whyNoPath(const std::string& colliding_end);
-  /// The path from q on which the TCP goes straight back along its own approach axis (or along
-  /// `direction_W`, a world direction, when given) by the approach distance (cartesianPath, on the IK
-  /// branch of q): every waypoint and segment of it free. A handover partner standing still at its
+  /// q moved so that the TCP goes back along its own approach axis (or along `direction_W`, a world
+  /// direction, when given) by the approach distance, on a straight line (backOffPath, on the IK branch
+  /// of q) whose waypoints and segments are all free. A handover partner standing still at its
   /// transition configuration must also stay clear of it; when it is in the way of the sideways rise,
   /// the straight back-off is tried.
-  std::optional<std::vector<JointVector>> backedOff(int robot, const JointVector& q, const HeldObject& held,
-                                                    const ObjectLayout& layout,
-                                                    const std::optional<Vec3>& direction_W = {}, double distance = 0.0,
-                                                    const std::optional<RobotState>& partner = {});
+  std::optional<JointVector> backedOff(int robot, const JointVector& q, const HeldObject& held,
+                                       const ObjectLayout& layout, const std::optional<Vec3>& direction_W = {},
+                                       double distance = 0.0, const std::optional<RobotState>& partner = {});
+  /// v.approach and v.retreat (cartesian_path.h's backOffPath) for the ends v.q_pre, v.q, v.q_post of
+  /// robot `robot`'s visit: the paths backedOff checked.
+  void setBackOffPaths(StepVisit& v, int robot) const;
   /// Whether the back-off path (q first) is free: its waypoints and segments, an empty gripper out of
   /// the contact boxes of the objects it does not grasp, the standing partner (if any) clear of it.
   bool backOffFree(int robot, const std::vector<JointVector>& path, const HeldObject& held, const ObjectLayout& layout,
                    const std::optional<RobotState>& partner) const;
   /// The farthest of the deep approach distances q can back off by (backedOff), if any.
-  std::optional<std::vector<JointVector>> farthestBackOff(int robot, const JointVector& q, const HeldObject& held,
-                                                          const ObjectLayout& layout);
-  /// Algorithm 1's motion query along the unvalidated schedule: the moves between the transition
-  /// configurations, found and validated lazily in schedule order (motion_trace.cpp).
-  MotionLayerResult trace(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
-                          const TaskSpace& space, const Deadline& deadline);
+  std::optional<JointVector> farthestBackOff(int robot, const JointVector& q, const HeldObject& held,
+                                             const ObjectLayout& layout);
+  /// Representation construction: H_M for the task plan's elements (motion_construction.cpp).
+  MotionAnchors construct(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions, const TaskSpace& space);
+  /// The motion query over what construct() built, growing it where a move fails (motion_query.cpp).
+  MotionLayerResult query(MotionAnchors& anchors, const TaskPlan& plan, const TaskSpace& space, const Deadline& deadline);
   LazyRoadmap& roadmap(int robot, bool holding);
-  /// Adds the traced part of `result` (every step whose visits were all found; the way home when
-  /// `result` is complete) to H_M and runs the motion query along it (motion_layer_graph.cpp).
-  void recordInHypergraph(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
-                          const TaskSpace& space, const MotionLayerResult& result, const Deadline& deadline);
 
   const CollisionWorld* world_;
   CollisionContext* context_;
@@ -150,6 +165,8 @@ class MotionLayer {
   PerPlanningSpace<LazyRoadmap> roadmaps_;
   const lazy::MotionConstraintSet* constraints_ = nullptr;
   lazy::MotionHypergraph graph_;
+  std::int64_t query_backtracks_ = 0;
+  std::int64_t query_failed_moves_ = 0;
 };
 
 }  // namespace dash

@@ -66,7 +66,7 @@ bool refine(const Line& line, double s0, const JointVector& q0, double s1, const
     const Pose X = forwardKinematics(line.model, line.X_WB, q0 + u * (q1 - q0)).X_WT;
     deviation = std::max(deviation, line.deviation(X, s0 + u * (s1 - s0)));
   }
-  if (deviation <= line.options.deviation) {
+  if (deviation <= line.options.deviation + line.options.growth * s0 * (line.p1 - line.p0).norm()) {
     out.push_back(q1);
     return true;
   }
@@ -90,6 +90,16 @@ std::optional<std::vector<JointVector>> cartesianPath(const RobotModel& model, c
   if ((q_to - q_from).cwiseAbs().maxCoeff() <= 0.0) return path;
   if (!refine(line, 0.0, q_from, 1.0, q_to, 0, path)) return std::nullopt;
   return path;
+}
+
+std::optional<std::vector<JointVector>> backOffLine(const RobotModel& model, const Pose& X_WB, const JointVector& q,
+                                                    const JointVector& q_end) {
+  return cartesianPath(model, X_WB, q, q_end, CartesianPathOptions{.growth = kBackOffGrowth});
+}
+
+std::vector<JointVector> backOffPath(const RobotModel& model, const Pose& X_WB, const JointVector& q,
+                                     const JointVector& q_end) {
+  return backOffLine(model, X_WB, q, q_end).value_or(std::vector<JointVector>{q, q_end});
 }
 
 bool backsOffSideways(const Pose& X_WT, const std::optional<Vec3>& direction_W) {

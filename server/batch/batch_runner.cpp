@@ -110,6 +110,7 @@ struct Child {
   std::string protocol_error;
   std::string spawn_error;
   std::optional<log::ProgressEvent> work;  ///< its planner's latest progress event
+  std::optional<log::Phase> phase;         ///< the phase its planner is in (its latest phase start)
 };
 
 }  // namespace
@@ -206,7 +207,7 @@ struct BatchRunner::Impl {
       progress.active.clear();
       const Clock::time_point now = Clock::now();
       for (const Child& c : children)
-        progress.active.push_back({c.run.key, c.uuid, Seconds(now - c.spawned).count(), c.work});
+        progress.active.push_back({c.run.key, c.uuid, Seconds(now - c.spawned).count(), c.work, c.phase});
       copy = progress;
       progress.finished.reset();
     }
@@ -502,6 +503,11 @@ struct BatchRunner::Impl {
       case proto::MessageType::kEvent: {
         const log::Event event = proto::decodeEvent(frame.payload);
         if (const auto* w = std::get_if<log::ProgressEvent>(&event.payload)) c.work = *w;
+        // Phases nest; the emitter sends a start again for the phase an inner one's end resumes.
+        if (const auto* ph = std::get_if<log::PhaseEvent>(&event.payload)) {
+          if (ph->boundary == log::PhaseBoundary::Start) c.phase = ph->phase;
+          else if (c.phase == ph->phase) c.phase.reset();
+        }
         if (c.recorder) c.recorder->onEvent(event);
         break;
       }

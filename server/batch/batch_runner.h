@@ -61,6 +61,8 @@ struct ActiveRun {
   /// The latest progress a long phase of its planner reported (conflict resolution: steps scheduled
   /// of the plan's, the step's robots, steps per second); none before the first.
   std::optional<log::ProgressEvent> work;
+  /// The phase its planner is in now (paper's phases, log::Phase); none before the first phase starts.
+  std::optional<log::Phase> phase;
 };
 
 struct BatchProgress {

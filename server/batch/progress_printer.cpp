@@ -8,6 +8,15 @@
 namespace dash::batch {
 
 namespace {
+
+/// "motion construction" for log::Phase::MotionConstruction.
+std::string phaseWords(log::Phase phase) {
+  std::string words = log::toString(phase);
+  for (char& c : words)
+    if (c == '_') c = ' ';
+  return words;
+}
+
 constexpr double kQuietRunLineSeconds = 10.0;  // lines mode: a run without reported progress, this often
 constexpr double kWorkLineSeconds = 2.0;       // lines mode: a run reporting a long phase's progress
 constexpr double kBarRunSeconds = 5.0;         // bar: the longest-running run shown from this age
@@ -70,13 +79,16 @@ std::string ProgressPrinter::formatBar(const BatchProgress& p, int width) {
   if (work.empty() && !p.active.empty() && p.active.front().seconds >= kBarRunSeconds) {
     const ActiveRun& a = p.active.front();
     const std::string key = a.key.size() > kBarKeyChars ? "..." + a.key.substr(a.key.size() - kBarKeyChars) : a.key;
-    work = "  | " + key + " " + formatDuration(a.seconds);
+    const std::string phase = formatWork(a);
+    work = "  | " + key + " " + (phase.empty() ? "" : phase + " ") + formatDuration(a.seconds);
   }
   return bar + work;
 }
 
 std::string ProgressPrinter::formatWork(const ActiveRun& run) {
-  if (!run.work || run.work->current.empty()) return "";
+  // Without progress of a long phase, the phase it is in (a DaSH construction, a task layer), if any.
+  if (!run.work || run.work->current.empty())
+    return run.phase && *run.phase != log::Phase::Other ? std::string("in ") + phaseWords(*run.phase) : "";
   const log::ProgressEvent& w = *run.work;
   char buf[160];
   if (w.phase == log::Phase::ConflictResolution) {

@@ -28,7 +28,8 @@ Json progressJson(const batch::BatchProgress& p) {
             {"skipped", p.skipped},      {"elapsed", p.elapsed},   {"eta", p.eta < 0 ? Json(nullptr) : Json(p.eta)},
             {"cancelling", p.cancelling}};
   // The running runs, each with its planner's latest long-phase progress (conflict resolution: steps
-  // scheduled of the plan's, the step's robots, steps per second), null before the first.
+  // scheduled of the plan's, the step's robots, steps per second), null before the first, and the
+  // phase it is in now (null before its first phase).
   Json active = Json::array();
   for (const batch::ActiveRun& a : p.active) {
     Json work = nullptr;
@@ -36,7 +37,11 @@ Json progressJson(const batch::BatchProgress& p) {
       work = {{"phase", log::toString(a.work->phase)}, {"done", a.work->done},     {"total", a.work->total},
               {"rate", a.work->rate},                  {"current", a.work->current}};
     }
-    active.push_back({{"key", a.key}, {"uuid", a.uuid}, {"seconds", a.seconds}, {"work", work}});
+    active.push_back({{"key", a.key},
+                      {"uuid", a.uuid},
+                      {"seconds", a.seconds},
+                      {"work", work},
+                      {"phase", a.phase ? Json(log::toString(*a.phase)) : Json(nullptr)}});
   }
   j["active"] = std::move(active);
   if (p.finished) {

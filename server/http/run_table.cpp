@@ -37,6 +37,7 @@ std::vector<RunColumn> fixedColumns() {
       {"time_limit", "r.time_limit", T::kReal, "time limit (s)", "run", false},
       {"memory_limit", "r.memory_limit", T::kReal, "memory limit (MB)", "run", false},
       {"total_time", "r.total_time", T::kReal, "total time (s)", "time", true},
+      {"wall_time", "r.wall_time", T::kReal, "wall time (s)", "time", false},
       {"time_task",
        "(COALESCE(r.time_task_construction,0) + COALESCE(r.time_task_query,0) + "
        "COALESCE(r.time_task_conflict_detection,0))",

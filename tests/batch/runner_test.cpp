@@ -543,5 +543,19 @@ TEST(ProgressPrinter, ALongRunWithoutProgressEventsGetsLinesAndTheBarNamesIt) {
   EXPECT_EQ(ProgressPrinter::formatBar(p).find(key), std::string::npos) << ProgressPrinter::formatBar(p);
 }
 
+TEST(ProgressPrinter, ALongRunWithoutProgressEventsIsNamedWithThePhaseItIsIn) {
+  BatchProgress p;
+  p.total = 1;
+  p.running = 1;
+  p.remaining = 1;
+  const std::string key = "sorting/robots=4,objects=8/seed=1/dash";
+  p.active.push_back({key, "u1", 26.0, std::nullopt, log::Phase::MotionConstruction});
+  EXPECT_EQ(ProgressPrinter::formatActiveLine(p.active[0]), "[running]  " + key + "  in motion construction  26s");
+  EXPECT_NE(ProgressPrinter::formatBar(p).find("| " + key + " in motion construction 26s"), std::string::npos)
+      << ProgressPrinter::formatBar(p);
+  p.active[0].phase = log::Phase::Other;  // bookkeeping between phases: no phase named
+  EXPECT_EQ(ProgressPrinter::formatActiveLine(p.active[0]), "[running]  " + key + "  26s");
+}
+
 }  // namespace
 }  // namespace dash::batch

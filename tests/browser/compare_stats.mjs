@@ -41,6 +41,42 @@ async function main() {
     const settled = () => page.waitForSelector('[data-testid=runs-total][data-total]');
     await settled();
 
+    await step('A Runs page left while its reload is pending does not write over the next page\u2019s URL', async () => {
+      await page.goto(`${url}/#/runs`);
+      await settled();
+      // Leave the Runs page the moment a run changes (its reload is then pending, 500 ms debounced) for
+      // a Compare link of the demo batch, then give that reload time to fire. Every URL the page writes
+      // from then on is logged: each must keep the link's batch.
+      const target = '#/compare?batch=demo-20261125-174120-94c0';
+      const armed = page.evaluate((hash) => new Promise((resolve) => {
+        window.__written = [];
+        const replace = history.replaceState.bind(history);
+        history.replaceState = (state, title, url) => {
+          window.__written.push(String(url));
+          return replace(state, title, url);
+        };
+        const source = new EventSource('/api/events');
+        // 200 ms after the event: the page's own stream (another connection) has delivered it too,
+        // and its debounced reload is due 300 ms later.
+        source.addEventListener('run', () => {
+          source.close();
+          setTimeout(() => {
+            window.__written = [];
+            location.hash = hash;
+            resolve();
+          }, 200);
+        });
+      }), target);
+      const spec = { name: 'leave', time_limit: 60, memory_limit: 2048, scenarios: [{ family: 'sorting', params: { robots: 2, objects: 2 } }], planners: [{ name: 'lazy-dash', settings: { task_only: true }, label: 'lazy-task' }], seeds: [1] };
+      const res = await page.request.post(`${url}/api/batches`, { data: { spec, workers: 1 }, headers: { Authorization: `Bearer ${token}` } });
+      expect(res.ok(), `launch: ${res.status()} ${await res.text()}`);
+      await armed;
+      await sleep(1500);
+      const written = await page.evaluate(() => window.__written);
+      const lost = written.filter((u) => !u.includes('batch=demo-20261125-174120-94c0'));
+      expect(lost.length === 0, `the Runs page wrote over the Compare link: ${JSON.stringify(written)}`);
+    });
+
     await step('"Compare this batch" opens on the axis the batch varies (robots), as report picks it', async () => {
       // Two quick task-only runs that differ in robots only (objects fixed at 2).
       const spec = { name: 'robots-only', time_limit: 60, memory_limit: 2048, scenarios: [{ family: 'sorting', params: { robots: [2, 3], objects: 2 } }], planners: [{ name: 'lazy-dash', settings: { task_only: true }, label: 'lazy-task' }], seeds: [1] };
@@ -203,6 +239,27 @@ async function main() {
       expect(known >= 4, `the time left showed in only ${known} of ${samples.length} samples`);
       expect(rises === 0, `the time left rose ${rises} times while no run ended: ${JSON.stringify(samples.filter((x) => x.eta !== null).slice(0, 40))}`);
       expect(/^sorting\/.*seed=\d.*dash: running for [\d.]+ s$/.test(named), `no line named the long run: "${named}"`);
+    });
+
+    await step('Launch names the phase a long run without progress events is in (a DaSH construction)', async () => {
+      const spec = { name: 'phase', time_limit: 20, memory_limit: 4096, scenarios: [{ family: 'sorting', params: { robots: 4, objects: 8 } }], planners: [{ name: 'dash', label: 'dash' }], seeds: [1] };
+      await page.goto(`${url}/#/launch`);
+      const headers = { Authorization: `Bearer ${token}` };
+      const res = await page.request.post(`${url}/api/batches`, { data: { spec, workers: 1 }, headers });
+      expect(res.ok(), `launch: ${res.status()} ${await res.text()}`);
+      const batch = (await res.json()).batch_id;
+      const row = `tr[data-batch="${batch}"]`;
+      await page.waitForSelector(row);
+      let named = '';
+      const seen = new Set();
+      for (let i = 0; i < 100 && !named; i++) {
+        const work = await page.evaluate((sel) => [...(document.querySelector(sel)?.querySelectorAll('[data-testid=run-work]') || [])].map((w) => w.textContent), row);
+        work.forEach((w) => seen.add(w));
+        named = work.find((w) => /dash: (task|motion|validation)[a-z: ]*, running for [\d.]+ s$/.test(w)) || '';
+        if (!named) await sleep(250);
+      }
+      await page.request.post(`${url}/api/batches/${batch}/cancel`, { headers });
+      expect(named !== '', `no line named the run's phase; lines seen: ${JSON.stringify([...seen].slice(0, 10))}`);
     });
 
     await step('no page logged a console error', async () => {

@@ -262,9 +262,11 @@ TEST_F(HostileTest, OneWideRowCannotPassTheByteBudget) {
   EXPECT_EQ(wide["rows"].size(), 0u) << "the row over the budget is left out whole";
   EXPECT_LT(wide["bytes"].get<std::size_t>(), std::size_t{1} << 20);
   // 50 columns (200 MB of cells, 300 MB while SQLite builds them) pass the query process's SQLite
-  // heap limit first: a 400, and the server's own memory is not involved.
+  // heap limit first: a 400, and the server's own memory is not involved. On a loaded machine building
+  // them can take the query past its 2 s first: then the time limit stops it (403, guard time_limit).
   const Json wider = query(columns(50));
-  EXPECT_TRUE(wider["status"] == 400 || (wider["status"] == 200 && wider["truncated"].get<bool>()))
+  const bool stopped_for_time = wider["status"] == 403 && wider.value("guard", "") == "time_limit";
+  EXPECT_TRUE(wider["status"] == 400 || stopped_for_time || (wider["status"] == 200 && wider["truncated"].get<bool>()))
       << wider.dump().substr(0, 300);
   EXPECT_LT(wider["bytes"].get<std::size_t>(), std::size_t{1} << 20);
   const Json rows = query("SELECT hex(zeroblob(1000000)) AS a, hex(zeroblob(1000000)) AS b FROM (VALUES (1), (2), (3))");

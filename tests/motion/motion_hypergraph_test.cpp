@@ -43,7 +43,7 @@ TEST(MotionHypergraph, AnElementAddedAgainIsTheSameElement) {
   EXPECT_EQ(g.hyperarcCount(), 1u);
 }
 
-TEST(MotionHypergraph, AHandoverIsOneHyperarcCouplingBothRobotsAndTheQueryWalksTheSchedule) {
+TEST(MotionHypergraph, AHandoverIsOneHyperarcCouplingBothRobotsAndEachHyperarcTakenIsOneExtendedHyperarc) {
   log::EventEmitter emitter(nullptr);
   MotionHypergraph g(emitter);
   TaskArc handover;
@@ -64,31 +64,33 @@ TEST(MotionHypergraph, AHandoverIsOneHyperarcCouplingBothRobotsAndTheQueryWalksT
   TaskArc pick;
   pick.robot = 0;
   pick.object = 0;
-  std::vector<HyperarcId> seq{*g.move(home0, pick_at, {}), g.transition(pick, {pick_at, obj}, {held}),
+  std::vector<HyperarcId> seq{source, *g.move(home0, pick_at, {}), g.transition(pick, {pick_at, obj}, {held}),
                               *g.move(held, give, {}), *g.move(home1, take, {}),
                               g.transition(handover, {give, take}, {given, taken}),
                               // back home and out again to the same place: a vertex revisited
                               *g.move(given, home0, {}), *g.move(home0, pick_at, {})};
-  const HyperarcId h = seq[4];
+  const HyperarcId h = seq[5];
   EXPECT_EQ(g.graph().tail(h).size(), 2u);
   EXPECT_EQ(g.graph().head(h).size(), 2u);
   EXPECT_EQ(g.coupledHyperarcCount(), 1u);
-  const HyperarcId sink = g.sink({pick_at, taken});
-  const MotionQueryCounts counts = g.query(source, seq, sink, Deadline(10));
+  seq.push_back(g.sink({pick_at, taken}));
+  g.beginQuery();
+  for (HyperarcId a : seq) g.take(a);
+  const MotionQueryCounts counts = g.queryCounts();
   EXPECT_TRUE(counts.reached_sink);
-  // Root (3 start instances) + one extended hyperarc per step + the sink.
-  EXPECT_EQ(counts.extended_hyperarcs, seq.size() + 2);
+  EXPECT_EQ(counts.extended_hyperarcs, seq.size());
+  // The source's 3 instances, then one per head vertex of each hyperarc taken (the sink has none).
   EXPECT_EQ(counts.extended_vertices, 3u + 1 + 1 + 1 + 1 + 2 + 1 + 1);
-  // A second query over the same H_M adds to H_ME only.
+  // A second query over the same H_M adds to H_ME only; a hyperarc taken twice (a branch left and taken
+  // again) is two extended hyperarcs.
   const std::size_t vertices = g.vertexCount(), arcs = g.hyperarcCount();
-  EXPECT_TRUE(g.query(source, seq, sink, Deadline(10)).reached_sink);
+  g.beginQuery();
+  for (HyperarcId a : seq) g.take(a);
+  g.take(seq[6]);
+  EXPECT_EQ(g.queryCounts().extended_hyperarcs, seq.size() + 1);
   EXPECT_EQ(g.vertexCount(), vertices);
   EXPECT_EQ(g.hyperarcCount(), arcs);
-  EXPECT_EQ(g.extendedHyperarcCount(), 2 * (seq.size() + 2));
-  // A schedule out of order is not a hyperpath: the query does not reach the sink.
-  std::vector<HyperarcId> wrong = seq;
-  std::swap(wrong[0], wrong[1]);
-  EXPECT_FALSE(g.query(source, wrong, sink, Deadline(10)).reached_sink);
+  EXPECT_EQ(g.extendedHyperarcCount(), 2 * seq.size() + 1);
 }
 
 using testing::FirstTaskPlan;
@@ -117,7 +119,8 @@ TEST(MotionLayer, RoundsOnTheSamePlanReuseHMAndCoupleEveryHandover) {
   const std::size_t extended = run.motion.extendedHyperarcs();
   EXPECT_EQ(run.motion.hypergraph().coupledHyperarcCount(), static_cast<std::size_t>(handovers));
   EXPECT_NE(extended, arcs);
-  EXPECT_EQ(run.sink.counter("motion_query_incomplete", 0), 0);
+  // H_ME: the hyperpath found, the moves found invalid and the retreats backtracked from.
+  EXPECT_EQ(extended, first.hyperpath_hyperarcs + first.failed_moves + first.backtracks);
   const std::map<std::string, std::int64_t> transitions_first = transitionArcCounts(run.sink);
   const MotionLayerResult again = run.motion.plan(run.layer.plan, run.layer.transitions, run.task.space(), Deadline(120));
   ASSERT_EQ(again.status, MotionStatus::kOk) << again.reason;
@@ -128,7 +131,8 @@ TEST(MotionLayer, RoundsOnTheSamePlanReuseHMAndCoupleEveryHandover) {
   EXPECT_EQ(transitionArcCounts(run.sink), transitions_first);
   EXPECT_EQ(run.motion.hypergraph().coupledHyperarcCount(), static_cast<std::size_t>(handovers));
   EXPECT_LE(run.motion.motionVertices() - vertices, vertices / 10) << "a second round on the same plan rebuilt H_M";
-  EXPECT_EQ(run.motion.extendedHyperarcs(), 2 * extended);
+  EXPECT_EQ(run.motion.extendedHyperarcs() - extended, again.hyperpath_hyperarcs + again.failed_moves + again.backtracks);
+  EXPECT_EQ(again.hyperpath_hyperarcs, first.hyperpath_hyperarcs);
   // The event stream holds exactly the live structure (what the results database records).
   EXPECT_EQ(run.sink.count(log::Layer::Motion, log::ElementKind::Vertex),
             static_cast<std::int64_t>(run.motion.motionVertices()));
@@ -180,9 +184,71 @@ TEST(MotionLayer, TheMotionQueryWalksALabScheduleToTheSink) {
   ASSERT_EQ(layer.status, TaskLayerStatus::kFeasible) << layer.reason;
   const MotionLayerResult result = run.motion.plan(layer.plan, layer.transitions, run.task.space(), Deadline(120));
   ASSERT_EQ(result.status, MotionStatus::kOk) << result.reason;
-  EXPECT_EQ(run.sink.counter("motion_query_incomplete", 0), 0);
   EXPECT_GT(run.sink.countHyperarcs(log::Layer::MotionExtended, "inspect"), 0);
   EXPECT_EQ(run.sink.countHyperarcs(log::Layer::MotionExtended, "sink"), 1);
+}
+
+}  // namespace
+}  // namespace dash
+
+namespace dash {
+namespace {
+
+using testing::FirstTaskPlan;
+
+// Item 2 of issue 36: H_M is built before the motion query, as the paper orders it. Every transition
+// hyperarc of the plan (and the anchors they join) is in H_M before the query validates its first move:
+// the query's phase starts only after the last of them was added.
+TEST(MotionLayer, HMHoldsEveryTransitionOfThePlanBeforeTheMotionQueryStarts) {
+  const OmplSeedScope ompl_seeds(1);
+  FirstTaskPlan run("sorting", {{"robots", "4"}, {"objects", "8"}});
+  ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
+  const std::size_t first_event = run.sink.events().size();
+  const MotionLayerResult result = run.motion.plan(run.layer.plan, run.layer.transitions, run.task.space(), Deadline(120));
+  ASSERT_EQ(result.status, MotionStatus::kOk) << result.reason;
+  const std::vector<log::Event> events = run.sink.events();
+  std::size_t first_query = events.size(), last_transition = 0, transitions = 0;
+  for (std::size_t i = first_event; i < events.size(); ++i) {
+    if (const auto* p = std::get_if<log::PhaseEvent>(&events[i].payload))
+      if (p->phase == log::Phase::MotionQuery && p->boundary == log::PhaseBoundary::Start)
+        first_query = std::min(first_query, i);
+    if (const auto* r = std::get_if<log::RepresentationEvent>(&events[i].payload))
+      if (r->layer == log::Layer::Motion && r->kind == log::ElementKind::Hyperarc && r->arc_type != "move" &&
+          r->arc_type != "sink") {
+        last_transition = i;
+        ++transitions;
+      }
+  }
+  EXPECT_EQ(transitions, run.layer.plan.steps.size() + 1);  // and the source
+  EXPECT_LT(last_transition, first_query);
+}
+
+// Item 3 of issue 36: the motion query is a search over H_M, not a walk of the schedule. Deep in a
+// shelf cubby the short approach and retreat leave an arm where no move is found; the query then grows
+// H_M (farther approach starts and retreat ends along the same axes), takes an alternative, and
+// backtracks to the robot's previous visit to take its farther retreat end. H_ME holds the dead
+// branches too, so it is larger than the hyperpath found (the schedule length plus the source and sink).
+TEST(MotionLayer, TheMotionQueryBacktracksToAFartherRetreatAndHMEHoldsTheBranchesLeft) {
+  const OmplSeedScope ompl_seeds(1);
+  FirstTaskPlan run("shelf-wall", {{"robots", "2"}, {"objects", "4"}});
+  ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
+  const std::size_t arcs_before = run.motion.motionHyperarcs();
+  const MotionLayerResult result = run.motion.plan(run.layer.plan, run.layer.transitions, run.task.space(), Deadline(120));
+  ASSERT_EQ(result.status, MotionStatus::kOk) << result.reason;
+  EXPECT_GT(result.failed_moves, 0u);
+  EXPECT_GT(result.backtracks, 0u);
+  EXPECT_EQ(run.motion.queryBacktracks(), static_cast<std::int64_t>(result.backtracks));
+  EXPECT_EQ(run.motion.extendedHyperarcs(), result.hyperpath_hyperarcs + result.failed_moves + result.backtracks);
+  EXPECT_GT(run.motion.extendedHyperarcs(), result.hyperpath_hyperarcs);
+  EXPECT_GT(run.motion.motionHyperarcs(), arcs_before);
+  // The plan the query returns starts each robot's transit where its previous retreat ended: a
+  // backtracked retreat end is the one the next transit leaves from.
+  for (const RobotMotionPlan& robot : result.robots)
+    for (std::size_t i = 1; i < robot.visits.size(); ++i) {
+      ASSERT_FALSE(robot.visits[i].transit.empty());
+      EXPECT_LT((robot.visits[i].transit.front() - robot.visits[i - 1].q_post).cwiseAbs().maxCoeff(), 1e-12);
+      EXPECT_LT((robot.visits[i].transit.back() - robot.visits[i].q_pre).cwiseAbs().maxCoeff(), 1e-12);
+    }
 }
 
 }  // namespace

@@ -86,6 +86,19 @@ TEST(CartesianPath, TheRetreatAfterAPickIsTheReversedLine) {
   EXPECT_GT(lowestGap(*path), -1e-4);
 }
 
+TEST(CartesianPath, TheBackOffLineOfBothPlannersStaysAboveThePedestalWithFewerWaypoints) {
+  // backOffLine (what both planners check and emit, from the transition configuration out): the
+  // deviation allowed grows away from the pedestal, where the line is high above it.
+  const auto line = backOffLine(ur5e(), kBase, kQ, kQPre);
+  ASSERT_TRUE(line.has_value());
+  EXPECT_EQ(line->front(), kQ);
+  EXPECT_EQ(line->back(), kQPre);
+  EXPECT_GT(lowestGap(*line), -1e-4);
+  EXPECT_LT(std::abs(bottomGap(line->front())), 1e-4);
+  EXPECT_LT(line->size(), cartesianPath(ur5e(), kBase, kQ, kQPre)->size());
+  EXPECT_EQ(backOffPath(ur5e(), kBase, kQ, kQPre), *line);
+}
+
 TEST(CartesianPath, AnotherIkBranchAtTheEndIsRefused) {
   // The same back-off pose on another IK branch (a wrist flip) is not joined by the line.
   const Pose X_pre = forwardKinematics(ur5e(), kBase, kQPre).X_WT;

@@ -7,6 +7,7 @@ import { el, clear, badge, fmtSeconds, fmtWork, errorBox, plural } from '../dom.
 import { writeState } from '../url_state.js';
 import { steadyEta } from '../batch_eta.js';
 import { plannerRow, isAutoLabel } from './launch_planners.js';
+import { PHASE_LABELS } from '../palette.js';
 
 const MAX_SPEC_URL_CHARS = 4000;
 
@@ -49,10 +50,12 @@ function progressBar(p, id) {
   const eta = steadyEta(id, p); // counts down while a run works (batch_eta.js)
   if (eta !== null && p.remaining > 0) parts.push(`about ${fmtSeconds(eta)} left`);
   // The running runs whose planner reports a long phase's progress (conflict resolution's steps),
-  // and any other run working for 5 s or more (a DaSH construction): which run, for how long.
+  // and any other run working for 5 s or more (a DaSH construction): which run, in which phase, for
+  // how long.
+  const inPhase = (a) => (a.phase && a.phase !== 'other' ? `${PHASE_LABELS[a.phase] || String(a.phase).replace(/_/g, ' ')}, ` : '');
   const work = (p.active || [])
     .filter((a) => fmtWork(a.work) || a.seconds >= 5)
-    .map((a) => el('div', { class: 'progress-label muted', 'data-testid': 'run-work' }, el('a', { href: `#/run/${a.uuid}`, text: a.key }), `: ${fmtWork(a.work) || `running for ${fmtSeconds(a.seconds)}`}`));
+    .map((a) => el('div', { class: 'progress-label muted', 'data-testid': 'run-work' }, el('a', { href: `#/run/${a.uuid}`, text: a.key }), `: ${fmtWork(a.work) || `${inPhase(a)}running for ${fmtSeconds(a.seconds)}`}`));
   return [bar, el('div', { class: 'progress-label', text: parts.join(' · ') }), ...work];
 }
 

@@ -174,7 +174,7 @@ export function mount(root, args, params = new URLSearchParams()) {
       ['planner', plannerLine(r, d.settings)],
       ['batch', batch],
       ['scene', r.scene || '—'],
-      ['total time', r.total_time === null ? '—' : fmtSeconds(r.total_time)],
+      ['total time', el('span', { 'data-testid': 'run-total-time' }, r.total_time === null ? '—' : fmtSeconds(r.total_time), typeof r.wall_time === 'number' ? el('span', { class: 'muted', text: ` (the sum of the phases; wall time ${fmtSeconds(r.wall_time)})` }) : '')],
       ['makespan', r.makespan === null ? '—' : `${fmtNumber(r.makespan)} s`],
       ['scheduling', workLine],
       [

@@ -93,7 +93,11 @@ export function mount(root, args, urlParams = new URLSearchParams()) {
     compareLink.href = href;
   }
 
+  // A load (or a debounced reload) that ends after the page was left must not write its state into
+  // the next page's URL (the Compare link lost its ?batch= that way).
+  let mounted = true;
   function saveState() {
+    if (!mounted) return;
     const sel = [...state.selected];
     writeState({ q: state.filter, sort: state.sort, order: state.order, limit: state.limit, offset: state.offset, sel: sel.length <= MAX_URL_SELECTION ? sel : [] }, { sort: 'id', order: 'desc', limit: 50, offset: 0 });
   }
@@ -224,9 +228,11 @@ export function mount(root, args, urlParams = new URLSearchParams()) {
   }
 
   async function load() {
+    if (!mounted) return;
     saveState();
     try {
       const list = await api.get(`/api/runs${query({ ...params(), limit: state.limit, offset: state.offset })}`);
+      if (!mounted) return;
       state.lastList = list;
       csvLink.href = `/api/runs.csv${query({ ...params(), columns: shownColumns(list).map((c) => c.name).join(',') })}`;
       filterError.textContent = '';
@@ -288,5 +294,8 @@ export function mount(root, args, urlParams = new URLSearchParams()) {
       root.append(errorBox(e.message));
     }
   })();
-  return () => offs.forEach((off) => off());
+  return () => {
+    mounted = false;
+    offs.forEach((off) => off());
+  };
 }
