@@ -16,12 +16,16 @@
 //    time in the plan are cut finer until they no longer meet, or one of them holds still and the
 //    other runs entirely while it does (then the other waits for the holder to arrive and the holder
 //    waits for it to end). Contact the plan means (a gripper and the object another robot holds, of
-//    a handover it is in) does not count.
-// Every execution that respects the graph, whatever each node's delay or speed, keeps each pair that
-// meets in the order the plan had it, so it passes the plan's own checks; `dashbench tpg --check N`
-// replays random such executions through the certified validator (tpg_replay.h).
+//    a handover it is in) counts only past `resolution` of penetration.
+// The aim: every execution that respects the graph, whatever each node's delay or speed, keeps each
+// pair that meets in the order the plan had it, so it passes the plan's own checks. Known gap: the
+// contact allowance above is looser than the validator's (no penetration of a contact pair), so
+// replays where both arms approach a handover at once can put a finger up to `resolution` into the
+// held object (seen on a 4-robot sorting plan, docs/dispatch.md). `dashbench tpg --check N` replays
+// random executions through the certified validator (tpg_replay.h).
 //
 // Stored as the optional "tpg" field of dashbench.plan/1 (docs/formats.md): tpgToJson / parseTpg.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -74,6 +78,8 @@ struct BuildOptions {
   /// Per pair the plan runs one after the other: past it they count as meeting, which only adds an
   /// edge the plan's own timing already keeps (a pair proved apart needs no edge).
   int max_ordered_evaluations = 400;
+  /// Called after each cutting round with a line on it (pieces, pairs tested, evaluations); may be empty.
+  std::function<void(const std::string&)> progress;
 };
 
 struct BuildStats {

@@ -47,6 +47,7 @@ class Builder {
  private:
   void sortEvents();
   void replayHolders();
+  void initialCuts();
   void makePieces();
   bool findConflicts();
   bool orderOverlapping(int a, int b);
@@ -323,7 +324,9 @@ bool Builder::orderOverlapping(int a, int b) {
 
 /// Swept edges into each piece of `to` from the pieces of `from` that end before it starts: only the
 /// latest such piece that meets it (the earlier ones run before that one, so their edges would be
-/// implied by the arm's order). Prefix boxes stop the scan once nothing earlier can come near.
+/// implied by the arm's order), and none at or before the piece an earlier target already waits for
+/// (it runs before that target, which runs before this one). Prefix boxes stop the scan once nothing
+/// earlier can come near.
 void Builder::addPredecessors(const std::vector<int>& from, const std::vector<int>& to) {
   std::vector<Aabb> prefix(from.size());
   for (std::size_t k = 0; k < from.size(); ++k) {
@@ -332,16 +335,18 @@ void Builder::addPredecessors(const std::vector<int>& from, const std::vector<in
   }
   const double c = options_.clearance;
   std::size_t before = 0;  // pieces of `from` that end before the target starts
+  std::size_t implied = 0;  // pieces of `from` before this one precede an earlier target: implied
   for (int y : to) {
     const Piece& py = pieces_[at(y)];
     while (before < from.size() && pieces_[at(from[before])].t1 <= py.t0 + kTimeTolerance) ++before;
-    for (std::size_t k = before; k-- > 0;) {
+    for (std::size_t k = before; k-- > implied;) {
       if (prefix[k].exteriorDistance(py.box) > c) break;
       const int x = from[k];
       if (pieces_[at(x)].box.exteriorDistance(py.box) > c || !meetCached(x, y, false)) continue;
       const auto [arm_x, slot_x] = slot_of_piece_[at(x)];
       const auto [arm_y, slot_y] = slot_of_piece_[at(y)];
       addEdge(arm_x, slot_x, arm_y, slot_y, Edge::Why::kSwept);
+      implied = k + 1;
       break;
     }
   }
@@ -509,6 +514,32 @@ Graph Builder::mergeAndReduce() const {
   return g;
 }
 
+/// Each arm is cut at its points, at its events and at the events of the arms that can come near it
+/// (their reach, the boxes of all their pieces, within the clearance): only those can bound an edge.
+void Builder::initialCuts() {
+  const double end = std::max(plan_.lastTime(), plan_.makespan);
+  const int arms = static_cast<int>(plan_.robots.size());
+  cuts_.assign(at(arms), {});
+  for (int arm = 0; arm < arms; ++arm) {
+    auto& cuts = cuts_[at(arm)];
+    cuts.insert(0.0);
+    cuts.insert(end);
+    for (const TrajectoryPoint& p : plan_.robots[at(arm)].points) cuts.insert(std::min(p.t, end));
+  }
+  for (const PlanEvent& e : plan_.events) cuts_[at(arm_of_robot_.at(e.robot))].insert(std::min(e.t, end));
+  makePieces();
+  std::vector<Aabb> reach(at(arms));
+  for (const Piece& p : pieces_) reach[at(p.arm)].extend(p.box);
+  for (int arm = 0; arm < arms; ++arm) {
+    for (const PlanEvent& e : plan_.events) {
+      const int other = arm_of_robot_.at(e.robot);
+      if (other != arm && reach[at(arm)].exteriorDistance(reach[at(other)]) <= options_.clearance) {
+        cuts_[at(arm)].insert(std::min(e.t, end));
+      }
+    }
+  }
+}
+
 Graph Builder::build(BuildStats* stats) {
   for (int arm = 0; arm < static_cast<int>(plan_.robots.size()); ++arm) {
     const std::string& id = plan_.robots[at(arm)].robot;
@@ -523,20 +554,18 @@ Graph Builder::build(BuildStats* stats) {
   }
   sortEvents();
   replayHolders();
-  const double end = std::max(plan_.lastTime(), plan_.makespan);
-  cuts_.assign(plan_.robots.size(), {});
-  for (int arm = 0; arm < static_cast<int>(plan_.robots.size()); ++arm) {
-    auto& cuts = cuts_[at(arm)];
-    cuts.insert(0.0);
-    cuts.insert(end);
-    for (const TrajectoryPoint& p : plan_.robots[at(arm)].points) cuts.insert(std::min(p.t, end));
-    for (const PlanEvent& e : plan_.events) cuts.insert(std::min(e.t, end));
-  }
+  initialCuts();
   for (;;) {
     makePieces();
     ++rounds_;
     last_round_ = rounds_ >= kMaxRounds;
-    if (!findConflicts()) break;
+    const bool again = findConflicts();
+    if (options_.progress) {
+      options_.progress("round " + std::to_string(rounds_) + ": " + std::to_string(pieces_.size()) + " pieces, " +
+                        std::to_string(meet_cache_.size()) + " pairs tested, " + std::to_string(sweeps_.evaluations()) +
+                        " distance evaluations, " + std::to_string(pending_.size()) + " cuts asked");
+    }
+    if (!again) break;
   }
   addObjectEdges();
   addHandoverEdges();

@@ -18,7 +18,7 @@ namespace dash::cli {
 
 extern const char* const kTpgHelp;
 const char* const kTpgHelp =
-    "usage: dashbench tpg --scene FILE --plan FILE [--out FILE] [--json] [--clearance M] [--rebuild]\n"
+    "usage: dashbench tpg --scene FILE --plan FILE [--out FILE] [--json] [--clearance M] [--rebuild] [--verbose]\n"
     "                     [--check N] [--seed S] [--max-wait S] [--max-stretch X] [--drop-edge K] [--threads N]\n"
     "The temporal plan graph of a valid plan (docs/dispatch.md): per arm, its motion segments and\n"
     "events; across arms, the edges an execution must respect (handovers, objects, swept volumes that\n"
@@ -27,6 +27,7 @@ const char* const kTpgHelp =
     "  --out FILE       write the plan with its \"tpg\" field (dashbench.plan/1, docs/formats.md)\n"
     "  --json           print the graph (the \"tpg\" field) instead of the summary\n"
     "  --clearance M    parts closer than M metres meet (default 0.002, the planners' clearance)\n"
+    "  --verbose        a line per cutting round of the build on standard error (pieces, pairs, evaluations)\n"
     "  --check N        replay N executions with random per-node delays that respect the graph and run\n"
     "                   the certified validator on each (draw 0: no delay); exit 1 if any fails\n"
     "  --seed S         first seed of the draws (default 1)\n"
@@ -67,6 +68,12 @@ tpg::Graph graphOf(const Args& args, const Scene& scene, const Plan& plan) {
   if (!plan.tpg.empty() && !args.has("rebuild")) return tpg::parseTpg(plan.tpg, plan);
   tpg::BuildStats stats;
   const auto t0 = std::chrono::steady_clock::now();
+  if (args.has("verbose")) {
+    options.progress = [t0](const std::string& line) {
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::fprintf(stderr, "%8.2f s  %s\n", s, line.c_str());
+    };
+  }
   tpg::Graph g = tpg::buildGraph(scene, plan, options, &stats);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!args.has("json")) printSummary(g, plan, seconds, stats);
@@ -105,7 +112,7 @@ int runCheck(const Args& args, const Scene& scene, const Plan& plan, tpg::Graph 
 int runTpg(const std::vector<std::string>& words) {
   Args args(words, {.options = {"scene", "plan", "out", "clearance", "check", "seed", "max-wait", "max-stretch",
                                 "drop-edge", "threads"},
-                    .flags = {"json", "rebuild"}});
+                    .flags = {"json", "rebuild", "verbose"}});
   const Scene scene = loadScene(args.require("scene"), RobotLibrary::loadDefault());
   Plan plan = loadPlan(args.require("plan"));
   ValidationOptions validation;
