@@ -4,12 +4,24 @@
 #include <algorithm>
 
 #include "engine/core/check.h"
+#include "engine/tpg/tpg_replay.h"
 #include "server/dispatch/dispatch_service.h"
 #include "server/dispatch/dispatch_service_util.h"
 
 namespace dash::dispatch {
 
 using namespace service_detail;
+
+namespace {
+
+/// Random delay draws replayed and certified before a dispatch by dependencies. The graph builder
+/// does not yet prove every pair apart (docs/dispatch.md, "Known gap": a handover's gripper and held
+/// object may come into each other when both arms approach at once; 49 of 100 draws of a 4-arm
+/// sorting plan failed), so no arm moves on a graph whose replays the certified validator refuses.
+/// A guard, not a proof: a graph that fails one draw in two passes 8 draws with probability 1/256.
+constexpr int kPreflightReplayDraws = 8;
+
+}  // namespace
 
 std::optional<tpg::Graph> DispatchService::tpgGraph(const Plan& plan, const Scene& scene, const DispatchOptions& options,
                                                     PreflightReport& report) const {
@@ -35,7 +47,15 @@ std::optional<tpg::Graph> DispatchService::tpgGraph(const Plan& plan, const Scen
     DASH_THROW_UNLESS(ratio <= 1.0 + 1e-6, "a segment, which starts and ends at rest, would move a joint at " +
                                                fmt(ratio * 100.0, 1) + " % of its limit: time_scale >= " +
                                                fmt(options.time_scale * ratio * 1.001, 3) + " passes");
-    check.message = std::to_string(graph->nodes.size()) + " nodes, " + std::to_string(graph->edges.size()) + " edges";
+    tpg::ReplayOptions replay;
+    replay.draws = kPreflightReplayDraws;
+    const tpg::ReplayReport replays = tpg::checkReplays(scene, plan, *graph, replay);
+    DASH_THROW_UNLESS(replays.failed == 0,
+                      std::to_string(replays.failed) + " of " + std::to_string(replays.draws) +
+                          " replays with random delays that respect the temporal plan graph fail the certified "
+                          "validator (first: " + replays.first_problem + "): the plan cannot run by dependencies");
+    check.message = std::to_string(graph->nodes.size()) + " nodes, " + std::to_string(graph->edges.size()) +
+                    " edges; " + std::to_string(replays.draws) + " delayed replays certified";
   } catch (const InputError& e) {
     check.passed = false;
     check.message = e.what();

@@ -103,6 +103,27 @@ TEST_F(TpgDispatch, TimedExecutionOfASlowedArmIsAbortedOnItsPath) {
               st->reason.c_str());
 }
 
+// A graph that does not keep the arms apart never reaches them: the plan with a graph stripped of
+// every edge between arms (handover and swept) is refused at pre-flight, its delayed replays failing
+// the certified validator.
+TEST_F(TpgDispatch, AGraphWhoseDelayedReplaysCollideIsRefusedAtPreflight) {
+  tpg::Graph stripped = *graph_;
+  std::erase_if(stripped.edges, [&](const tpg::Edge& e) {
+    return stripped.nodes[static_cast<std::size_t>(e.from)].robot != stripped.nodes[static_cast<std::size_t>(e.to)].robot;
+  });
+  Plan plan = *plan_;
+  plan.tpg = tpg::tpgToJson(stripped, plan);
+  const std::string request = test::dispatchBody(plan, *scene_,
+                                                 nlohmann::json{{"time_scale", kTimeScale}, {"execution", "tpg"}}.dump());
+  const test::HttpReply reply = test::httpPost(server_->url(), "/api/dispatch/preflight", request);
+  EXPECT_NE(reply.body.find("replays with random delays that respect the temporal plan graph fail"), std::string::npos)
+      << reply.status << " " << reply.body.substr(0, 600);
+  EXPECT_EQ(nlohmann::json::parse(reply.body, nullptr, false).value("passed", true), false) << reply.body.substr(0, 600);
+  // The graph as built passes the same check.
+  const test::HttpReply whole = test::httpPost(server_->url(), "/api/dispatch/preflight", body("tpg"));
+  EXPECT_NE(whole.body.find("delayed replays certified"), std::string::npos) << whole.status << " " << whole.body.substr(0, 600);
+}
+
 /// Per arm: node -> its executed segment.
 std::map<int, SegmentRecord> byNode(const ArmDispatchStatus& arm) {
   std::map<int, SegmentRecord> out;
