@@ -164,7 +164,7 @@ ObjectGeometry makeObjectGeometry(const Vec3& size, double clearance) {
   for (int k = 0; k < 3; ++k) contact[k] = std::max(size[k] - 2.0 * kObjectContactTolerance, kMinContactFraction * size[k]);
   g.contact_shape = std::make_shared<const fcl::Boxd>(contact);
   g.contact_half_extents = 0.5 * contact;
-  g.bottom_tolerance = std::min(kObjectContactTolerance, 0.5 * (1.0 - kMinContactFraction) * size.minCoeff());
+  g.bottom_tolerance = std::min(kHeldBottomTolerance, 0.5 * (1.0 - kMinContactFraction) * size.minCoeff());
   for (int k = 0; k < 3; ++k) {
     Vec3 held = size + Vec3::Constant(2.0 * clearance);
     held[k] = size[k] + clearance - g.bottom_tolerance;

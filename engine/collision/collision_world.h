@@ -13,8 +13,9 @@
 //    touches it), and never the object they hold;
 //  - a held object and the surface it is picked from or put down on: against obstacles and resting
 //    objects a held object is its exact box with its lowest face (the one whose outward normal points
-//    most nearly down) raised by the tolerance, so it may sit on a shelf board but not enter it from
-//    the side or from below.
+//    most nearly down) raised by kHeldBottomTolerance (0.1 mm, less than the resting tolerance: the
+//    planners put objects down and lift them off along straight TCP lines, cartesian_path.h), so it
+//    may sit on a shelf board but not enter it from the side or from below, nor sink into it by more.
 // Everything else, a carried object against another robot or its own arm included, is exact.
 //
 // Clearance (CollisionWorldOptions::clearance, the planners' margin): robot bodies and held objects are
@@ -49,6 +50,8 @@ namespace dash {
 using Aabb = Eigen::AlignedBox3d;
 
 inline constexpr double kObjectContactTolerance = 1e-3;
+/// m: how far a held object's lowest face may reach into the surface it is picked from or put down on.
+inline constexpr double kHeldBottomTolerance = 1e-4;
 /// Planners: a gripper body of an empty hand may touch the resting object nearest its TCP, if the TCP is
 /// within this of its box (a gripper on its approach line, at a grasp or just after a release); no other
 /// one, and none while the hand holds an object.

@@ -1,6 +1,7 @@
 #include "engine/conflict/step_scheduler.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "engine/conflict/parking.h"
 
@@ -19,6 +20,33 @@ const char* toString(ArrivalMode mode) {
   }
   return "?";
 }
+
+namespace {
+
+/// Times from 0 of the waypoints of a Cartesian approach or retreat (StepVisit::approach, ::retreat):
+/// every segment at the scheduler's speed, the whole stretched to a duration Scheduler::duration
+/// would give one segment of its length (rounded up to the millisecond, at least min_segment) rather
+/// than each of its many short segments rounded up on its own. A single point is held for min_segment.
+std::vector<double> lineTimes(const Scene& scene, const SchedulerParams& params, int robot,
+                              const std::vector<JointVector>& path) {
+  const JointVector& vmax = scene.robots[robot].model->limits.velocity_max;
+  std::vector<double> times{0.0};
+  for (std::size_t w = 1; w < path.size(); ++w) {
+    double t = 0.0;
+    for (int i = 0; i < vmax.size(); ++i)
+      t = std::max(t, std::abs(path[w][i] - path[w - 1][i]) / (params.velocity_scale * vmax[i]));
+    times.push_back(times.back() + t);
+  }
+  if (path.size() < 2) return {0.0, params.min_segment};  // held still, as Scheduler::duration(q, q)
+  const double exact = times.back();
+  const double total = std::max(params.min_segment, std::ceil(exact * 1000.0) / 1000.0);
+  const double n = static_cast<double>(times.size() - 1);
+  for (std::size_t w = 1; w < times.size(); ++w) times[w] = exact > 0.0 ? times[w] * (total / exact) : total * w / n;
+  times.back() = total;
+  return times;
+}
+
+}  // namespace
 
 // --- ScheduleBuild
 
@@ -79,13 +107,20 @@ StepScheduler::StepScheduler(ScheduleBuild& build, const TaskPlan& plan, int ste
     p.visit = &visit;
     p.transit = visit.transit;
     p.transit_time = b_.scheduler.pathDuration(r, visit.transit);
-    p.approach_time = b_.scheduler.duration(r, visit.q_pre, visit.q);
+    p.approach_times = lineTimes(b_.scene, b_.params, r, visit.approach);
+    p.approach_time = p.approach_times.back();
     parts_.push_back(std::move(p));
   }
   for (const Participant& p : parts_) {
     movers_.push_back(p.robot);
     max_approach_ = std::max(max_approach_, p.approach_time);
   }
+}
+
+void StepScheduler::appendApproach(RobotTimeline& c, const Participant& p, double T) const {
+  const std::vector<JointVector>& approach = p.visit->approach;
+  for (std::size_t w = 0; w < p.approach_times.size(); ++w)
+    c.append(T - p.approach_time + p.approach_times[w], approach[std::min(w, approach.size() - 1)]);
 }
 
 int StepScheduler::modes() const { return parts_.size() == 2 && b_.params.staggered_arrivals ? 3 : 1; }
@@ -130,10 +165,7 @@ std::optional<std::vector<RobotTimeline>> StepScheduler::trial(ArrivalMode mode,
         c.append(t, (*composite_)[w][i]);
       }
     }
-    for (const Participant& p : parts_) {
-      trial[p.robot].append(T - p.approach_time, p.visit->q_pre);
-      trial[p.robot].append(T, p.visit->q);
-    }
+    for (const Participant& p : parts_) appendApproach(trial[p.robot], p, T);
   } else {
     const int m = static_cast<int>(mode);
     const std::vector<double> arrive = arrivals(mode, T);
@@ -147,8 +179,7 @@ std::optional<std::vector<RobotTimeline>> StepScheduler::trial(ArrivalMode mode,
       const double depart = arrive[i] - (own ? p.staggered_time[m] : p.transit_time);
       c.append(depart, c.last());  // wait where it stands: always clear (its standing was checked)
       b_.scheduler.appendPath(c, depart, path);
-      c.append(T - p.approach_time, p.visit->q_pre);
-      c.append(T, p.visit->q);
+      appendApproach(c, p, T);
     }
   }
   // The transition itself at time T.
@@ -422,11 +453,11 @@ bool StepScheduler::finish(std::string& why) {
   for (const Participant& p : parts_) {
     const StepVisit& v = *p.visit;
     if ((v.q_post - v.q).cwiseAbs().maxCoeff() < 1e-12) continue;
-    const double d = b_.scheduler.duration(p.robot, v.q, v.q_post);
+    const std::vector<double> times = lineTimes(scene, b_.params, p.robot, v.retreat);
     for (double rho = T + b_.params.dwell; rho <= T + b_.params.max_delay; rho += b_.params.delay_step) {
       RobotTimeline c = timelines[p.robot];
       c.append(rho, v.q);
-      c.append(rho + d, v.q_post);
+      for (std::size_t w = 1; w < v.retreat.size(); ++w) c.append(rho + times[w], v.retreat[w]);
       if (!b_.checker.check(c, timelines[p.robot].end(), kForever, timelines, b_.state.objects)) {
         timelines[p.robot] = std::move(c);
         break;

@@ -84,6 +84,7 @@ class StepScheduler {
     std::vector<JointVector> transit;
     double transit_time = 0.0;
     double approach_time = 0.0;
+    std::vector<double> approach_times;  ///< of visit->approach's waypoints, from 0 to approach_time
     /// Staggered arrival modes (kGiverFirst, kReceiverFirst): transits replanned around the partner.
     std::vector<JointVector> staggered[3];
     double staggered_time[3] = {0.0, 0.0, 0.0};
@@ -91,6 +92,8 @@ class StepScheduler {
   };
   enum class Repair { kSameModeAgain, kComposite, kNone };
 
+  /// Appends p's approach to c so that it arrives at its transition configuration at T.
+  void appendApproach(RobotTimeline& c, const Participant& p, double T) const;
   int modes() const;  ///< individual arrival modes for this step (1, or 3 for a handover)
   double earliest() const;
   /// Participants' arrival times at their approach starts for an individual mode at T.

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/robots/cartesian_path.h"
+
 namespace dash {
 
 namespace {
@@ -146,7 +148,7 @@ MotionHypergraph::MotionHypergraph(const TaskSpace& space_in, const TransitionCa
     const VertexId pre = robotVertex(g.robot, g.q_pre);
     const VertexId hold = holdingVertex(g.robot, g.held, g.q_hold);
     const VertexId at = objectVertex(g.object, g.placement);
-    const double cost = (g.q_pre - g.q).norm() + (g.q - g.q_hold).norm();
+    const double cost = pathLength(g.pre_path) + pathLength(g.hold_path);
     const int index = static_cast<int>(i);
     transitions_from_[pre.value()].push_back(arc({pre, at}, {hold}, {MotionArc::Type::kPick, index}, cost));
     transitions_from_[hold.value()].push_back(arc({hold}, {pre, at}, {MotionArc::Type::kPlace, index}, cost));
@@ -163,7 +165,7 @@ MotionHypergraph::MotionHypergraph(const TaskSpace& space_in, const TransitionCa
     const VertexId v1post = robotVertex(h.giver, h.q1_post);
     const VertexId v2pre = robotVertex(h.receiver, h.q2_pre);
     const VertexId v2post = holdingVertex(h.receiver, h.held2, h.q2_post);
-    const double cost = (h.q1 - h.q1_post).norm() + (h.q2_pre - h.q2).norm() + (h.q2 - h.q2_post).norm();
+    const double cost = pathLength(h.q1_post_path) + pathLength(h.q2_pre_path) + pathLength(h.q2_post_path);
     const HyperarcId a = arc({v1, v2pre}, {v1post, v2post}, {MotionArc::Type::kHandover, static_cast<int>(i)}, cost);
     transitions_from_[v1.value()].push_back(a);
     transitions_from_[v2pre.value()].push_back(a);
@@ -177,7 +179,7 @@ MotionHypergraph::MotionHypergraph(const TaskSpace& space_in, const TransitionCa
     const VertexId pre = robotVertex(s.robot, s.q_pre);
     const VertexId pending = taskVertex(s.task, false);
     const VertexId done = taskVertex(s.task, true);
-    const double cost = 2.0 * (s.q_pre - s.q).norm();
+    const double cost = 2.0 * pathLength(s.pre_path);
     const int lid = scene.tasks[s.task].requires_removed_object;
     const int index = static_cast<int>(i);
     if (lid < 0) {

@@ -38,16 +38,17 @@ ExtractedPlan extractPlan(const MotionHypergraph& graph, const HyperpathResult& 
   // The plan steps each hyperpath step (transitively, through moves) comes after.
   std::vector<std::vector<int>> produced_by(path.steps.size());
 
-  auto visit = [&](int robot, int role, int step, const JointVector& q_pre, const JointVector& q,
-                   const JointVector& q_post, const HeldObject& before, const HeldObject& after) {
+  // The approach and retreat come as back-off paths from q (q first): the approach is the reverse.
+  auto visit = [&](int robot, int role, int step, const std::vector<JointVector>& pre_path, const JointVector& q,
+                   const std::vector<JointVector>& post_path, const HeldObject& before, const HeldObject& after) {
     StepVisit v;
     v.step = step;
     v.receiver = role == 1;
-    Pending& p = pending[robot];
-    v.transit = p.path.empty() ? std::vector<JointVector>{q_pre} : std::move(p.path);
-    v.q_pre = q_pre;
     v.q = q;
-    v.q_post = q_post;
+    setApproach(v, pre_path);
+    setRetreat(v, post_path);
+    Pending& p = pending[robot];
+    v.transit = p.path.empty() ? std::vector<JointVector>{v.q_pre} : std::move(p.path);
     v.held_before = before;
     v.held_after = after;
     out.motion.robots[robot].visits.push_back(std::move(v));
@@ -89,9 +90,9 @@ ExtractedPlan extractPlan(const MotionHypergraph& graph, const HyperpathResult& 
         out.plan.steps.push_back(std::move(step));
         out.transitions.push_back(tc);
         if (pick)
-          visit(gs.robot, 0, k, gs.q_pre, gs.q, gs.q_hold, HeldObject{}, gs.held);
+          visit(gs.robot, 0, k, gs.pre_path, gs.q, gs.hold_path, HeldObject{}, gs.held);
         else
-          visit(gs.robot, 0, k, gs.q_hold, gs.q, gs.q_pre, gs.held, HeldObject{});
+          visit(gs.robot, 0, k, gs.hold_path, gs.q, gs.pre_path, gs.held, HeldObject{});
         break;
       }
       case MotionArc::Type::kHandover: {
@@ -105,8 +106,8 @@ ExtractedPlan extractPlan(const MotionHypergraph& graph, const HyperpathResult& 
         tc.X_TO2 = h.held2.X_TO;
         out.plan.steps.push_back(std::move(step));
         out.transitions.push_back(tc);
-        visit(h.giver, 0, k, h.q1, h.q1, h.q1_post, h.held, HeldObject{});
-        visit(h.receiver, 1, k, h.q2_pre, h.q2, h.q2_post, HeldObject{}, h.held2);
+        visit(h.giver, 0, k, {h.q1}, h.q1, h.q1_post_path, h.held, HeldObject{});
+        visit(h.receiver, 1, k, h.q2_pre_path, h.q2, h.q2_post_path, HeldObject{}, h.held2);
         break;
       }
       case MotionArc::Type::kInspect: {
@@ -118,7 +119,7 @@ ExtractedPlan extractPlan(const MotionHypergraph& graph, const HyperpathResult& 
         tc.X_WO = scene.tasks[is.task].X_WT;
         out.plan.steps.push_back(std::move(step));
         out.transitions.push_back(tc);
-        visit(is.robot, 0, k, is.q_pre, is.q, is.q_pre, HeldObject{}, HeldObject{});
+        visit(is.robot, 0, k, is.pre_path, is.q, is.pre_path, HeldObject{}, HeldObject{});
         break;
       }
       default:

@@ -101,10 +101,10 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
       const HyperarcId transition = plan.plan.steps[k].arc;
       const HeldObject& at_q = v.held_before.holding() ? v.held_before : v.held_after;
       auto approachHits = [&](const ObjectLayout& l) {
-        return check.stateHits(r, v.q, at_q, l) || check.segmentHits(r, v.q_pre, v.q, v.held_before, l);
+        return check.stateHits(r, v.q, at_q, l) || check.pathHits(r, v.approach, v.held_before, l);
       };
       auto retreatHits = [&](const ObjectLayout& l) {
-        return check.stateHits(r, v.q_post, v.held_after, l) || check.segmentHits(r, v.q, v.q_post, v.held_after, l);
+        return check.stateHits(r, v.q_post, v.held_after, l) || check.pathHits(r, v.retreat, v.held_after, l);
       };
       const bool pre_hits = check.stateHits(r, v.q_pre, v.held_before, layouts[k]);
       if (pre_hits || approachHits(layouts[k]) || retreatHits(layouts[k + 1])) {

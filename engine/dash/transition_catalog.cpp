@@ -6,6 +6,7 @@
 
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/segment_queries.h"
+#include "engine/robots/cartesian_path.h"
 #include "engine/robots/kinematics.h"
 
 namespace dash {
@@ -16,57 +17,67 @@ constexpr int kReceiverCandidates = 8;  // receiver grasp configurations looked 
 
 double jointDistance(const JointVector& a, const JointVector& b) { return (a - b).cwiseAbs().sum(); }
 
-/// q with the TCP backed off by `distance` along its approach axis, statically free and reachable by
-/// a free straight segment; nullopt when there is none.
-std::optional<JointVector> backOff(TransitionSampler& sampler, int robot, const JointVector& q, const HeldObject& held,
-                                   double distance) {
+/// The path from q on which the TCP backs off by `distance` along its approach axis (rising by
+/// side_lift when sideways: backOffPose) on a straight line (cartesianPath), every waypoint statically
+/// free and every segment too; nullopt when there is none.
+std::optional<std::vector<JointVector>> backOff(TransitionSampler& sampler, int robot, const JointVector& q,
+                                                const HeldObject& held, double distance,
+                                                const TransitionCatalogParams& params) {
   const CollisionWorld& world = sampler.world();
   const SceneRobot& r = world.scene().robots[robot];
   const Pose X_WT = forwardKinematics(*r.model, r.X_WB, q).X_WT;
-  const Pose X_WTpre = X_WT * makePose(Vec3(0, 0, -distance));
   const ObjectLayout none = ObjectLayout::empty(world.scene());
-  std::optional<JointVector> best;
-  for (const JointVector& cand : inverseKinematics(*r.model, r.X_WB, X_WTpre)) {
-    if (best && jointDistance(cand, q) >= jointDistance(*best, q)) continue;
-    const RobotState state{robot, cand, held};
-    if (!sampler.staticFree(state)) continue;
-    if (segmentInCollision(world, sampler.context(), state, q, none, nullptr,
-                           SegmentOptions{.scope = CheckScope::kStaticOnly}))
-      continue;
-    best = cand;
+  std::vector<JointVector> candidates = inverseKinematics(*r.model, r.X_WB, backOffPose(X_WT, distance, params.side_lift));
+  std::sort(candidates.begin(), candidates.end(),
+            [&](const JointVector& a, const JointVector& b) { return jointDistance(a, q) < jointDistance(b, q); });
+  for (const JointVector& cand : candidates) {
+    std::optional<std::vector<JointVector>> path = backOffLine(*r.model, r.X_WB, q, cand);
+    if (!path) continue;
+    bool free = true;
+    for (std::size_t i = path->size(); free && i-- > 1;) free = sampler.staticFree({robot, (*path)[i], held});
+    for (std::size_t i = path->size(); free && i-- > 1;)
+      free = !segmentInCollision(world, sampler.context(), {robot, (*path)[i], held}, (*path)[i - 1], none, nullptr,
+                                 SegmentOptions{.scope = CheckScope::kStaticOnly, .check_endpoints = false});
+    if (free) return path;
   }
-  return best;
+  return std::nullopt;
 }
 
-/// backOff, or q itself when there is no room (the transition then starts and ends right there).
-JointVector backedOff(TransitionSampler& sampler, int robot, const JointVector& q, const HeldObject& held,
-                      double distance) {
-  return backOff(sampler, robot, q, held, distance).value_or(q);
+/// backOff, or q alone when there is no room (the transition then starts and ends right there).
+std::vector<JointVector> backedOff(TransitionSampler& sampler, int robot, const JointVector& q, const HeldObject& held,
+                                   double distance, const TransitionCatalogParams& params) {
+  return backOff(sampler, robot, q, held, distance, params).value_or(std::vector<JointVector>{q});
 }
 
 /// The back-off a grasp sample uses: for a side grasp the farthest free deep back-off, else (or when
-/// none is free) the short one, else q itself.
-JointVector graspBackOff(TransitionSampler& sampler, int robot, const JointVector& q, const HeldObject& held,
-                         GraspClass grasp, const TransitionCatalogParams& params) {
+/// none is free) the short one, else q alone.
+std::vector<JointVector> graspBackOff(TransitionSampler& sampler, int robot, const JointVector& q,
+                                      const HeldObject& held, GraspClass grasp, const TransitionCatalogParams& params) {
   if (grasp == GraspClass::kSide)
     for (auto it = params.deep_approach_distances.rbegin(); it != params.deep_approach_distances.rend(); ++it)
-      if (auto deep = backOff(sampler, robot, q, held, *it)) return *deep;
-  return backedOff(sampler, robot, q, held, params.approach_distance);
+      if (auto deep = backOff(sampler, robot, q, held, *it, params)) return *deep;
+  return backedOff(sampler, robot, q, held, params.approach_distance, params);
+}
+
+/// Whether robot `mover` moving along `path` (held throughout) meets robot `still` standing there.
+bool pathMeetsStanding(TransitionSampler& sampler, const RobotState& mover, const std::vector<JointVector>& path,
+                       const RobotState& still) {
+  const ObjectLayout none = ObjectLayout::empty(sampler.world().scene());
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const RobotMotion motions[2] = {{{mover.robot, path[i - 1], mover.held}, path[i]}, {still, still.q}};
+    if (motionsInCollision(sampler.world(), sampler.context(), std::span<const RobotMotion>(motions, 2), none, nullptr,
+                           SegmentOptions{.scope = CheckScope::kStaticOnly}))
+      return true;
+  }
+  return false;
 }
 
 /// The handover's own motions, with both robots: the receiver's approach while the giver holds the
 /// object in place, the giver's retreat while the receiver holds it, the receiver's retreat.
 bool handoverMotionsFree(TransitionSampler& sampler, const HandoverSample& h) {
-  const CollisionWorld& world = sampler.world();
-  const ObjectLayout none = ObjectLayout::empty(world.scene());
-  const RobotMotion approach[2] = {{{h.receiver, h.q2_pre, {}}, h.q2}, {{h.giver, h.q1, h.held}, h.q1}};
-  const RobotMotion giver_retreat[2] = {{{h.giver, h.q1, {}}, h.q1_post}, {{h.receiver, h.q2, h.held2}, h.q2}};
-  const RobotMotion receiver_retreat[2] = {{{h.receiver, h.q2, h.held2}, h.q2_post}, {{h.giver, h.q1_post, {}}, h.q1_post}};
-  for (const auto* m : {approach, giver_retreat, receiver_retreat})
-    if (motionsInCollision(world, sampler.context(), std::span<const RobotMotion>(m, 2), none, nullptr,
-                           SegmentOptions{.scope = CheckScope::kStaticOnly}))
-      return false;
-  return true;
+  return !pathMeetsStanding(sampler, {h.receiver, h.q2, {}}, h.q2_pre_path, {h.giver, h.q1, h.held}) &&
+         !pathMeetsStanding(sampler, {h.giver, h.q1, {}}, h.q1_post_path, {h.receiver, h.q2, h.held2}) &&
+         !pathMeetsStanding(sampler, {h.receiver, h.q2, h.held2}, h.q2_post_path, {h.giver, h.q1_post, {}});
 }
 
 struct Obtainable {
@@ -115,8 +126,10 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
         s.grasp = arc.grasp;
         s.held = HeldObject{arc.object, gc.X_TO};
         s.q = gc.q;
-        s.q_pre = graspBackOff(sampler, arc.robot, gc.q, HeldObject{}, arc.grasp, params);
-        s.q_hold = graspBackOff(sampler, arc.robot, gc.q, s.held, arc.grasp, params);
+        s.pre_path = graspBackOff(sampler, arc.robot, gc.q, HeldObject{}, arc.grasp, params);
+        s.hold_path = graspBackOff(sampler, arc.robot, gc.q, s.held, arc.grasp, params);
+        s.q_pre = s.pre_path.back();
+        s.q_hold = s.hold_path.back();
         obtain(arc.robot, s.held, arc.grasp);
         out.grasps.push_back(std::move(s));
       }
@@ -168,8 +181,8 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
                               CheckScope::kStaticOnly))
           continue;
         // Both need room: the receiver to approach, the giver to let go and back off.
-        const auto q1_post = backOff(sampler, arc.robot, givers.front(), HeldObject{}, params.approach_distance);
-        const auto q2_pre = backOff(sampler, arc.robot2, gc2.q, HeldObject{}, params.approach_distance);
+        const auto q1_post = backOff(sampler, arc.robot, givers.front(), HeldObject{}, params.approach_distance, params);
+        const auto q2_pre = backOff(sampler, arc.robot2, gc2.q, HeldObject{}, params.approach_distance, params);
         if (!q1_post || !q2_pre) continue;
         HandoverSample h;
         h.giver = arc.robot;
@@ -181,10 +194,13 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
         h.held = g1.held;
         h.held2 = HeldObject{o, gc2.X_TO};
         h.q1 = givers.front();
-        h.q1_post = *q1_post;
+        h.q1_post_path = *q1_post;
+        h.q1_post = q1_post->back();
         h.q2 = gc2.q;
-        h.q2_pre = *q2_pre;
-        h.q2_post = backedOff(sampler, arc.robot2, h.q2, h.held2, params.approach_distance);
+        h.q2_pre_path = *q2_pre;
+        h.q2_pre = q2_pre->back();
+        h.q2_post_path = backedOff(sampler, arc.robot2, h.q2, h.held2, params.approach_distance, params);
+        h.q2_post = h.q2_post_path.back();
         if (!handoverMotionsFree(sampler, h)) continue;
         st.grid = ArcState::Grid::kPossible;
         changed = obtain(arc.robot2, h.held2, arc.grasp2) || changed;
@@ -230,7 +246,9 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
     for (const JointVector& q : sampler.ikSolutions(arc.robot, scene.tasks[arc.task].X_WT)) {
       if (deadline.expired()) return out;
       if (!sampler.staticFree({arc.robot, q, HeldObject{}})) continue;
-      out.inspects.push_back({arc.robot, arc.task, q, backedOff(sampler, arc.robot, q, {}, params.approach_distance)});
+      std::vector<JointVector> pre_path = backedOff(sampler, arc.robot, q, {}, params.approach_distance, params);
+      const JointVector q_pre = pre_path.back();
+      out.inspects.push_back({arc.robot, arc.task, q, q_pre, std::move(pre_path)});
       if (++n >= params.inspect_configs) break;
     }
   }

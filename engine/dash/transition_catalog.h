@@ -5,8 +5,9 @@
 // goal, pre-sampled); for each handover hyperarc (giver, receiver, object, class pair) and each grasp
 // of that class the giver can actually hold the object with: an object pose between the two arms, a
 // giver configuration holding it so and a receiver grasp configuration, the two free of each other; for each inspect hyperarc: inspection
-// configurations. Every configuration (and its approach/retreat, backed off along the TCP axis) is
-// checked against what never moves: these are the eager checks of DaSH. Resting objects and other
+// configurations. Every configuration (and its approach/retreat, backed off along the TCP axis on a
+// straight TCP line, rising a little when sideways: backOffPose, cartesianPath) is checked against
+// what never moves: these are the eager checks of DaSH. Resting objects and other
 // robots are left to conflict resolution.
 #include <vector>
 
@@ -26,6 +27,9 @@ struct GraspSample {
   JointVector q;       ///< at the object
   JointVector q_pre;   ///< backed off with an empty hand: approach before a pick, retreat after a place
   JointVector q_hold;  ///< backed off holding it: retreat after a pick, approach before a place
+  /// q -> q_pre and q -> q_hold: the TCP's straight lines as waypoints (cartesian_path.h).
+  std::vector<JointVector> pre_path;
+  std::vector<JointVector> hold_path;
 };
 
 struct HandoverSample {
@@ -42,6 +46,10 @@ struct HandoverSample {
   JointVector q2;       ///< receiver at the handover
   JointVector q2_pre;   ///< receiver backed off, empty hand
   JointVector q2_post;  ///< receiver backed off, holding
+  /// q1 -> q1_post, q2 -> q2_pre and q2 -> q2_post as straight TCP lines (cartesian_path.h).
+  std::vector<JointVector> q1_post_path;
+  std::vector<JointVector> q2_pre_path;
+  std::vector<JointVector> q2_post_path;
 };
 
 struct InspectSample {
@@ -49,6 +57,7 @@ struct InspectSample {
   int task = -1;
   JointVector q;
   JointVector q_pre;  ///< approach start and retreat end
+  std::vector<JointVector> pre_path;  ///< q -> q_pre, a straight TCP line (cartesian_path.h)
 };
 
 // The same candidates as Lazy-DaSH's task conflict detection and motion layer (TaskConflictParams,
@@ -65,6 +74,7 @@ struct TransitionCatalogParams {
   int handovers_per_grasp = 2;       ///< handover samples per handover hyperarc and giver grasp
   int inspect_configs = 2;           ///< per inspect hyperarc
   double approach_distance = 0.06;   ///< metres the TCP backs off along its approach axis
+  double side_lift = 0.015;          ///< metres a sideways back-off also rises (backOffPose)
   /// Side grasps (into a shelf cubby) back off by the farthest of these that is free, as Lazy-DaSH's
   /// motion layer does when the short back-off is not reached: DaSH anchors its roadmaps there.
   std::vector<double> deep_approach_distances = {0.15, 0.2, 0.25, 0.3, 0.35};

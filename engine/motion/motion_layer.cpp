@@ -1,10 +1,12 @@
 #include "engine/motion/motion_layer.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/region_queries.h"
 #include "engine/collision/segment_queries.h"
+#include "engine/robots/cartesian_path.h"
 #include "engine/robots/kinematics.h"
 
 namespace dash {
@@ -12,24 +14,6 @@ namespace dash {
 namespace {
 
 double jointDistance(const JointVector& a, const JointVector& b) { return (a - b).cwiseAbs().sum(); }
-
-/// Whether the joint-space segment q -> q_pre keeps the TCP near the straight line between their TCP
-/// positions: a back-off is a Cartesian approach only then. An IK branch far from q in joint space
-/// (a wrist flip near a singularity) passes the end-point checks but swings the arm through whatever
-/// is next to the gripper, such as the partner of a handover.
-bool staysOnApproachLine(const SceneRobot& r, const JointVector& q, const JointVector& q_pre) {
-  const Vec3 a = forwardKinematics(*r.model, r.X_WB, q).X_WT.translation();
-  const Vec3 b = forwardKinematics(*r.model, r.X_WB, q_pre).X_WT.translation();
-  const double length = (b - a).norm();
-  const double tolerance = 0.01 + 0.25 * length;
-  constexpr int kSamples = 8;
-  for (int i = 1; i < kSamples; ++i) {
-    const double s = static_cast<double>(i) / kSamples;
-    const Vec3 p = forwardKinematics(*r.model, r.X_WB, q + s * (q_pre - q)).X_WT.translation();
-    if ((p - (a + s * (b - a))).norm() > tolerance) return false;
-  }
-  return true;
-}
 
 }  // namespace
 
@@ -126,35 +110,45 @@ std::optional<JointVector> MotionLayer::backedOff(int robot, const JointVector& 
   const SceneRobot& r = world_->scene().robots[robot];
   const Pose X_WT = forwardKinematics(*r.model, r.X_WB, q).X_WT;
   const double d = distance > 0.0 ? distance : params_.approach_distance;
-  Pose X_WTpre = X_WT * makePose(Vec3(0, 0, -d));
-  if (direction_W) X_WTpre = makePose(d * direction_W->normalized()) * X_WT;
-  // Sideways approaches also rise a little: an object resting on a pedestal or board touches it, and
-  // the joint-space segment would graze it on the way out. With a handover partner's hand next to the
-  // object the rise may sweep through it; then the straight line is tried too.
-  const Vec3 axis_W = direction_W ? direction_W->normalized() : Vec3(X_WT.linear().col(2));
-  std::vector<Pose> targets;
-  if (std::abs(axis_W.z()) < 0.7) targets.push_back(makePose(Vec3(0, 0, params_.side_lift)) * X_WTpre);
-  if (targets.empty() || partner) targets.push_back(X_WTpre);
+  // Sideways approaches also rise a little (backOffPose): an object resting on a pedestal or board
+  // touches it. With a handover partner's hand next to the object the rise may sweep through it; then
+  // the straight line is tried too.
+  std::vector<Pose> targets{backOffPose(X_WT, d, params_.side_lift, direction_W)};
+  if (partner && backsOffSideways(X_WT, direction_W)) targets.push_back(backOffPose(X_WT, d, 0.0, direction_W));
   for (const Pose& target : targets) {
-    std::optional<JointVector> best;
-    for (const JointVector& cand : inverseKinematics(*r.model, r.X_WB, target)) {
-      if (best && jointDistance(cand, q) >= jointDistance(*best, q)) continue;
-      if (!staysOnApproachLine(r, q, cand)) continue;
-      const RobotState state{robot, cand, held};
-      if (robotInCollision(*world_, *context_, state, layout)) continue;
-      if (segmentInCollision(*world_, *context_, state, q, layout)) continue;
-      if (!held.holding() && gripperEntersContactBox(*world_, *context_, robot, cand, q, layout)) continue;
-      if (partner) {
-        const RobotMotion motions[2] = {{state, q}, {*partner, partner->q}};
-        if (motionsInCollision(*world_, *context_, motions, ObjectLayout::empty(world_->scene()), nullptr,
-                               {CheckScope::kStaticOnly}))
-          continue;
-      }
-      best = cand;
+    // The IK solutions nearest q first: the first whose straight line from q is free. One far from q
+    // in joint space (a wrist flip near a singularity) has no Cartesian path from q at all.
+    std::vector<JointVector> candidates = inverseKinematics(*r.model, r.X_WB, target);
+    std::sort(candidates.begin(), candidates.end(),
+              [&](const JointVector& a, const JointVector& b) { return jointDistance(a, q) < jointDistance(b, q); });
+    for (const JointVector& cand : candidates) {
+      // The path the visit will have (backOffPath of these ends: cartesianPath is deterministic).
+      const std::optional<std::vector<JointVector>> path = backOffLine(*r.model, r.X_WB, q, cand);
+      if (path && backOffFree(robot, *path, held, layout, partner)) return cand;
     }
-    if (best) return best;
   }
   return std::nullopt;
+}
+
+bool MotionLayer::backOffFree(int robot, const std::vector<JointVector>& path, const HeldObject& held,
+                              const ObjectLayout& layout, const std::optional<RobotState>& partner) const {
+  // The waypoints once each (q, the first, is the transition configuration: checked by its caller),
+  // then the segments between them.
+  for (std::size_t i = path.size(); i-- > 1;)
+    if (robotInCollision(*world_, *context_, RobotState{robot, path[i], held}, layout)) return false;
+  for (std::size_t i = path.size(); i-- > 1;) {
+    const RobotState state{robot, path[i], held};
+    if (segmentInCollision(*world_, *context_, state, path[i - 1], layout, nullptr, SegmentOptions{.check_endpoints = false}))
+      return false;
+    if (!held.holding() && gripperEntersContactBox(*world_, *context_, robot, path[i], path[i - 1], layout)) return false;
+    if (partner) {
+      const RobotMotion motions[2] = {{state, path[i - 1]}, {*partner, partner->q}};
+      if (motionsInCollision(*world_, *context_, motions, ObjectLayout::empty(world_->scene()), nullptr,
+                             {CheckScope::kStaticOnly}))
+        return false;
+    }
+  }
+  return true;
 }
 
 std::optional<JointVector> MotionLayer::farthestBackOff(int robot, const JointVector& q, const HeldObject& held,
@@ -162,6 +156,22 @@ std::optional<JointVector> MotionLayer::farthestBackOff(int robot, const JointVe
   for (auto d = params_.deep_approach_distances.rbegin(); d != params_.deep_approach_distances.rend(); ++d)
     if (auto q_back = backedOff(robot, q, held, layout, {}, *d)) return q_back;
   return std::nullopt;
+}
+
+void setApproach(StepVisit& v, const std::optional<std::vector<JointVector>>& back_off) {
+  v.approach = back_off ? std::vector<JointVector>(back_off->rbegin(), back_off->rend()) : std::vector<JointVector>{v.q};
+  v.q_pre = v.approach.front();
+}
+
+void setRetreat(StepVisit& v, const std::optional<std::vector<JointVector>>& back_off) {
+  v.retreat = back_off ? *back_off : std::vector<JointVector>{v.q};
+  v.q_post = v.retreat.back();
+}
+
+void MotionLayer::setBackOffPaths(StepVisit& v, int robot) const {
+  const SceneRobot& r = world_->scene().robots[robot];
+  setApproach(v, backOffPath(*r.model, r.X_WB, v.q, v.q_pre));
+  setRetreat(v, backOffPath(*r.model, r.X_WB, v.q, v.q_post));
 }
 
 }  // namespace dash

@@ -31,9 +31,20 @@ struct StepVisit {
   JointVector q_pre;                   ///< approach start
   JointVector q;                       ///< the transition configuration
   JointVector q_post;                  ///< retreat end
+  /// q_pre -> q and q -> q_post: the TCP's straight line as waypoints (cartesian_path.h), so that a
+  /// held object comes down onto (and lifts off) its support without dipping into it. {q} alone when
+  /// the robot does not back off. Timed, checked and written to the plan point by point.
+  std::vector<JointVector> approach;
+  std::vector<JointVector> retreat;
   HeldObject held_before;              ///< during transit and approach
   HeldObject held_after;               ///< during retreat
 };
+
+/// v.approach (and v.q_pre) from a back-off path of v.q (v.q first, the approach start last), or v.q
+/// alone when there is none.
+void setApproach(StepVisit& v, const std::optional<std::vector<JointVector>>& back_off);
+/// v.retreat (and v.q_post) from a back-off path of v.q (v.q first, the retreat end last), or v.q alone.
+void setRetreat(StepVisit& v, const std::optional<std::vector<JointVector>>& back_off);
 
 struct RobotMotionPlan {
   std::vector<StepVisit> visits;
@@ -124,12 +135,20 @@ class MotionLayer {
   /// ": the <end> configuration is in collision (...)", or that the roadmap found no way between valid ends.
   static std::string whyNoPath(const std::string& colliding_end);
   /// q moved so that the TCP goes back along its own approach axis (or along `direction_W`, a world
-  /// direction, when given) by the approach distance: free, and the straight segment to q free.
-  /// A handover partner standing still at its transition configuration must also stay clear of the
-  /// segment; when it is in the way of the sideways rise, the straight back-off is tried.
+  /// direction, when given) by the approach distance, on a straight line (backOffPath, on the IK branch
+  /// of q) whose waypoints and segments are all free. A handover partner standing still at its
+  /// transition configuration must also stay clear of it; when it is in the way of the sideways rise,
+  /// the straight back-off is tried.
   std::optional<JointVector> backedOff(int robot, const JointVector& q, const HeldObject& held,
                                        const ObjectLayout& layout, const std::optional<Vec3>& direction_W = {},
                                        double distance = 0.0, const std::optional<RobotState>& partner = {});
+  /// v.approach and v.retreat (cartesian_path.h's backOffPath) for the ends v.q_pre, v.q, v.q_post of
+  /// robot `robot`'s visit: the paths backedOff checked.
+  void setBackOffPaths(StepVisit& v, int robot) const;
+  /// Whether the back-off path (q first) is free: its waypoints and segments, an empty gripper out of
+  /// the contact boxes of the objects it does not grasp, the standing partner (if any) clear of it.
+  bool backOffFree(int robot, const std::vector<JointVector>& path, const HeldObject& held, const ObjectLayout& layout,
+                   const std::optional<RobotState>& partner) const;
   /// The farthest of the deep approach distances q can back off by (backedOff), if any.
   std::optional<JointVector> farthestBackOff(int robot, const JointVector& q, const HeldObject& held,
                                              const ObjectLayout& layout);

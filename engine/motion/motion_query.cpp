@@ -215,6 +215,7 @@ void MotionQuery::collect() {
     visit.transit = transit[i];
     visit.q_pre = v.pre[pre_choice[i]];
     visit.q_post = v.post[post_choice[i]];
+    layer.setBackOffPaths(visit, v.robot);  // the straight TCP lines between them (cartesian_path.h)
     robot.visits.push_back(std::move(visit));
   }
 }

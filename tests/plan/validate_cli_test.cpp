@@ -87,13 +87,13 @@ TEST(ValidateCli, ALargerClearanceRejectsWhatZeroPasses) {
 TEST(ValidateCli, VerbosePrintsEveryPairClosestFirst) {
   const CliRun run = runValidate(kScene + " --plan " + test::examplePlanPath() + " --verbose");
   EXPECT_EQ(run.exit_code, 0) << run.output;
-  const std::size_t held = run.output.find("pair obj_0 (held by ur5e_0) - table: 1.0000 mm at t=1.39 (contact allowed)");
+  const std::size_t held = run.output.find("pair obj_0 (held by ur5e_0) - table: 0.1000 mm at t=1.39 (contact allowed)");
   const std::size_t base = run.output.find("pair ur5e_0.base - table: 5.0000 mm at t=0\n");
   const std::size_t summary = run.output.find("smallest clearance: 5.0000 mm");
   ASSERT_NE(held, std::string::npos) << run.output;
   ASSERT_NE(base, std::string::npos) << run.output;
   ASSERT_NE(summary, std::string::npos) << run.output;
-  EXPECT_LT(held, base) << run.output;  // 1 mm before 5 mm; the held cube on its table is contact meant
+  EXPECT_LT(held, base) << run.output;  // 0.1 mm (its lowest face's tolerance) before 5 mm: contact meant
   EXPECT_LT(base, summary) << run.output;
 }
 
