@@ -59,6 +59,17 @@ std::vector<JointVector> graspBackOff(TransitionSampler& sampler, int robot, con
   return backedOff(sampler, robot, q, held, params.approach_distance, params);
 }
 
+/// The back-off ends of a sample: the last configuration of each of its back-off paths.
+void setEnds(GraspSample& s) {
+  s.q_pre = s.pre_path.back();
+  s.q_hold = s.hold_path.back();
+}
+void setEnds(HandoverSample& h) {
+  h.q1_post = h.q1_post_path.back();
+  h.q2_pre = h.q2_pre_path.back();
+  h.q2_post = h.q2_post_path.back();
+}
+
 /// Whether robot `mover` moving along `path` (held throughout) meets robot `still` standing there.
 bool pathMeetsStanding(TransitionSampler& sampler, const RobotState& mover, const std::vector<JointVector>& path,
                        const RobotState& still) {
@@ -128,8 +139,7 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
         s.q = gc.q;
         s.pre_path = graspBackOff(sampler, arc.robot, gc.q, HeldObject{}, arc.grasp, params);
         s.hold_path = graspBackOff(sampler, arc.robot, gc.q, s.held, arc.grasp, params);
-        s.q_pre = s.pre_path.back();
-        s.q_hold = s.hold_path.back();
+        setEnds(s);
         obtain(arc.robot, s.held, arc.grasp);
         out.grasps.push_back(std::move(s));
       }
@@ -195,12 +205,10 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
         h.held2 = HeldObject{o, gc2.X_TO};
         h.q1 = givers.front();
         h.q1_post_path = *q1_post;
-        h.q1_post = q1_post->back();
         h.q2 = gc2.q;
         h.q2_pre_path = *q2_pre;
-        h.q2_pre = q2_pre->back();
         h.q2_post_path = backedOff(sampler, arc.robot2, h.q2, h.held2, params.approach_distance, params);
-        h.q2_post = h.q2_post_path.back();
+        setEnds(h);
         if (!handoverMotionsFree(sampler, h)) continue;
         st.grid = ArcState::Grid::kPossible;
         changed = obtain(arc.robot2, h.held2, arc.grasp2) || changed;
@@ -246,9 +254,8 @@ TransitionCatalog sampleTransitions(TransitionSampler& sampler, const TaskSpace&
     for (const JointVector& q : sampler.ikSolutions(arc.robot, scene.tasks[arc.task].X_WT)) {
       if (deadline.expired()) return out;
       if (!sampler.staticFree({arc.robot, q, HeldObject{}})) continue;
-      std::vector<JointVector> pre_path = backedOff(sampler, arc.robot, q, {}, params.approach_distance, params);
-      const JointVector q_pre = pre_path.back();
-      out.inspects.push_back({arc.robot, arc.task, q, q_pre, std::move(pre_path)});
+      const auto pre_path = backedOff(sampler, arc.robot, q, {}, params.approach_distance, params);
+      out.inspects.push_back({arc.robot, arc.task, q, pre_path.back(), pre_path});
       if (++n >= params.inspect_configs) break;
     }
   }
