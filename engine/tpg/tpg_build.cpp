@@ -260,7 +260,7 @@ bool Builder::meetCached(int a, int b, bool overlap) {
   return meet;
 }
 
-Sweeps::Thresholds Builder::touching() const { return {0.0, -options_.resolution}; }
+Sweeps::Thresholds Builder::touching() const { return {0.0, -options_.contact_tolerance}; }
 
 /// Running first, then waiting for it, is safe for `first` and `then`: first's sweep stays apart from
 /// where `then` waits (its start), and then's sweep from where `first` stopped (its end).
@@ -583,6 +583,10 @@ Graph Builder::build(BuildStats* stats) {
 Graph buildGraph(const Scene& scene, const Plan& plan, const BuildOptions& options, BuildStats* stats) {
   DASH_THROW_UNLESS(options.clearance >= 0.0 && options.clearance <= 0.1, "clearance must be within 0 .. 0.1 m");
   DASH_THROW_UNLESS(options.resolution > 0.0 && options.resolution <= 0.01, "resolution must be within 0 .. 0.01 m");
+  DASH_THROW_UNLESS(options.contact_floor > 0.0 && options.contact_floor <= options.resolution,
+                    "contact_floor must be within 0 .. resolution");
+  DASH_THROW_UNLESS(options.contact_tolerance >= 0.0 && options.contact_tolerance <= 1e-4,
+                    "contact_tolerance must be within 0 .. 1e-4 m");
   DASH_THROW_UNLESS(options.min_cut > 0.0 && options.max_evaluations > 0 && options.max_ordered_evaluations > 0,
                     "min_cut, max_evaluations and max_ordered_evaluations must be positive");
   Builder builder(scene, plan, options);

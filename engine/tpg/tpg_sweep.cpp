@@ -97,9 +97,12 @@ bool Sweeps::meet(const Piece& a, const Piece& b, Thresholds th, long long budge
     pose(b, (cell.v0 + cell.v1) / 2, pb);
     const Distances d = distance(a, pa, b, pb, reach + sa + sb);
     if (--budget < 0 || d.normal <= th.normal || d.contact <= th.contact) return Verdict::kMeets;
-    cell.margin = std::min(d.normal - th.normal, d.contact - th.contact) - sa - sb;
+    const double normal = d.normal - th.normal - sa - sb;
+    cell.margin = std::min(normal, d.contact - th.contact - sa - sb);
     if (cell.margin > 0.0) return Verdict::kApart;
-    return sa + sb <= options_.resolution / 2 ? Verdict::kMeets : Verdict::kOpen;
+    if (normal <= 0.0) return sa + sb <= options_.resolution / 2 ? Verdict::kMeets : Verdict::kOpen;
+    // Only the contact pair is open: measured down to the validator's floor, as it measures it.
+    return sa + sb <= options_.contact_floor / 2 ? Verdict::kApart : Verdict::kOpen;
   };
   std::priority_queue<Cell> open;
   Cell root{0.0, 1.0, 0.0, 1.0, 0.0};

@@ -7,8 +7,10 @@
 // split, down to `resolution` of motion; what is left meets (conservatively: within clearance plus
 // resolution). Distances are exact FCL distances between the robots' bodies and held objects;
 // bounding spheres skip pairs that cannot matter. A handover's gripper and the object the other arm
-// holds touch by design: meet() can leave that pair out, so the builder tells a pair that only meets
-// there (the arms approach or leave a handover at once) from one that meets elsewhere.
+// holds touch by design (the contact pair): the validator lets them touch but not overlap, and
+// measures them every certify_floor of motion rather than proving them apart (a touching pair cannot
+// be proved apart). meet() does the same: a box that only the contact pair keeps open is split down
+// to `contact_floor` and meets only where a measured distance is below the contact threshold.
 #include <vector>
 
 #include "engine/collision/collision_context.h"
@@ -38,8 +40,8 @@ class Sweeps {
 
   /// Fills piece.moves, rate and box.
   void prepare(Piece& piece);
-  /// Distances at which a pair counts as meeting: every pair but those below (`normal`), and a
-  /// gripper with the object another robot holds, of a handover its arm is in (`contact`: they touch
+  /// Distances at or below which a pair counts as meeting: every pair but those below (`normal`), and
+  /// a gripper with the object another robot holds, of a handover its arm is in (`contact`: they touch
   /// by design; -infinity leaves them out).
   struct Thresholds {
     double normal = 0.0;
