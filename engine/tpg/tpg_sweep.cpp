@@ -15,11 +15,6 @@ namespace {
 
 inline std::size_t at(int i) { return static_cast<std::size_t>(i); }
 
-void extendBySphere(Aabb& box, const Vec3& centre, double radius) {
-  box.extend(centre - Vec3::Constant(radius));
-  box.extend(centre + Vec3::Constant(radius));
-}
-
 }  // namespace
 
 Sweeps::Sweeps(const Scene& scene, const BuildOptions& options)
@@ -50,11 +45,28 @@ void Sweeps::prepare(Piece& piece) {
   held.object = piece.held;
   held.X_TO = piece.X_TO;
   piece.rate = piece.moves ? segmentDisplacementBound(world_, piece.robot, piece.q0, piece.q1, held) : 0.0;
+  piece.parts.clear();
+  sweptPartBoxes(world_, context_, RobotState{piece.robot, piece.q0, held}, piece.q1, piece.parts);
   piece.box.setEmpty();
-  for (double u : {0.0, 1.0}) {
-    pose(piece, u, scratch_a_);
-    for (const Part& part : scratch_a_) extendBySphere(piece.box, part.centre, part.radius + piece.rate / 2);
+  for (const Aabb& part : piece.parts) piece.box.extend(part);
+}
+
+bool partsNear(const Piece& a, const Piece& b, double margin) {
+  if (a.box.exteriorDistance(b.box) > margin) return false;
+  for (const Aabb& x : a.parts) {
+    if (x.exteriorDistance(b.box) > margin) continue;
+    for (const Aabb& y : b.parts) {
+      if (x.exteriorDistance(y) <= margin) return true;
+    }
   }
+  return false;
+}
+
+bool partsNear(const Piece& a, const Aabb& box, double margin) {
+  for (const Aabb& x : a.parts) {
+    if (x.exteriorDistance(box) <= margin) return true;
+  }
+  return false;
 }
 
 Sweeps::Distances Sweeps::distance(const Piece& a, const std::vector<Part>& pa, const Piece& b,
@@ -133,7 +145,7 @@ bool Sweeps::meetsObject(const Piece& a, int object, const Pose& X_WO) {
   const ObjectGeometry& og = world_.object(object);
   const Aabb box = boxAabb(X_WO, og.half_extents);
   const double c = options_.clearance;
-  if (a.box.exteriorDistance(box) > c) return false;
+  if (!partsNear(a, box, c)) return false;
   // The object as a piece that holds still, so distance() applies (no exemption: it rests).
   Piece still;
   const std::vector<Part> pb{{og.shape.get(), X_WO, X_WO.translation(), og.half_extents.norm(), false, false, object}};

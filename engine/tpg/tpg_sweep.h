@@ -32,13 +32,20 @@ struct Piece {
   bool moves = false;
   double rate = 0.0;       ///< m: the most any of its points moves over the whole piece
   Aabb box;                ///< holds every part at every pose of the piece
+  std::vector<Aabb> parts; ///< per part (bodies, then the held object): holds it at every pose of the piece
 };
+
+/// Some part of `a` comes within `margin` of some part of `b` by their boxes (a cheap filter: pieces
+/// whose arms' boxes overlap often have no two parts near each other).
+bool partsNear(const Piece& a, const Piece& b, double margin);
+/// Some part of `a` comes within `margin` of `box` by its box.
+bool partsNear(const Piece& a, const Aabb& box, double margin);
 
 class Sweeps {
  public:
   Sweeps(const Scene& scene, const BuildOptions& options);
 
-  /// Fills piece.moves, rate and box.
+  /// Fills piece.moves, rate, box and parts.
   void prepare(Piece& piece);
   /// Distances at or below which a pair counts as meeting: every pair but those below (`normal`), and
   /// a gripper with the object another robot holds, of a handover its arm is in (`contact`: they touch
@@ -50,6 +57,8 @@ class Sweeps {
   /// Some pair of the two pieces' parts comes within its threshold somewhere (or cannot be proved
   /// apart to `resolution` within `budget` distance evaluations).
   bool meet(const Piece& a, const Piece& b, Thresholds thresholds, long long budget);
+  /// The box of `object` at X_WO.
+  Aabb objectBox(int object, const Pose& X_WO) const { return boxAabb(X_WO, world_.object(object).half_extents); }
   /// The piece's parts come within the clearance of `object` resting at X_WO.
   bool meetsObject(const Piece& a, int object, const Pose& X_WO);
   /// The piece held still at fraction u (0: its start, 1: its end), prepared.
