@@ -14,7 +14,7 @@
 #include "engine/collision/segment_queries.h"
 #include "engine/core/check.h"
 #include "engine/motion/ompl_validity.h"
-#include "engine/motion/seeded_ompl.h"
+#include "engine/motion/seeded_ompl_planners.h"
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;

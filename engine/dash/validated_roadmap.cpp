@@ -15,7 +15,7 @@
 #include "engine/collision/collision_queries.h"
 #include "engine/collision/segment_queries.h"
 #include "engine/motion/ompl_validity.h"
-#include "engine/motion/seeded_ompl.h"
+#include "engine/motion/seeded_ompl_planners.h"
 #include "engine/motion/static_robot_validity.h"
 
 namespace ob = ompl::base;

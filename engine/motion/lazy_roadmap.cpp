@@ -17,7 +17,7 @@
 #include "engine/core/stopwatch.h"
 #include "engine/motion/context_lazy_prm.h"
 #include "engine/motion/ompl_validity.h"
-#include "engine/motion/seeded_ompl.h"
+#include "engine/motion/seeded_ompl_planners.h"
 #include "engine/motion/static_robot_validity.h"
 
 namespace ob = ompl::base;

@@ -5,13 +5,14 @@
 // it in the same process. Here a run opens an OmplSeedScope with its seed, and each sampler, planner
 // and path simplifier it creates gets a local seed from that scope, in creation order: the same seed
 // gives the same samples, in a fresh process or after other runs.
-#include <ompl/base/StateSpace.h>
-#include <ompl/geometric/PathSimplifier.h>
-#include <ompl/geometric/planners/prm/PRM.h>
-#include <ompl/geometric/planners/rrt/RRTConnect.h>
-
+//
+// This header includes no OMPL header (a run opens a scope without parsing OMPL's planners); the
+// seeded planner classes are in seeded_ompl_planners.h, for the three files that create them.
 #include <cstdint>
-#include <utility>
+
+namespace ompl::base {
+class StateSpace;
+}
 
 namespace dash {
 
@@ -36,19 +37,5 @@ std::uint_fast32_t nextOmplSeed();
 
 /// Every sampler `space` allocates from now on is seeded with nextOmplSeed() (real-vector spaces).
 void seedStateSamplers(ompl::base::StateSpace& space);
-
-/// An OMPL class with its own RNG (the protected rng_) seeded with nextOmplSeed().
-template <class OmplClass>
-class Seeded : public OmplClass {
- public:
-  template <class... Args>
-  explicit Seeded(Args&&... args) : OmplClass(std::forward<Args>(args)...) {
-    this->rng_.setLocalSeed(nextOmplSeed());
-  }
-};
-
-using SeededRRTConnect = Seeded<ompl::geometric::RRTConnect>;
-using SeededPRM = Seeded<ompl::geometric::PRM>;
-using SeededPathSimplifier = Seeded<ompl::geometric::PathSimplifier>;
 
 }  // namespace dash

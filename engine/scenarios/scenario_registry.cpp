@@ -21,8 +21,8 @@ const std::vector<Entry>& entries() {
       {{"sorting",
         "UR5e arms on a ring; cubes go from each arm's cluster to the box of the arm across the ring "
         "(cross sorting) by handovers between neighbours",
-        {{.name = "robots", .default_value = 4, .min = 2, .max = 32, .meaning = "arms on the ring"},
-         {.name = "objects", .default_value = 8, .min = 1, .max = 128, .meaning = "cubes, dealt round the arms"}}},
+        {{.name = "robots", .default_value = 4, .min = 2, .max = 64, .meaning = "arms on the ring"},
+         {.name = "objects", .default_value = 8, .min = 1, .max = 256, .meaning = "cubes, dealt round the arms"}}},
        generateSorting},
       {{"wall",
         "the sorting ring with thin tall walls that cut some neighbour handovers; each arc between walls "

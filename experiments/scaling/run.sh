@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The scaling benchmark: Lazy-DaSH on sorting with 4, 8, 16 and 32 robots at 4 objects per robot,
+# The scaling benchmark: Lazy-DaSH on sorting with 4, 8, 16, 32 and 64 robots at 4 objects per robot,
 # seeds 1..3, 600 s per run. Every run is scene -> `dashbench plan` -> `dashbench validate` (certified);
 # a run counts as solved only when its plan validates. Prints a markdown table for RESULTS.md: per size,
 # runs solved (with why the others were not: timeout, infeasible, invalid plan, crashed), medians over
@@ -7,7 +7,7 @@
 # writes a log-log plot of total time against the number of objects (scaling.svg, and .png when
 # rsvg-convert exists) with the raw data beside it.
 #
-#   experiments/scaling/run.sh [--robots "4 8 16 32"] [--objects-per-robot K] [--seeds N]
+#   experiments/scaling/run.sh [--robots "4 8 16 32 64"] [--objects-per-robot K] [--seeds N]
 #                              [--time-limit SEC] [--out DIR] [--resume] [--plan-args "--set NAME=VALUE ..."]
 #   experiments/scaling/run.sh --table [--robots ...] [--seeds N] [--out DIR]   # report runs already made
 #
@@ -21,7 +21,7 @@ set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$HERE/../.." && pwd)"
 DASHBENCH="${DASHBENCH:-$ROOT/dashbench}"
-ROBOTS="4 8 16 32"
+ROBOTS="4 8 16 32 64"
 PER_ROBOT=4
 SEEDS=3
 TIME_LIMIT=600

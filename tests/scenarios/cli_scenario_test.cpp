@@ -54,7 +54,7 @@ TEST_F(CliScenario, ListNamesEveryFamily) {
   const RunResult r = runCli("--list");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const auto& f : scenarioFamilies()) EXPECT_NE(r.output.find(f.name + ": "), std::string::npos) << f.name;
-  EXPECT_NE(r.output.find("robots=4  (2..32)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("robots=4  (2..64)"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("walls=1  (1..31)"), std::string::npos) << r.output;
 }
 
@@ -65,8 +65,8 @@ TEST_F(CliScenario, BadInputExitsTwoNamingTheProblem) {
   };
   const std::vector<Case> cases = {
       {"sortingg --seed 1", {"unknown scenario family 'sortingg'", "stocking"}},
-      {"sorting --seed 1 arms=3", {"unknown parameter 'arms'", "robots (2..32)"}},
-      {"sorting --seed 1 robots=40", {"robots", "out of range", "2..32"}},
+      {"sorting --seed 1 arms=3", {"unknown parameter 'arms'", "robots (2..64)"}},
+      {"sorting --seed 1 robots=70", {"robots", "out of range", "2..64"}},
       {"stocking layers=4", {"layers", "2..3"}},
       {"shelf-wall robots=3", {"robots", "even"}},
       {"lab containers=many", {"containers", "not an integer", "2..24"}},

@@ -63,7 +63,8 @@ TEST(ScenarioFamilies, SortingSmallMediumLargest) {
                           {{"robots", "4"}, {"objects", "8"}},
                           {{"robots", "8"}, {"objects", "40"}},
                           {{"robots", "2"}, {"objects", "128"}},
-                          {{"robots", "32"}, {"objects", "128"}}});
+                          {{"robots", "32"}, {"objects", "128"}},
+                          {{"robots", "64"}, {"objects", "256"}}});
 }
 
 TEST(ScenarioFamilies, WallSmallMediumLargest) {

@@ -29,17 +29,17 @@ TEST(ScenarioParams, DefaultsAndOverridesInFamilyOrder) {
 TEST(ScenarioParams, UnknownKeyNamesTheKeyAndTheKnownOnes) {
   const std::string e = errorOf([] { resolveParams("sorting", scenarioFamily("sorting").params, {{"arms", "3"}}); });
   EXPECT_NE(e.find("unknown parameter 'arms'"), std::string::npos) << e;
-  EXPECT_NE(e.find("robots (2..32)"), std::string::npos) << e;
+  EXPECT_NE(e.find("robots (2..64)"), std::string::npos) << e;
 }
 
 TEST(ScenarioParams, OutOfRangeNamesTheKeyAndTheRange) {
   const auto& specs = scenarioFamily("sorting").params;
-  std::string e = errorOf([&] { resolveParams("sorting", specs, {{"robots", "33"}}); });
+  std::string e = errorOf([&] { resolveParams("sorting", specs, {{"robots", "65"}}); });
   EXPECT_NE(e.find("robots"), std::string::npos) << e;
-  EXPECT_NE(e.find("2..32"), std::string::npos) << e;
+  EXPECT_NE(e.find("2..64"), std::string::npos) << e;
   e = errorOf([&] { resolveParams("sorting", specs, {{"objects", "0"}}); });
   EXPECT_NE(e.find("objects"), std::string::npos) << e;
-  EXPECT_NE(e.find("1..128"), std::string::npos) << e;
+  EXPECT_NE(e.find("1..256"), std::string::npos) << e;
 }
 
 TEST(ScenarioParams, NotAnIntegerOrOddWhereEvenIsNeeded) {

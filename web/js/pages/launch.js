@@ -174,7 +174,7 @@ export function mount(root, args, params = new URLSearchParams()) {
   }
 
   function showError(message) {
-    // The server names the field ("spec: scenarios[0].params.robots[1]: 40 is out of range 2..32").
+    // The server names the field ("spec: scenarios[0].params.robots[1]: 40 is out of range 2..64").
     let key = null;
     const pm = message.match(/params\.([A-Za-z0-9_.-]+?)(\[|:)/);
     if (pm) key = `param:${pm[1]}`;
