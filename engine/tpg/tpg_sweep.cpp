@@ -113,8 +113,17 @@ bool Sweeps::meet(const Piece& a, const Piece& b, Thresholds th, long long budge
     cell.margin = std::min(normal, d.contact - th.contact - sa - sb);
     if (cell.margin > 0.0) return Verdict::kApart;
     if (normal <= 0.0) return sa + sb <= options_.resolution / 2 ? Verdict::kMeets : Verdict::kOpen;
-    // Only the contact pair is open: measured down to the validator's floor, as it measures it.
-    return sa + sb <= options_.contact_floor / 2 ? Verdict::kApart : Verdict::kOpen;
+    // Only the contact pair is open: measured down to the validator's floor, as it measures it, and at
+    // the cell's corners too (a replay holds an arm at a piece's end, where the validator looks).
+    if (sa + sb > options_.contact_floor / 2) return Verdict::kOpen;
+    for (const double u : {cell.u0, cell.u1}) {
+      for (const double v : {cell.v0, cell.v1}) {
+        pose(a, u, pa);
+        pose(b, v, pb);
+        if (distance(a, pa, b, pb, reach).contact <= th.contact) return Verdict::kMeets;
+      }
+    }
+    return Verdict::kApart;
   };
   std::priority_queue<Cell> open;
   Cell root{0.0, 1.0, 0.0, 1.0, 0.0};

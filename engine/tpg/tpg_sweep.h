@@ -10,7 +10,8 @@
 // holds touch by design (the contact pair): the validator lets them touch but not overlap, and
 // measures them every certify_floor of motion rather than proving them apart (a touching pair cannot
 // be proved apart). meet() does the same: a box that only the contact pair keeps open is split down
-// to `contact_floor` and meets only where a measured distance is below the contact threshold.
+// to `contact_floor` and meets only where a distance measured at its centre or one of its corners
+// (where a replay holds an arm at a piece's end) is below the contact threshold.
 #include <vector>
 
 #include "engine/collision/collision_context.h"
