@@ -16,13 +16,14 @@
 //    time in the plan are cut finer until they no longer meet, or one of them holds still and the
 //    other runs entirely while it does (then the other waits for the holder to arrive and the holder
 //    waits for it to end). Contact the plan means (a gripper and the object another robot holds, of
-//    a handover it is in) counts only past `resolution` of penetration.
+//    a handover it is in) may touch but not overlap, as the validator has it.
 // The aim: every execution that respects the graph, whatever each node's delay or speed, keeps each
-// pair that meets in the order the plan had it, so it passes the plan's own checks. Known gap: the
-// contact allowance above is looser than the validator's (no penetration of a contact pair), so
-// replays where both arms approach a handover at once can put a finger up to `resolution` into the
-// held object (seen on a 4-robot sorting plan, docs/dispatch.md). `dashbench tpg --check N` replays
-// random executions through the certified validator (tpg_replay.h).
+// pair that meets in the order the plan had it, so it passes the plan's own checks. The contact pair
+// is measured as the validator measures it (every contact_floor of motion, not proved apart: a
+// touching pair cannot be), so where two arms approach a handover at once their approaches are cut
+// and ordered until no delay puts a finger into the held object (docs/dispatch.md, "Handover
+// contact"). `dashbench tpg --check N` replays random executions through the certified validator
+// (tpg_replay.h).
 //
 // Stored as the optional "tpg" field of dashbench.plan/1 (docs/formats.md): tpgToJson / parseTpg.
 #include <functional>
@@ -70,9 +71,13 @@ struct Graph {
 
 struct BuildOptions {
   double clearance = 0.002;      ///< m: parts closer than this "meet" (default: the planners' clearance)
-  /// m: sweeps are told apart to this (a closer pair counts as meeting); a handover's gripper and the
-  /// held object it takes or lets go may touch, and count as meeting only if closer than -resolution.
+  /// m: sweeps are told apart to this (a closer pair counts as meeting).
   double resolution = 0.0005;
+  /// m of motion: a handover's gripper and the held object it takes or lets go may touch but not
+  /// overlap (deeper than contact_tolerance); like the validator, they are measured this finely (its
+  /// certify_floor) rather than proved apart, since a touching pair cannot be.
+  double contact_floor = 5e-5;
+  double contact_tolerance = 5e-7;  ///< m: half the validator's touch tolerance (1e-6)
   double min_cut = 0.002;        ///< m of motion: overlapping segments are not cut finer than this
   int max_evaluations = 20000;   ///< per pair of segments the plan runs at once: past it they count as meeting
   /// Per pair the plan runs one after the other: past it they count as meeting, which only adds an

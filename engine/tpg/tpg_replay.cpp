@@ -112,6 +112,7 @@ ReplayReport checkReplays(const Scene& scene, const Plan& plan, const Graph& gra
     report.min_makespan = draw == 0 ? makespan : std::min(report.min_makespan, makespan);
     report.max_makespan = draw == 0 ? makespan : std::max(report.max_makespan, makespan);
     if (!v.valid()) {
+      if (options.on_failure) options.on_failure(draw, timing, v);
       if (report.failed++ == 0) {
         report.first_failed_draw = draw;
         report.first_problem = v.problems.front().message;

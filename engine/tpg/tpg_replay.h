@@ -5,6 +5,7 @@
 // an arm that waits holds still), so the certified validator (engine/plan/plan_validator.h) can check
 // it: `dashbench tpg --check N` runs N random draws. A graph missing an edge it needs fails some draw.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,8 @@ struct ReplayOptions {
   double max_stretch = 2.0;       ///< each node runs 1 .. this times its planned duration
   int focus = -1;                 ///< >= 0: only this node is delayed (draws aimed at one edge)
   ValidationOptions validation;   ///< the certified check of each replay
+  /// Called on each failed draw with its timing and the validator's report (may be empty).
+  std::function<void(int draw, const Timing&, const ValidationReport&)> on_failure;
 };
 
 struct ReplayReport {

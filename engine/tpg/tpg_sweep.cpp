@@ -15,11 +15,6 @@ namespace {
 
 inline std::size_t at(int i) { return static_cast<std::size_t>(i); }
 
-void extendBySphere(Aabb& box, const Vec3& centre, double radius) {
-  box.extend(centre - Vec3::Constant(radius));
-  box.extend(centre + Vec3::Constant(radius));
-}
-
 }  // namespace
 
 Sweeps::Sweeps(const Scene& scene, const BuildOptions& options)
@@ -50,11 +45,28 @@ void Sweeps::prepare(Piece& piece) {
   held.object = piece.held;
   held.X_TO = piece.X_TO;
   piece.rate = piece.moves ? segmentDisplacementBound(world_, piece.robot, piece.q0, piece.q1, held) : 0.0;
+  piece.parts.clear();
+  sweptPartBoxes(world_, context_, RobotState{piece.robot, piece.q0, held}, piece.q1, piece.parts);
   piece.box.setEmpty();
-  for (double u : {0.0, 1.0}) {
-    pose(piece, u, scratch_a_);
-    for (const Part& part : scratch_a_) extendBySphere(piece.box, part.centre, part.radius + piece.rate / 2);
+  for (const Aabb& part : piece.parts) piece.box.extend(part);
+}
+
+bool partsNear(const Piece& a, const Piece& b, double margin) {
+  if (a.box.exteriorDistance(b.box) > margin) return false;
+  for (const Aabb& x : a.parts) {
+    if (x.exteriorDistance(b.box) > margin) continue;
+    for (const Aabb& y : b.parts) {
+      if (x.exteriorDistance(y) <= margin) return true;
+    }
   }
+  return false;
+}
+
+bool partsNear(const Piece& a, const Aabb& box, double margin) {
+  for (const Aabb& x : a.parts) {
+    if (x.exteriorDistance(box) <= margin) return true;
+  }
+  return false;
 }
 
 Sweeps::Distances Sweeps::distance(const Piece& a, const std::vector<Part>& pa, const Piece& b,
@@ -97,9 +109,21 @@ bool Sweeps::meet(const Piece& a, const Piece& b, Thresholds th, long long budge
     pose(b, (cell.v0 + cell.v1) / 2, pb);
     const Distances d = distance(a, pa, b, pb, reach + sa + sb);
     if (--budget < 0 || d.normal <= th.normal || d.contact <= th.contact) return Verdict::kMeets;
-    cell.margin = std::min(d.normal - th.normal, d.contact - th.contact) - sa - sb;
+    const double normal = d.normal - th.normal - sa - sb;
+    cell.margin = std::min(normal, d.contact - th.contact - sa - sb);
     if (cell.margin > 0.0) return Verdict::kApart;
-    return sa + sb <= options_.resolution / 2 ? Verdict::kMeets : Verdict::kOpen;
+    if (normal <= 0.0) return sa + sb <= options_.resolution / 2 ? Verdict::kMeets : Verdict::kOpen;
+    // Only the contact pair is open: measured down to the validator's floor, as it measures it, and at
+    // the cell's corners too (a replay holds an arm at a piece's end, where the validator looks).
+    if (sa + sb > options_.contact_floor / 2) return Verdict::kOpen;
+    for (const double u : {cell.u0, cell.u1}) {
+      for (const double v : {cell.v0, cell.v1}) {
+        pose(a, u, pa);
+        pose(b, v, pb);
+        if (distance(a, pa, b, pb, reach).contact <= th.contact) return Verdict::kMeets;
+      }
+    }
+    return Verdict::kApart;
   };
   std::priority_queue<Cell> open;
   Cell root{0.0, 1.0, 0.0, 1.0, 0.0};
@@ -130,7 +154,7 @@ bool Sweeps::meetsObject(const Piece& a, int object, const Pose& X_WO) {
   const ObjectGeometry& og = world_.object(object);
   const Aabb box = boxAabb(X_WO, og.half_extents);
   const double c = options_.clearance;
-  if (a.box.exteriorDistance(box) > c) return false;
+  if (!partsNear(a, box, c)) return false;
   // The object as a piece that holds still, so distance() applies (no exemption: it rests).
   Piece still;
   const std::vector<Part> pb{{og.shape.get(), X_WO, X_WO.translation(), og.half_extents.norm(), false, false, object}};

@@ -7,8 +7,11 @@
 // split, down to `resolution` of motion; what is left meets (conservatively: within clearance plus
 // resolution). Distances are exact FCL distances between the robots' bodies and held objects;
 // bounding spheres skip pairs that cannot matter. A handover's gripper and the object the other arm
-// holds touch by design: meet() can leave that pair out, so the builder tells a pair that only meets
-// there (the arms approach or leave a handover at once) from one that meets elsewhere.
+// holds touch by design (the contact pair): the validator lets them touch but not overlap, and
+// measures them every certify_floor of motion rather than proving them apart (a touching pair cannot
+// be proved apart). meet() does the same: a box that only the contact pair keeps open is split down
+// to `contact_floor` and meets only where a distance measured at its centre or one of its corners
+// (where a replay holds an arm at a piece's end) is below the contact threshold.
 #include <vector>
 
 #include "engine/collision/collision_context.h"
@@ -30,16 +33,23 @@ struct Piece {
   bool moves = false;
   double rate = 0.0;       ///< m: the most any of its points moves over the whole piece
   Aabb box;                ///< holds every part at every pose of the piece
+  std::vector<Aabb> parts; ///< per part (bodies, then the held object): holds it at every pose of the piece
 };
+
+/// Some part of `a` comes within `margin` of some part of `b` by their boxes (a cheap filter: pieces
+/// whose arms' boxes overlap often have no two parts near each other).
+bool partsNear(const Piece& a, const Piece& b, double margin);
+/// Some part of `a` comes within `margin` of `box` by its box.
+bool partsNear(const Piece& a, const Aabb& box, double margin);
 
 class Sweeps {
  public:
   Sweeps(const Scene& scene, const BuildOptions& options);
 
-  /// Fills piece.moves, rate and box.
+  /// Fills piece.moves, rate, box and parts.
   void prepare(Piece& piece);
-  /// Distances at which a pair counts as meeting: every pair but those below (`normal`), and a
-  /// gripper with the object another robot holds, of a handover its arm is in (`contact`: they touch
+  /// Distances at or below which a pair counts as meeting: every pair but those below (`normal`), and
+  /// a gripper with the object another robot holds, of a handover its arm is in (`contact`: they touch
   /// by design; -infinity leaves them out).
   struct Thresholds {
     double normal = 0.0;
@@ -48,6 +58,8 @@ class Sweeps {
   /// Some pair of the two pieces' parts comes within its threshold somewhere (or cannot be proved
   /// apart to `resolution` within `budget` distance evaluations).
   bool meet(const Piece& a, const Piece& b, Thresholds thresholds, long long budget);
+  /// The box of `object` at X_WO.
+  Aabb objectBox(int object, const Pose& X_WO) const { return boxAabb(X_WO, world_.object(object).half_extents); }
   /// The piece's parts come within the clearance of `object` resting at X_WO.
   bool meetsObject(const Piece& a, int object, const Pose& X_WO);
   /// The piece held still at fraction u (0: its start, 1: its end), prepared.

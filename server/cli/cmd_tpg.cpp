@@ -27,7 +27,8 @@ const char* const kTpgHelp =
     "  --out FILE       write the plan with its \"tpg\" field (dashbench.plan/1, docs/formats.md)\n"
     "  --json           print the graph (the \"tpg\" field) instead of the summary\n"
     "  --clearance M    parts closer than M metres meet (default 0.002, the planners' clearance)\n"
-    "  --verbose        a line per cutting round of the build on standard error (pieces, pairs, evaluations)\n"
+    "  --verbose        a line per cutting round of the build on standard error (pieces, pairs, evaluations);\n"
+    "                   with --check, each failed draw's collisions and the node each arm was on then\n"
     "  --check N        replay N executions with random per-node delays that respect the graph and run\n"
     "                   the certified validator on each (draw 0: no delay); exit 1 if any fails\n"
     "  --seed S         first seed of the draws (default 1)\n"
@@ -82,6 +83,28 @@ tpg::Graph graphOf(const Args& args, const Scene& scene, const Plan& plan) {
   return g;
 }
 
+/// One failed draw on standard error: its first geometric problems and, at each, every arm's node.
+void printFailure(const tpg::Graph& g, int draw, const tpg::Timing& timing, const ValidationReport& v) {
+  int shown = 0;
+  for (const ValidationProblem& p : v.problems) {
+    if (++shown > 3) break;
+    std::fprintf(stderr, "draw %d: %s\n", draw, p.message.c_str());
+    for (std::size_t r = 0; r < g.robots.size(); ++r) {
+      for (int i : g.armNodes(static_cast<int>(r))) {
+        const std::size_t n = static_cast<std::size_t>(i);
+        if (timing.end[n] < p.t_closest - 1e-9) continue;
+        const tpg::Node& node = g.nodes[n];
+        const bool waiting = timing.start[n] > p.t_closest;
+        std::fprintf(stderr, "  %s %s node %d (%s, planned %.3f .. %.3f s, replayed %.3f .. %.3f s)\n",
+                     g.robots[r].c_str(), waiting ? "waiting for" : "on", i,
+                     node.kind == tpg::Node::Kind::kEvent ? "event" : (node.moves ? "motion" : "hold"), node.t0,
+                     node.t1, timing.start[n], timing.end[n]);
+        break;
+      }
+    }
+  }
+}
+
 int runCheck(const Args& args, const Scene& scene, const Plan& plan, tpg::Graph g, int threads) {
   tpg::ReplayOptions options;
   options.draws = static_cast<int>(args.integer("check", 100));
@@ -89,6 +112,11 @@ int runCheck(const Args& args, const Scene& scene, const Plan& plan, tpg::Graph 
   options.max_wait = args.number("max-wait", options.max_wait);
   options.max_stretch = args.number("max-stretch", options.max_stretch);
   options.validation.threads = threads;
+  if (args.has("verbose")) {
+    options.on_failure = [&g](int draw, const tpg::Timing& timing, const ValidationReport& v) {
+      printFailure(g, draw, timing, v);
+    };
+  }
   if (args.has("drop-edge")) {
     const long long k = args.integer("drop-edge", 0);
     if (k < 0 || k >= static_cast<long long>(g.edges.size())) {

@@ -191,7 +191,13 @@ TEST_F(TpgDispatch, ByDependenciesTheSlowedArmCompletesHandoversInPlaceAndTheExe
 
   // The results database keeps how it ran and every step's planned and executed times.
   ASSERT_NE(server_->recorder(), nullptr);
-  ASSERT_TRUE(waitFor([&] { return !server_->recorder()->recordJson(st->id).empty(); }, 5.0));
+  // The record is written as the dispatch starts and again just after its end: wait for the end's.
+  ASSERT_TRUE(waitFor(
+      [&] {
+        const std::string json = server_->recorder()->recordJson(st->id);
+        return !json.empty() && nlohmann::json::parse(json).value("state", "") != "running";
+      },
+      10.0));
   const auto record = nlohmann::json::parse(server_->recorder()->recordJson(st->id));
   EXPECT_EQ(record["execution"], "tpg");
   EXPECT_EQ(record["state"], "succeeded");

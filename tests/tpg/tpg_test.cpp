@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "engine/core/check.h"
@@ -16,6 +17,7 @@
 #include "engine/scene/scene_json.h"
 #include "engine/tpg/tpg.h"
 #include "engine/tpg/tpg_replay.h"
+#include "tests/tpg/tpg_test_util.h"
 
 namespace dash::tpg {
 namespace {
@@ -24,35 +26,25 @@ class SortingTpg : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     library_ = RobotLibrary::loadDefault();
-    scene_ = new Scene(generateScenario("sorting", {{"robots", "2"}, {"objects", "2"}}, 1, library_));
-    PlannerSettings settings;
-    settings.seed = 1;
-    settings.time_limit = 120;
-    PlanResult result = makePlanner("lazy-dash")->solve(*scene_, settings, Deadline(settings.time_limit), nullptr);
-    ASSERT_EQ(result.outcome, PlanOutcome::kSolved) << result.message;
-    plan_ = new Plan(*result.plan);
-    graph_ = new Graph(buildGraph(*scene_, *plan_));
+    case_ = new Case(planAndBuild(library_, "2", "2"));
+    scene_ = case_->scene.get();
+    plan_ = case_->plan.get();
+    graph_ = case_->graph.get();
   }
-  static void TearDownTestSuite() {
-    delete graph_;
-    delete plan_;
-    delete scene_;
-  }
+  static void TearDownTestSuite() { delete case_; }
   void SetUp() override { ASSERT_NE(graph_, nullptr) << "planning failed"; }
 
-  static int count(Edge::Why why) {
-    int n = 0;
-    for (const Edge& e : graph_->edges) n += e.why == why;
-    return n;
-  }
+  static int count(Edge::Why why) { return countEdges(*graph_, why); }
 
   static std::shared_ptr<const RobotLibrary> library_;
+  static Case* case_;
   static Scene* scene_;
   static Plan* plan_;
   static Graph* graph_;
 };
 
 std::shared_ptr<const RobotLibrary> SortingTpg::library_;
+Case* SortingTpg::case_ = nullptr;
 Scene* SortingTpg::scene_ = nullptr;
 Plan* SortingTpg::plan_ = nullptr;
 Graph* SortingTpg::graph_ = nullptr;
