@@ -43,8 +43,9 @@ struct TaskConflictParams {
   bool prefer_free_approach = true;
   /// Times a move-out pose (a resampleable extra location) is resampled because an object's chain has no
   /// collision-free transition configuration at it, before the step is banned for some task queries
-  /// (paper, Representation Construction: "resampling is performed to search for valid alternatives").
-  int chain_location_resamples = 3;
+  /// (an application of the paper's "resampling is performed to search for valid alternatives"; off by
+  /// default: the planner parameter move_out_resamples, docs/planners.md).
+  int chain_location_resamples = 0;
 };
 
 struct TaskConflictResult {
