@@ -115,6 +115,19 @@ void Scheduler::appendPath(RobotTimeline& timeline, double start, const std::vec
   }
 }
 
+double clearOfWindows(const std::vector<StepWindow>& windows, int robot, int step, double from, double duration) {
+  double s = from;
+  for (bool moved = true; moved && std::isfinite(s);) {
+    moved = false;
+    for (const StepWindow& w : windows)
+      if (w.robot == robot && w.step == step && s < w.t1 && s + duration > w.t0) {
+        s = w.t1;
+        moved = true;
+      }
+  }
+  return s;
+}
+
 ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<TransitionConfig>& transitions,
                                 MotionLayerResult motion, const TaskSpace& space, const MoveReplanner& replan,
                                 const Deadline& deadline) {
@@ -124,7 +137,7 @@ ScheduleResult Scheduler::build(const TaskPlan& plan, const std::vector<Transiti
   ScheduleState state{{}, ObjectTimeline(startLayout(space)), {}, std::vector<double>(plan.steps.size(), 0.0)};
   for (int r = 0; r < robots; ++r) state.timelines.emplace_back(r, scene.robots[r].home);
   ScheduleBuild b{*this, checker_, params_, scene, state, motion, std::vector<std::size_t>(static_cast<std::size_t>(robots), 0),
-                  replan, deadline, result.stats, plan, constraints_};
+                  replan, deadline, result.stats, plan, constraints_, windows_};
   const std::uint64_t checks_before = context_->counters().configuration_checks;
   BuildProgress progress(progress_emitter_, progress_interval_, plan, scene);
   auto fail = [&](int step, std::string why) {
@@ -189,8 +202,15 @@ std::optional<std::string> Scheduler::bringHome(ScheduleBuild& b) const {
     }
     if (path.size() < 2) continue;
     bool done = false, replanned = false;
-    for (double start = timelines[r].end(); start <= timelines[r].end() + params_.max_delay && !done;) {
+    double give_up = timelines[r].end() + params_.max_delay;
+    for (double start = timelines[r].end(); start <= give_up && !done;) {
       if (b.deadline.expired()) return std::string("deadline");
+      if (const double clear = b.clearFrom(r, -1, start, pathDuration(r, path)); clear > start) {
+        if (!std::isfinite(clear)) break;  // a clock-time window to the end of the plan (StepWindow)
+        give_up = std::max(give_up, clear + params_.max_delay);
+        start = clear;
+        continue;
+      }
       RobotTimeline c = timelines[r];
       appendPath(c, start, path);
       const auto conflict = b.checker.check(c, timelines[r].end(), kForever, timelines, b.state.objects);

@@ -75,6 +75,23 @@ struct ScheduleResult {
   std::vector<double> step_times;  ///< when each task step's transition happens (when ok)
 };
 
+/// A clock-time window in which robot `robot` may not take part in task step `step` (step -1: its way
+/// home): CBS-MP's constraint (robot, vertex or edge, [t0, t1]) as DaSH maps it onto the plan being
+/// scheduled (engine/dash/motion_constraint.h). The robot's piece of the step, from leaving for it to
+/// the end of its transition (its way home: the whole way), may not overlap [t0, t1): it fits before
+/// t0, or it waits where it stands until t1 (safe intervals, as in SIPP). t1 may be +infinity.
+struct StepWindow {
+  int robot = -1;
+  int step = -1;
+  double t0 = 0.0;
+  double t1 = 0.0;
+  bool operator==(const StepWindow&) const = default;
+};
+
+/// The earliest start s >= `from` at which a piece of `duration` seconds of robot `robot` in step `step`
+/// overlaps none of `windows` (+infinity when a window never ends).
+double clearOfWindows(const std::vector<StepWindow>& windows, int robot, int step, double from, double duration);
+
 /// Replans a move for `robot` from -> to in `context` (the robots standing still in context.parked).
 using MoveReplanner = std::function<std::optional<std::vector<JointVector>>(
     int robot, const JointVector& from, const JointVector& to, const MotionContext& context)>;
@@ -87,8 +104,12 @@ class Scheduler {
                        MotionLayerResult motion, const TaskSpace& space, const MoveReplanner& replan,
                        const Deadline& deadline);
   /// Every later build replans a robot's move into a task step keeping out of the regions of the motion
-  /// constraints on that history (nullptr: none). The set must outlive the scheduler's use of it.
-  void respect(const lazy::MotionConstraintSet* constraints) { constraints_ = constraints; }
+  /// constraints on that history (nullptr: none), and keeps each robot's piece of a step out of the
+  /// clock-time windows of `windows` (nullptr: none; StepWindow). Both must outlive the scheduler's use.
+  void respect(const lazy::MotionConstraintSet* constraints, const std::vector<StepWindow>* windows = nullptr) {
+    constraints_ = constraints;
+    windows_ = windows;
+  }
   /// The next build schedules again every step whose motions reach time t (see ScheduleMemo).
   void forgetFrom(double t) { memo_.forgetFrom(t); }
   /// Every later build also checks the robots' configurations at exactly t (ScheduleChecker::alsoCheckAt).
@@ -122,6 +143,7 @@ class Scheduler {
   ScheduleChecker checker_;
   ScheduleMemo memo_;  ///< the last schedule built, for the next build of a plan that starts the same
   const lazy::MotionConstraintSet* constraints_ = nullptr;
+  const std::vector<StepWindow>* windows_ = nullptr;
   log::EventEmitter* progress_emitter_ = nullptr;
   double progress_interval_ = 0.5;
 };

@@ -138,6 +138,15 @@ double StepScheduler::travel(int i, ArrivalMode mode) const {
   return parts_[i].staggered[m].empty() ? parts_[i].transit_time : parts_[i].staggered_time[m];
 }
 
+double StepScheduler::windowWait(double T) const {
+  double wait = 0.0;
+  for (const Participant& p : parts_) {
+    const double depart = T - p.approach_time - p.transit_time;
+    wait = std::max(wait, b_.clearFrom(p.robot, k_, depart, T + b_.params.dwell - depart) - depart);
+  }
+  return wait;
+}
+
 std::vector<double> StepScheduler::arrivals(ArrivalMode mode, double T) const {
   std::vector<double> at;
   for (const Participant& p : parts_) at.push_back(T - p.approach_time);
@@ -156,6 +165,8 @@ std::optional<std::vector<RobotTimeline>> StepScheduler::trial(ArrivalMode mode,
     const double depart = T - max_approach_ - composite_time_;
     for (int r : movers_)
       if (depart < timelines[r].end() - 1e-9) return std::nullopt;
+    for (const Participant& p : parts_)
+      if (b_.clearFrom(p.robot, k_, depart, T + b_.params.dwell - depart) > depart) return std::nullopt;
     for (std::size_t i = 0; i < movers_.size(); ++i) {
       RobotTimeline& c = trial[movers_[i]];
       c.append(depart, c.last());
@@ -177,6 +188,7 @@ std::optional<std::vector<RobotTimeline>> StepScheduler::trial(ArrivalMode mode,
       const bool own = !p.staggered[m].empty();
       const std::vector<JointVector>& path = own ? p.staggered[m] : p.transit;
       const double depart = arrive[i] - (own ? p.staggered_time[m] : p.transit_time);
+      if (b_.clearFrom(p.robot, k_, depart, T + b_.params.dwell - depart) > depart) return std::nullopt;
       c.append(depart, c.last());  // wait where it stands: always clear (its standing was checked)
       b_.scheduler.appendPath(c, depart, path);
       appendApproach(c, p, T);
@@ -372,6 +384,13 @@ std::optional<std::string> StepScheduler::place() {
   double T = start;
   double give_up = T + b_.params.max_delay;
   while (T <= give_up) {
+    // A clock-time window (StepWindow) the step would overlap: it waits until the window has passed.
+    if (const double wait = windowWait(T); wait > 0.0) {
+      if (!std::isfinite(wait)) break;
+      T += wait;
+      give_up = std::max(give_up, T + b_.params.max_delay);
+      continue;
+    }
     std::optional<ScheduleConflict> round_conflict;
     std::optional<RobotTimeline> round_robot, round_other;
     for (int m = 0; m < kArrivalModeCount;) {

@@ -46,10 +46,17 @@ struct ScheduleBuild {
   ScheduleStats& stats;
   const TaskPlan& plan;
   const lazy::MotionConstraintSet* constraints;  ///< regions a replanned move into a step keeps out of (or null)
+  const std::vector<StepWindow>* windows;        ///< clock-time windows the robots' steps keep out of (or null)
 
   /// The regions robot's move into `step` (at transition configuration q) keeps out of
   /// (MotionConstraintSet::regionsFor).
   std::vector<Aabb> regionsFor(int robot, int step, const JointVector& q) const;
+
+  /// The earliest start >= from of a piece of `duration` seconds of robot's part in `step` clear of the
+  /// windows (from itself when there are none; see clearOfWindows).
+  double clearFrom(int robot, int step, double from, double duration) const {
+    return windows ? clearOfWindows(*windows, robot, step, from, duration) : from;
+  }
 
   /// The other robots standing still from time t on (their schedules end before t), for replanning.
   std::vector<RobotState> parkedAt(int self, double t) const;
@@ -99,6 +106,9 @@ class StepScheduler {
   /// Participants' arrival times at their approach starts for an individual mode at T.
   std::vector<double> arrivals(ArrivalMode mode, double T) const;
   double travel(int i, ArrivalMode mode) const;
+  /// How much later than T the step must happen for every participant, arriving together, to keep its
+  /// piece of the step out of its clock-time windows (0: it fits at T; StepWindow).
+  double windowWait(double T) const;
   /// The timelines with this step placed at T in `mode`; nullopt when the mode does not fit at T.
   std::optional<std::vector<RobotTimeline>> trial(ArrivalMode mode, double T) const;
   std::optional<ScheduleConflict> check(const std::vector<RobotTimeline>& trial, ArrivalMode mode, double T) const;

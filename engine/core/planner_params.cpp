@@ -92,6 +92,10 @@ std::vector<ParamInfo> lazyDashParameters() {
       // The loop.
       budget("transition_resamples", 2, 0, 100, motion_hg + ": \"resampling is performed to search for valid alternatives\"",
              "transition configurations of one task hyperarc turned down before the hyperarc is banned"),
+      budget("move_out_resamples", 3, 0, 100, "Task Planning Layer: task conflict detection, \"resampling is performed to "
+             "search for valid alternatives\"",
+             "times a move-out pose is resampled when its object's chain has no collision-free transition configuration "
+             "there, before the step is banned for some task queries"),
       count("validator_rechecks", 3, 0, 100, kBeyond,
             "schedule again, checking the instant the validator found a contact at (per round)"),
       flag("restart_when_exhausted", true, true, theory + ": constraints \"can be lifted when new task or motion samples "

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "engine/dash/placement_sampling.h"
 #include "engine/dash/schedule_conflicts.h"
@@ -130,7 +131,7 @@ PlanResult DashRun::searchConstraintTree() {
       result_.task_plan_json = extracted.plan.toJson(space_);
       return finish(PlanOutcome::kSolved, extracted.plan.describe(space_));
     }
-    NodeOutcome outcome = resolveConflicts(extracted);
+    NodeOutcome outcome = resolveConflicts(extracted, node);
     if (!outcome.internal_error.empty()) return finish(PlanOutcome::kInfeasible, outcome.internal_error);
     if (outcome.plan) {
       result_.stats.makespan = outcome.plan->makespan;
@@ -185,7 +186,7 @@ std::string DashRun::unroutedObjects() const {
 }
 
 // Resting-object conflicts by CBS-MP's low-level search, then the scheduler and the validator.
-DashRun::NodeOutcome DashRun::resolveConflicts(ExtractedPlan& extracted) {
+DashRun::NodeOutcome DashRun::resolveConflicts(ExtractedPlan& extracted, const Node& node) {
   log::PhaseTimer timer(emitter_, log::Phase::ConflictResolution);
   const std::int64_t before = checks();
   RestingConflictStats resting;
@@ -193,7 +194,10 @@ DashRun::NodeOutcome DashRun::resolveConflicts(ExtractedPlan& extracted) {
   NodeOutcome outcome;
   outcome.conflict =
       resolveRestingConflicts(extracted, *motion_, world_, context_, roadmaps_, deadline_, resting);
-  if (!outcome.conflict) outcome = scheduleAndValidate(extracted);
+  if (!outcome.conflict) {
+    respectWindows(extracted, node);
+    outcome = scheduleAndValidate(extracted);
+  }
   emitter_.counter("scheduled_steps_reused", reused_steps_);
   lazy_ += checks() - before;
   return outcome;
@@ -212,7 +216,7 @@ DashRun::NodeOutcome DashRun::scheduleAndValidate(ExtractedPlan& extracted) {
         scheduler_->build(extracted.plan, extracted.transitions, extracted.motion, space_, replan, deadline_);
     reused_steps_ += schedule.stats.reused_steps;
     if (!schedule.ok) {
-      outcome.conflict = scheduleConflict(*motion_, extracted, schedule.failed_step, schedule.reason);
+      outcome.conflict = scheduleConflict(*motion_, extracted, schedule.failed_step, schedule.reason, schedule.region);
       return outcome;
     }
     Plan plan = std::move(schedule.plan);
@@ -242,9 +246,29 @@ DashRun::NodeOutcome DashRun::scheduleAndValidate(ExtractedPlan& extracted) {
     scheduler_->forgetFrom(problem.t);
     const int step = contactStep(scene_, extracted.plan, schedule.step_times, problem);
     emitter_.counter("validation_feedbacks", ++validation_feedbacks_);
-    outcome.conflict = scheduleConflict(*motion_, extracted, step, "validation: " + problem.message);
+    const SchedulerParams& sp = params_.scheduler;
+    outcome.conflict =
+        scheduleConflict(*motion_, extracted, step, "validation: " + problem.message,
+                         contactTiming(scene_, extracted.plan, schedule.step_times, problem, sp.dwell, sp.delay_step));
     return outcome;
   }
+}
+
+// The node's timed constraints as windows on this plan's steps (motion_constraint.h): the Scheduler
+// keeps each robot's step out of its windows. The steps a changed window can reach are scheduled again
+// (the memo would otherwise hand back steps placed under the old windows).
+void DashRun::respectWindows(const ExtractedPlan& extracted, const Node& node) {
+  std::vector<StepWindow> windows = stepWindows(motion_->graph(), extracted, node);
+  double from = std::numeric_limits<double>::infinity();
+  auto forgetChanged = [&from](const std::vector<StepWindow>& a, const std::vector<StepWindow>& b) {
+    for (const StepWindow& w : a)
+      if (std::find(b.begin(), b.end(), w) == b.end()) from = std::min(from, w.t0);
+  };
+  forgetChanged(windows, windows_);
+  forgetChanged(windows_, windows);
+  if (std::isfinite(from)) scheduler_->forgetFrom(std::max(0.0, from));
+  windows_ = std::move(windows);
+  scheduler_->respect(nullptr, &windows_);
 }
 
 // CBS-MP's probabilistic break rule: grow the roadmaps, or grow the constraint tree by one child per

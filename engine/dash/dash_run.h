@@ -54,7 +54,8 @@ class DashRun {
   PlanResult searchConstraintTree();
   HyperpathResult queryNode(const Node& node);
   void growAfterNoHyperpath();
-  NodeOutcome resolveConflicts(ExtractedPlan& extracted);
+  NodeOutcome resolveConflicts(ExtractedPlan& extracted, const Node& node);
+  void respectWindows(const ExtractedPlan& extracted, const Node& node);
   NodeOutcome scheduleAndValidate(ExtractedPlan& extracted);
   void breakRule(const Node& node, const MotionConflict& conflict);
   void growRoadmaps(const std::vector<int>& robots);
@@ -89,6 +90,7 @@ class DashRun {
   RoadmapSet roadmaps_;
   std::unique_ptr<CombinedQuery> query_;
   std::unique_ptr<Scheduler> scheduler_;
+  std::vector<StepWindow> windows_;  ///< the clock-time windows of the node being scheduled (respectWindows)
   std::unique_ptr<BreakRule> break_rule_;
   std::vector<int> all_robots_;
   // The constraint tree: open nodes (depth first) and every node made so far.

@@ -112,10 +112,10 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
         c.robot = r;
         if (pre_hits) {  // the robot may not wait at q_pre while the object rests there
           c.vertex = robotTailVertex(graph.graph(), transition, r);
-          c.during = blocker(k, [&](const ObjectLayout& l) { return check.stateHits(r, v.q_pre, v.held_before, l); });
+          c.while_resting = blocker(k, [&](const ObjectLayout& l) { return check.stateHits(r, v.q_pre, v.held_before, l); });
         } else {
           c.edge = transition;
-          c.during = approachHits(layouts[k]) ? blocker(k, approachHits) : blocker(k + 1, retreatHits);
+          c.while_resting = approachHits(layouts[k]) ? blocker(k, approachHits) : blocker(k + 1, retreatHits);
         }
         if (!c.vertex.valid() && !c.edge.valid()) c.edge = transition;
         return MotionConflict{MotionConflict::Kind::kTransition, k, {r}, {transition}, {c},
@@ -142,7 +142,7 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
       c.robot = r;
       c.edge = hit;
       if (hit != transition)
-        c.during = blocker(k, [&](const ObjectLayout& l) {
+        c.while_resting = blocker(k, [&](const ObjectLayout& l) {
           return check.pathHits(r, graph.move(graph.graph().property(hit).index).path, v.held_before, l);
         });
       return MotionConflict{MotionConflict::Kind::kMove, k, {r}, {hit}, {c},
@@ -166,7 +166,7 @@ std::optional<MotionConflict> resolveRestingConflicts(ExtractedPlan& plan, const
     MotionConstraint c;
     c.robot = r;
     c.edge = hit;
-    c.during = blocker(static_cast<int>(layouts.size()) - 1, [&](const ObjectLayout& l) {
+    c.while_resting = blocker(static_cast<int>(layouts.size()) - 1, [&](const ObjectLayout& l) {
       return check.pathHits(r, graph.move(graph.graph().property(hit).index).path, HeldObject{}, l);
     });
     return MotionConflict{MotionConflict::Kind::kMove, -1, {r}, {hit}, {c},

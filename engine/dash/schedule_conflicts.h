@@ -2,9 +2,11 @@
 // How DaSH turns a failed schedule, or a contact the plan validator finds, into a CBS-MP conflict
 // (dash_run.h): the plan step it belongs to and one constraint per robot involved
 // (motion_constraint.h).
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "engine/conflict/conflict_region.h"
 #include "engine/dash/motion_hypergraph.h"
 #include "engine/dash/plan_extraction.h"
 #include "engine/dash/resting_conflicts.h"
@@ -12,12 +14,22 @@
 
 namespace dash {
 
-/// The conflict a failed schedule (or a contact the validator found) reports at plan step `step`:
-/// for each participant, the last move into the step (its transition when it did not move), not to be
-/// traversed while the object or partner of the step waits in the state the step consumes (CBS-MP:
-/// one constraint per robot in the conflict). Step -1: the ways home, at any time.
+/// The conflict a failed schedule (or a contact the validator found) reports at plan step `step`
+/// (-1: the ways home), with CBS-MP's one constraint per robot of the conflict. With `timing` (the two
+/// robots, the steps they were in and the interval [t_begin, t_end] of what could not be resolved): a
+/// constraint for each robot on its last move into that step (its transition when it did not move;
+/// its way home at step -1) over [t_begin, t_end]. Without (nothing timed was learned): the step's
+/// participants' last moves over the whole plan.
 MotionConflict scheduleConflict(const MotionHypergraph& graph, const ExtractedPlan& plan, int step,
-                                const std::string& why);
+                                const std::string& why, const std::optional<ConflictRegion>& timing = {});
+
+/// The robots, steps and interval of a contact the validator found in a schedule whose steps happen at
+/// `step_times`: each robot's step is the first of its steps that has not ended (transition plus
+/// `dwell`) at the contact's time, else its way home (-1); the interval is [t, max(t_end, t + min_window)].
+/// nullopt when it is not a contact between known robots.
+std::optional<ConflictRegion> contactTiming(const Scene& scene, const TaskPlan& plan,
+                                            const std::vector<double>& step_times, const ValidationProblem& problem,
+                                            double dwell, double min_window);
 
 /// A collision between robots, held objects or resting objects (what conflict resolution checks).
 bool isContact(const ValidationProblem& problem);

@@ -26,6 +26,7 @@ void applyParameters(LazyDashParams& p, const ParamValues& v) {
   set("approach_line_preference", p.task.conflicts.prefer_free_approach);
   set("handover_class_bans", p.task.handover_class_bans);
   set("transition_resamples", p.max_transition_resamples);
+  set("move_out_resamples", p.task.conflicts.chain_location_resamples);
   set("budget_growth", p.budget_growth);
   set("validator_rechecks", p.validator_rechecks);
   set("validation_feedbacks", p.validation_feedbacks);

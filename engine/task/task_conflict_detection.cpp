@@ -382,6 +382,7 @@ void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& 
     const std::size_t at = std::min(alone.deepest(), chains[o].size() - 1);
     const int k = chains[o][at];
     const TaskStep& step = plan.steps[k];
+    if (resampleChainLocation(plan, trace, k, result)) continue;
     TaskConstraint c;
     c.kind = TaskConstraint::Kind::kInteraction;
     if (at > 0 || alone.exhausted()) {
@@ -405,6 +406,22 @@ void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& 
     result.constraints.push_back(c);
     result.conflicts.push_back(c.cause);
   }
+}
+
+bool TaskConflictDetector::resampleChainLocation(const TaskPlan& plan, const Trace& trace, int step,
+                                                 TaskConflictResult& result) {
+  const TaskArc& a = plan.steps[step].action;
+  if ((a.type != TaskArcType::kPlace && a.type != TaskArcType::kPick) || a.location < 0) return false;
+  if (!space_->location(a.object, a.location).resampleable) return false;
+  int& done = chain_resamples_[{a.object, a.location}];
+  if (done >= params_.chain_location_resamples || !resampleLocation(a.object, a.location, trace)) return false;
+  ++done;
+  ++result.resampled;
+  ++result.move_outs_resampled;
+  result.conflicts.push_back("step " + std::to_string(step) + " (" + describeStep(plan.steps[step], *space_) +
+                             "): no collision-free transition configuration: resampled " +
+                             space_->locationLabel(a.object, a.location));
+  return true;
 }
 
 void TaskConflictDetector::solveInspections(const TaskPlan& plan, const Trace& trace, TaskConflictResult& result) {

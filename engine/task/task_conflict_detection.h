@@ -41,6 +41,10 @@ struct TaskConflictParams {
   int handover_poses = 1040;      ///< object poses tried per handover (the whole search grid)
   /// Side grasps prefer the IK branch whose approach line is free (beyond the paper).
   bool prefer_free_approach = true;
+  /// Times a move-out pose (a resampleable extra location) is resampled because an object's chain has no
+  /// collision-free transition configuration at it, before the step is banned for some task queries
+  /// (paper, Representation Construction: "resampling is performed to search for valid alternatives").
+  int chain_location_resamples = 3;
 };
 
 struct TaskConflictResult {
@@ -49,6 +53,7 @@ struct TaskConflictResult {
   std::vector<int> expand_objects;            ///< objects that need an extra stable pose
   std::vector<std::string> conflicts;         ///< what was found, for people and logs
   int resampled = 0;                          ///< object locations moved in this pass
+  int move_outs_resampled = 0;                ///< of which: move-out poses with no transition configuration
   bool interrupted = false;                   ///< the deadline expired before the trace was done
   std::size_t configuration_checks = 0;
 
@@ -79,6 +84,10 @@ class TaskConflictDetector {
   /// Whether robots `giver` and `receiver` can hand `object` over with these grasp classes at all
   /// (no resting objects, any grasps). Static, so cached for the whole run.
   bool handoverPossible(int giver, int receiver, int object, GraspClass g1, GraspClass g2);
+  /// A chain with no collision-free transition configuration at `step`: where the step places the
+  /// object at (or picks it from) a move-out pose, that pose is resampled (at most
+  /// chain_location_resamples times per pose). Returns whether it was.
+  bool resampleChainLocation(const TaskPlan& plan, const Trace& trace, int step, TaskConflictResult& result);
 
   TransitionSampler* sampler_;
   TaskSpace* space_;
@@ -88,6 +97,7 @@ class TaskConflictDetector {
   static inline const RejectedConfigurations kNoneRejected{};
   const RejectedConfigurations* rejected_ = &kNoneRejected;
   std::map<std::tuple<int, int, int, int, long, long, long>, bool> handover_possible_;
+  std::map<std::pair<int, int>, int> chain_resamples_;  ///< (object, location): resampleChainLocation's
 };
 
 }  // namespace dash

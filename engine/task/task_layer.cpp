@@ -249,27 +249,73 @@ bool TaskLayer::liftAfterFailure(TaskLayerResult& result) {
   return true;
 }
 
-TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
-  TaskLayerResult result;
-  rebuild();
-  TaskConflictDetector detector(sampler_, space_, graph_, rng_, params_.conflicts);
-  detector.avoid(rejected_);
+TaskQueryObserver TaskLayer::queryObserver() {
   TaskQueryObserver observer;
   if (emitter_->enabled()) {
-    observer.onVertex = [&](const ExtendedVertex& v) {
+    observer.onVertex = [this](const ExtendedVertex& v) {
       ++extended_vertices_;
       emitter_->vertex(log::Layer::TaskExtended, static_cast<std::uint32_t>(extended_vertices_ - 1),
                        graph_.label(v.vertex, space_));
     };
-    observer.onHyperarc = [&](const ExtendedHyperarc& a) {
+    observer.onHyperarc = [this](const ExtendedHyperarc& a) {
       ++extended_hyperarcs_;
       emitter_->hyperarcOf(log::Layer::TaskExtended, taskArcTypeName(graph_.graph().property(a.hyperarc).type),
                            static_cast<std::uint32_t>(extended_hyperarcs_ - 1), a.produced, a.consumed);
     };
   } else {
-    observer.onVertex = [&](const ExtendedVertex&) { ++extended_vertices_; };
-    observer.onHyperarc = [&](const ExtendedHyperarc&) { ++extended_hyperarcs_; };
+    observer.onVertex = [this](const ExtendedVertex&) { ++extended_vertices_; };
+    observer.onHyperarc = [this](const ExtendedHyperarc&) { ++extended_hyperarcs_; };
   }
+  return observer;
+}
+
+// What comes first after a failed query. Mostly the task space grows (the constraints contradict each
+// other). But a query that ran out of budget while motion bans held proves nothing, and a larger task
+// space makes the next one harder still: the bans are lifted first. An object that the interaction
+// constraints left without any route gets none from another object's move-out state: only lifting can
+// help it. Without progress, `result` says why the layer is infeasible.
+bool TaskLayer::recoverFromFailedQuery(const TaskQueryResult& query, TaskLayerResult& result) {
+  const bool lift_first =
+      query.unroutable_object >= 0 || (query.status == HyperpathStatus::kBudget && holdsTemporaryMotionBans());
+  const bool progress = lift_first ? liftAfterFailure(result) || expandAfterFailure(query)
+                                   : expandAfterFailure(query) || liftAfterFailure(result);
+  if (progress) return true;
+  result.status = TaskLayerStatus::kInfeasible;
+  const auto& all = constraints_.all();
+  result.no_route_in_task_hypergraph =
+      query.unroutable_object >= 0 && std::none_of(all.begin(), all.end(), [](const TaskConstraint& c) {
+        return c.kind == TaskConstraint::Kind::kInteraction;
+      });
+  result.reason = std::string("task query ") + std::string(toString(query.status)) + " with " +
+                  std::to_string(constraints_.size()) + " task constraints" +
+                  (query.unroutable_object < 0
+                       ? std::string()
+                       : ": " + scene_->objects[query.unroutable_object].id + " has no route to its goal");
+  return false;
+}
+
+// Task conflicts found: their constraints, expansions and resampled locations. Returns the progress
+// made (0: the same conflicts again with nothing new).
+int TaskLayer::applyConflicts(const TaskConflictResult& conflicts) {
+  int progress = conflicts.resampled;
+  if (conflicts.move_outs_resampled > 0)
+    emitter_->counter("move_out_resamples", move_outs_resampled_ += conflicts.move_outs_resampled);
+  for (const TaskConstraint& c : conflicts.constraints) progress += addConstraint(c) ? 1 : 0;
+  bool expanded = false;
+  for (int o : conflicts.expand_objects) expanded = expand(o, "blocks another object where it must end") || expanded;
+  if (expanded) {
+    ++progress;
+    rebuild();
+  }
+  return progress;
+}
+
+TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
+  TaskLayerResult result;
+  rebuild();
+  TaskConflictDetector detector(sampler_, space_, graph_, rng_, params_.conflicts);
+  detector.avoid(rejected_);
+  const TaskQueryObserver observer = queryObserver();
 
   for (int iteration = 0; iteration < params_.max_iterations; ++iteration) {
     if (deadline.expired()) {
@@ -287,27 +333,7 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
         result.status = TaskLayerStatus::kTimeout;
         return result;
       }
-      // What comes first after a failed query. Mostly the task space grows (the constraints contradict
-      // each other). But a query that ran out of budget while motion bans held proves nothing, and a
-      // larger task space makes the next one harder still: the bans are lifted first. An object that
-      // the interaction constraints left without any route gets none from another object's move-out
-      // state: only lifting can help it.
-      const bool lift_first = query.unroutable_object >= 0 ||
-                              (query.status == HyperpathStatus::kBudget && holdsTemporaryMotionBans());
-      const bool progress = lift_first ? liftAfterFailure(result) || expandAfterFailure(query)
-                                       : expandAfterFailure(query) || liftAfterFailure(result);
-      if (progress) continue;
-      result.status = TaskLayerStatus::kInfeasible;
-      const auto& all = constraints_.all();
-      result.no_route_in_task_hypergraph =
-          query.unroutable_object >= 0 && std::none_of(all.begin(), all.end(), [](const TaskConstraint& c) {
-            return c.kind == TaskConstraint::Kind::kInteraction;
-          });
-      result.reason = std::string("task query ") + std::string(toString(query.status)) + " with " +
-                      std::to_string(constraints_.size()) + " task constraints" +
-                      (query.unroutable_object < 0
-                           ? std::string()
-                           : ": " + scene_->objects[query.unroutable_object].id + " has no route to its goal");
+      if (recoverFromFailedQuery(query, result)) continue;
       return result;
     }
     TaskConflictResult conflicts;
@@ -327,14 +353,7 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
       result.transitions = std::move(conflicts.transitions);
       return result;
     }
-    int progress = conflicts.resampled;
-    for (const TaskConstraint& c : conflicts.constraints) progress += addConstraint(c) ? 1 : 0;
-    bool expanded = false;
-    for (int o : conflicts.expand_objects) expanded = expand(o, "blocks another object where it must end") || expanded;
-    if (expanded) {
-      ++progress;
-      rebuild();
-    }
+    const int progress = applyConflicts(conflicts);
     if (progress == 0) {
       result.status = TaskLayerStatus::kInfeasible;
       result.reason = "task conflicts repeat with no new constraint: " +

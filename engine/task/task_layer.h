@@ -110,6 +110,10 @@ class TaskLayer {
   bool expandAfterFailure(const TaskQueryResult& query);
   /// After a failed query: the temporary constraints lifted (false if none, or no lifts left).
   bool liftAfterFailure(TaskLayerResult& result);
+  /// The observer of the task query: counts (and logs) H_TE's vertices and hyperarcs.
+  TaskQueryObserver queryObserver();
+  bool recoverFromFailedQuery(const TaskQueryResult& query, TaskLayerResult& result);
+  int applyConflicts(const TaskConflictResult& conflicts);
 
   const Scene* scene_;
   log::EventEmitter* emitter_;
@@ -123,6 +127,7 @@ class TaskLayer {
   TaskConstraintSet constraints_;
   RejectedConfigurations rejected_;
   int ban_lifts_ = 0;
+  std::int64_t move_outs_resampled_ = 0;  ///< counter move_out_resamples: TaskConflictResult's, summed
   std::unordered_map<std::uint64_t, int> motion_failures_;  ///< per banned hyperarc or handover class
   std::size_t extended_vertices_ = 0;
   std::size_t extended_hyperarcs_ = 0;

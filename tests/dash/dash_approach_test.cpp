@@ -18,25 +18,12 @@
 #include "engine/robots/cartesian_path.h"
 #include "engine/robots/kinematics.h"
 #include "engine/task/geometric_reachability.h"
-#include "tests/dash/dash_test_util.h"
+#include "tests/dash/dash_built.h"
 
 namespace dash {
 namespace {
 
-struct Catalog {
-  explicit Catalog(Scene s)
-      : scene(std::move(s)), world(scene), context(world), space(scene), sampler(world, context), reach(sampler) {
-    const DashTaskGraph graph = buildDashTaskGraph(space, reach.oracle());
-    catalog = sampleTransitions(sampler, space, graph, {}, Deadline(120));
-  }
-  Scene scene;
-  CollisionWorld world;
-  CollisionContext context;
-  TaskSpace space;
-  TransitionSampler sampler;
-  GeometricReachability reach;
-  TransitionCatalog catalog;
-};
+using Catalog = test::Built;  // the scene up to DaSH's transition catalog (dash_built.h)
 
 /// Along `path` (robot g.robot holding g.held), every 1/20 of each segment (a Cartesian path's
 /// segments are a few mm long): the smallest signed distance between the held object's exact box and

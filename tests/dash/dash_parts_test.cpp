@@ -15,57 +15,14 @@
 #include "engine/robots/kinematics.h"
 #include "engine/task/geometric_reachability.h"
 #include "engine/task/task_hypergraph.h"
-#include "tests/dash/dash_test_util.h"
+#include "tests/dash/dash_built.h"
 
 namespace dash {
 namespace {
 
-// Everything up to the motion hypergraph for one scene, as DashPlanner builds it (no pre-sampled
-// placements: the tests below count elements).
-struct Built {
-  explicit Built(Scene s) : scene(std::move(s)), world(scene), context(world), space(scene), sampler(world, context),
-                            reach(sampler) {
-    task_graph = buildDashTaskGraph(space, reach.oracle());
-    catalog = sampleTransitions(sampler, space, task_graph, {}, Deadline());
-  }
-  void buildMotion(log::EventEmitter& emitter) {
-    motion = std::make_unique<MotionHypergraph>(space, catalog, emitter);
-    roadmaps = RoadmapSet(world.robotCount());
-    for (int r = 0; r < world.robotCount(); ++r)
-      for (const bool holding : {false, true}) {
-        roadmaps.slot(r, holding) = std::make_unique<ValidatedRoadmap>(world, context, r);
-        roadmaps.at(r, holding).growTo(60, Deadline());
-      }
-    motion->connectMoves(roadmaps, {}, Deadline());
-  }
-
-  const OmplSeedScope ompl_seeds{1};  // the roadmaps' samples: from seed 1, whatever ran before
-  Scene scene;
-  CollisionWorld world;
-  CollisionContext context;
-  TaskSpace space;
-  TransitionSampler sampler;
-  GeometricReachability reach;
-  DashTaskGraph task_graph;
-  TransitionCatalog catalog;
-  std::unique_ptr<MotionHypergraph> motion;
-  RoadmapSet roadmaps;
-};
-
-Built& sorting22() {
-  static Built built(test::dashScene("sorting", {{"robots", "2"}, {"objects", "2"}}));
-  return built;
-}
-
-/// sorting22() with its motion hypergraph (built once, by whichever test needs it first).
-Built& sorting22WithMotion() {
-  Built& b = sorting22();
-  if (!b.motion) {
-    log::EventEmitter emitter(nullptr);
-    b.buildMotion(emitter);
-  }
-  return b;
-}
+using test::Built;
+using test::sorting22;
+using test::sorting22WithMotion;
 
 TEST(DashTaskGraph, ObjectElementsAreLocationFree) {
   const Built& b = sorting22();
@@ -409,13 +366,13 @@ TEST(MotionConstraint, AnIntervalHoldsOnlyWhileItsVertexIsOnTheFrontier) {
     MotionConstraint c;
     for (VertexId v : g.tail(s.hyperarc)) {
       const MotionVertex& mv = g.property(v);
-      if (mv.kind == MotionVertex::Kind::kObject) c.during = v;
+      if (mv.kind == MotionVertex::Kind::kObject) c.while_resting = v;
       if (mv.kind == MotionVertex::Kind::kRobot) {
         c.vertex = v;
         c.robot = mv.robot;
       }
     }
-    ASSERT_TRUE(c.vertex.valid() && c.during.valid());
+    ASSERT_TRUE(c.vertex.valid() && c.while_resting.valid());
     const HyperpathResult second = query.run({c}, {}, Deadline());
     // Sorting 2/2's H_M has one grasp chain per object that reaches its goal (approaches are
     // Cartesian-dense): with that pick ruled out the query may end exhausted, never through the pick.

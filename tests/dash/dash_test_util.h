@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/dash/dash_params.h"
 #include "engine/robots/robot_model.h"
 #include "engine/scenarios/scenario_registry.h"
 #include "engine/scene/scene.h"
@@ -20,6 +21,15 @@ inline std::shared_ptr<const RobotLibrary> dashLibrary() {
 inline Scene dashScene(const std::string& family, const std::vector<std::pair<std::string, std::string>>& kv,
                        std::uint64_t seed = 1) {
   return generateScenario(family, kv, seed, dashLibrary());
+}
+
+/// DaSH with a scheduler that has little room (at most 2 s of delay per transition, no composite
+/// replanning): conflicts it would have repaired go to CBS-MP's constraint tree.
+inline DashParams littleRoomScheduler() {
+  DashParams params;
+  params.scheduler.max_delay = 2.0;
+  params.scheduler.composite_attempts = 0;
+  return params;
 }
 
 }  // namespace dash::test

@@ -19,12 +19,13 @@ struct LayerRun {
   std::unique_ptr<log::EventEmitter> emitter;
   std::unique_ptr<TaskLayer> layer;
 
-  LayerRun(const std::string& family, std::vector<std::pair<std::string, std::string>> params, std::uint64_t seed) {
+  LayerRun(const std::string& family, std::vector<std::pair<std::string, std::string>> params, std::uint64_t seed,
+           const TaskLayerParams& layer_params = {}) {
     scene = generateScenario(family, params, seed, RobotLibrary::loadDefault());
     world = std::make_unique<CollisionWorld>(scene);
     context = std::make_unique<CollisionContext>(*world);
     emitter = std::make_unique<log::EventEmitter>(&sink);
-    layer = std::make_unique<TaskLayer>(scene, *world, *context, *emitter, seed);
+    layer = std::make_unique<TaskLayer>(scene, *world, *context, *emitter, seed, layer_params);
     result = layer->plan(Deadline(120));
   }
 
@@ -259,14 +260,34 @@ TEST(TransitionSampler, RemembersStaticAnswers) {
 // Seed 2: no single grasp serves an item's pick from its move-out pose and its place back at its
 // goal. That combination is banned for some task queries, never the goal placement for ever (which
 // left the item no way home: infeasible).
+LayerRun& threeLayerStockingSeed2() {
+  static LayerRun run("stocking", {{"layers", "3"}, {"objects", "18"}}, 2);
+  return run;
+}
+
 TEST(TaskConflictDetection, GraspChainFailureDoesNotForbidAGoalForEver) {
-  LayerRun run("stocking", {{"layers", "3"}, {"objects", "18"}}, 2);
+  LayerRun& run = threeLayerStockingSeed2();
   ASSERT_EQ(run.result.status, TaskLayerStatus::kFeasible) << run.result.reason;
   for (const TaskConstraint& c : run.layer->constraints().all()) {
     if (c.kind == TaskConstraint::Kind::kInteraction && c.arc.valid() && !c.temporary) {
       EXPECT_EQ(c.cause.find("@start=goal"), std::string::npos) << c.cause;
     }
   }
+}
+
+// Seed 2 again: an item's move-out pose on the table where no grasp serves its pick from the start and
+// its place there. The pose is resampled (paper: "resampling is performed to search for valid
+// alternatives") before its step is banned; with no resampling the step is banned at once. (The full
+// planner used to spend its 600 s lifting and renewing that ban.)
+TEST(TaskConflictDetection, AMoveOutPoseWithNoTransitionConfigurationIsResampledBeforeItsStepIsBanned) {
+  LayerRun& resampling = threeLayerStockingSeed2();
+  ASSERT_EQ(resampling.result.status, TaskLayerStatus::kFeasible) << resampling.result.reason;
+  EXPECT_GE(resampling.sink.counter("move_out_resamples"), 1);
+  TaskLayerParams none;
+  none.conflicts.chain_location_resamples = 0;
+  LayerRun banning("stocking", {{"layers", "3"}, {"objects", "18"}}, 2, none);
+  ASSERT_EQ(banning.result.status, TaskLayerStatus::kFeasible) << banning.result.reason;
+  EXPECT_EQ(banning.sink.counter("move_out_resamples"), 0);
 }
 
 }  // namespace
