@@ -6,6 +6,8 @@
 #   experiments/compare/paper_all.sh [--db DB] [--workers N]    # run the batch (or resume the last
 #                                                               # unfinished one of DB), then the section
 #   experiments/compare/paper_all.sh --batch ID [--db DB]       # the section of a batch already run
+#   experiments/compare/paper_all.sh --spec experiments/compare/paper-vs-paper.json --db DB
+#                                    # the same for paper profile against paper profile (issue 37)
 #
 # Options: --db DB (default results-compare-paper.db), --workers N (default 2), --figures DIR (default
 # experiments/compare/figures: FAMILY-{sizes,time,success}.{svg,png} and report.txt, the full report).
@@ -27,10 +29,11 @@ FIGURES="$HERE/figures"
 while [ $# -gt 0 ]; do
   case "$1" in
     --db) DB="$2"; shift 2 ;;
+    --spec) SPEC="$2"; shift 2 ;;
     --workers) WORKERS="$2"; shift 2 ;;
     --batch) BATCH="$2"; shift 2 ;;
     --figures) FIGURES="$2"; shift 2 ;;
-    -h|--help) sed -n '2,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,17p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "paper_all.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
   esac
 done
