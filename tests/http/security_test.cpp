@@ -39,7 +39,7 @@ TEST_F(SecurityTest, BadBodiesGetClearJsonErrors) {
   EXPECT_NE(not_json.json()["error"].get<std::string>().find("not valid JSON"), std::string::npos);
   EXPECT_EQ(http->post("/api/batches", "").status, 400);
   EXPECT_EQ(http->post("/api/batches", "[1,2]").status, 400);
-  const Reply bad_spec = http->post("/api/batches", tinySpec("t", "[200]", "[1]", kTaskOnlyPlanner));
+  const Reply bad_spec = http->post("/api/batches", tinySpec("t", "[300]", "[1]", kTaskOnlyPlanner));
   EXPECT_EQ(bad_spec.status, 400);
   EXPECT_NE(bad_spec.json()["error"].get<std::string>().find("objects"), std::string::npos) << bad_spec.body;
   EXPECT_EQ(bad_spec.json()["kind"], "out-of-range") << bad_spec.body;
