@@ -227,18 +227,23 @@ export function mount(root, args, urlParams = new URLSearchParams()) {
     return { q: state.filter, sort: state.sort, order: state.order };
   }
 
+  // Answers can come back out of order (a slow query for the previous filter after the new one's):
+  // only the latest request's answer is shown.
+  let latestLoad = 0;
   async function load() {
     if (!mounted) return;
     saveState();
+    const mine = ++latestLoad;
     try {
       const list = await api.get(`/api/runs${query({ ...params(), limit: state.limit, offset: state.offset })}`);
-      if (!mounted) return;
+      if (!mounted || mine !== latestLoad) return;
       state.lastList = list;
       csvLink.href = `/api/runs.csv${query({ ...params(), columns: shownColumns(list).map((c) => c.name).join(',') })}`;
       filterError.textContent = '';
       filterInput.classList.remove('invalid');
       render(list);
     } catch (e) {
+      if (!mounted || mine !== latestLoad) return;
       // No table under an error: the old rows would look like the answer to the new filter.
       state.lastList = null;
       filterError.textContent = e.message;
