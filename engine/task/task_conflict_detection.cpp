@@ -298,6 +298,56 @@ bool TaskConflictDetector::handoverPossible(int giver, int receiver, int object,
   return possible;
 }
 
+bool TaskConflictDetector::banImpossibleHandovers(const TaskPlan& plan, const std::vector<int>& chain, int o,
+                                                  TaskConflictResult& result) {
+  // A handover that is impossible whatever the grasps (an arm on each side of a wall) is an
+  // interaction constraint at once; searching the chain around it would try every pose on every branch.
+  bool impossible = false;
+  for (int k : chain) {
+    const TaskArc& a = plan.steps[k].action;
+    if (a.type != TaskArcType::kHandover || handoverPossible(a.robot, a.robot2, o, a.grasp, a.grasp2)) continue;
+    TaskConstraint c;
+    c.kind = TaskConstraint::Kind::kInteraction;
+    c.giver = a.robot;
+    c.receiver = a.robot2;
+    c.giver_grasp = a.grasp;
+    c.receiver_grasp = a.grasp2;
+    c.cause = "step " + std::to_string(k) + " (" + describeStep(plan.steps[k], *space_) +
+              "): no collision-free handover configuration at any sampled pose";
+    result.constraints.push_back(c);
+    result.conflicts.push_back(c.cause);
+    impossible = true;
+  }
+  return impossible;
+}
+
+void TaskConflictDetector::banUnservedStep(const TaskPlan& plan, int k, bool past_first_or_budget,
+                                           TaskConflictResult& result) {
+  const TaskStep& step = plan.steps[k];
+  TaskConstraint c;
+  c.kind = TaskConstraint::Kind::kInteraction;
+  if (past_first_or_budget) {
+    // The search got past the chain's first transitions: no grasp serves them and this one together
+    // (a pick from one pose and a place at another with the same grasp), though each may be
+    // feasible alone; or it ran out of budget. Banning this hyperarc for ever could remove the
+    // object's only way to its goal; it is banned for some task queries, as a motion failure is
+    // (TaskLayer::addConstraint).
+    c.arc = step.arc;
+    c.temporary = true;
+  } else if (step.action.type == TaskArcType::kHandover) {
+    c.giver = step.action.robot;
+    c.receiver = step.action.robot2;
+    c.giver_grasp = step.action.grasp;
+    c.receiver_grasp = step.action.grasp2;
+  } else {
+    c.arc = step.arc;
+  }
+  c.cause = "step " + std::to_string(k) + " (" + describeStep(step, *space_) +
+            "): no collision-free transition configuration";
+  result.constraints.push_back(c);
+  result.conflicts.push_back(c.cause);
+}
+
 void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& trace, const Deadline& deadline,
                                              TaskConflictResult& result) {
   std::vector<std::vector<int>> chains(static_cast<std::size_t>(space_->objectCount()));
@@ -309,25 +359,7 @@ void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& 
       result.interrupted = true;
       return;
     }
-    // A handover that is impossible whatever the grasps (an arm on each side of a wall) is an
-    // interaction constraint at once; searching the chain around it would try every pose on every branch.
-    bool impossible = false;
-    for (int k : chains[o]) {
-      const TaskArc& a = plan.steps[k].action;
-      if (a.type != TaskArcType::kHandover || handoverPossible(a.robot, a.robot2, o, a.grasp, a.grasp2)) continue;
-      TaskConstraint c;
-      c.kind = TaskConstraint::Kind::kInteraction;
-      c.giver = a.robot;
-      c.receiver = a.robot2;
-      c.giver_grasp = a.grasp;
-      c.receiver_grasp = a.grasp2;
-      c.cause = "step " + std::to_string(k) + " (" + describeStep(plan.steps[k], *space_) +
-                "): no collision-free handover configuration at any sampled pose";
-      result.constraints.push_back(c);
-      result.conflicts.push_back(c.cause);
-      impossible = true;
-    }
-    if (impossible) continue;
+    if (banImpossibleHandovers(plan, chains[o], o, result)) continue;
     // Configurations the motion layer could not reach are avoided while the chain has others; with no
     // others, they are used again (the motion layer then bans the hyperarc instead).
     auto search = [&](bool use_objects) {
@@ -381,30 +413,8 @@ void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& 
     // No collision-free transition configuration even without resting objects.
     const std::size_t at = std::min(alone.deepest(), chains[o].size() - 1);
     const int k = chains[o][at];
-    const TaskStep& step = plan.steps[k];
     if (resampleChainLocation(plan, trace, k, result)) continue;
-    TaskConstraint c;
-    c.kind = TaskConstraint::Kind::kInteraction;
-    if (at > 0 || alone.exhausted()) {
-      // The search got past the chain's first transitions: no grasp serves them and this one together
-      // (a pick from one pose and a place at another with the same grasp), though each may be
-      // feasible alone; or it ran out of budget. Banning this hyperarc for ever could remove the
-      // object's only way to its goal; it is banned for some task queries, as a motion failure is
-      // (TaskLayer::addConstraint).
-      c.arc = step.arc;
-      c.temporary = true;
-    } else if (step.action.type == TaskArcType::kHandover) {
-      c.giver = step.action.robot;
-      c.receiver = step.action.robot2;
-      c.giver_grasp = step.action.grasp;
-      c.receiver_grasp = step.action.grasp2;
-    } else {
-      c.arc = step.arc;
-    }
-    c.cause = "step " + std::to_string(k) + " (" + describeStep(step, *space_) +
-              "): no collision-free transition configuration";
-    result.constraints.push_back(c);
-    result.conflicts.push_back(c.cause);
+    banUnservedStep(plan, k, at > 0 || alone.exhausted(), result);
   }
 }
 

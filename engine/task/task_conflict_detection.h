@@ -78,6 +78,12 @@ class TaskConflictDetector {
   bool resolvePoseConflicts(const TaskPlan& plan, const Trace& trace, TaskConflictResult& result);
   bool resampleLocation(int object, int location, const Trace& trace);
   void solveObjectChains(const TaskPlan& plan, const Trace& trace, const Deadline& deadline, TaskConflictResult& result);
+  /// Interaction constraints for the handovers of object o's chain that no grasps make possible; whether any.
+  bool banImpossibleHandovers(const TaskPlan& plan, const std::vector<int>& chain, int o, TaskConflictResult& result);
+  /// The constraint for step k of a chain with no collision-free transition configuration even without
+  /// resting objects: a ban for some task queries when the search got past the chain's first
+  /// transitions or ran out of budget, else a class ban (handover) or a ban of the hyperarc.
+  void banUnservedStep(const TaskPlan& plan, int k, bool past_first_or_budget, TaskConflictResult& result);
   void solveInspections(const TaskPlan& plan, const Trace& trace, TaskConflictResult& result);
   void addBlockerConstraints(const TaskPlan& plan, const Trace& trace, int step, const std::vector<int>& blockers,
                              TaskConflictResult& result);
