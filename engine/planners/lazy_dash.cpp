@@ -27,6 +27,7 @@ void applyParameters(LazyDashParams& p, const ParamValues& v) {
   set("handover_class_bans", p.task.handover_class_bans);
   set("transition_resamples", p.max_transition_resamples);
   set("move_out_resamples", p.task.conflicts.chain_location_resamples);
+  set("move_out_one_grasp", p.task.move_out_one_grasp);
   set("budget_growth", p.budget_growth);
   set("validator_rechecks", p.validator_rechecks);
   set("validation_feedbacks", p.validation_feedbacks);

@@ -158,11 +158,38 @@ void TaskLayer::expireTemporaryConstraints() {
 }
 
 // Task space expansion: an extra stable pose ("move-out" state) for `object`, on a support surface
-// near a robot that can take it from its start, clear of every other known object location.
+// near a robot that can take it from its start. Three passes of kMoveOutAttempts samples per robot:
+// (1) a pose the robot can carry the object to with a grasp it takes it with, clear of every known
+// object location; (2) a pose it can grasp with some grasp, clear of every known location; (3) the
+// same, clear of the anchored locations (starts and goals) alone. Overlapping extra poses are
+// resampleable: task conflict detection resamples them if both are ever occupied at once.
 bool TaskLayer::expand(int object, const std::string& reason) {
   if (space_.extraLocationCount(object) >= params_.max_extra_locations_per_object) return false;
   const Scene& scene = *scene_;
-  const SceneObject& obj = scene.objects[object];
+  const std::vector<int> robots = robotsThatTake(object);
+  std::vector<PlacementRegion> regions;
+  for (const SceneSurface& surface : scene.surfaces) regions.emplace_back(surface);
+  for (const MoveOutRule rule : {MoveOutRule{true, true}, MoveOutRule{false, true}, MoveOutRule{false, false}})
+    for (int attempt = 0; attempt < kMoveOutAttempts; ++attempt)
+      for (int r : robots) {
+        if (rule.one_grasp && !params_.move_out_one_grasp) break;
+        int s = -1;
+        const auto pose = sampleMoveOut(object, r, rule, regions, s);
+        if (!pose) continue;
+        const int index = space_.addExtraLocation(object, *pose, s);
+        const Vec3 p = pose->translation();
+        emitter_->taskSpaceExpansion(static_cast<std::uint32_t>(object), scene.objects[object].id,
+                                     space_.locationLabel(object, index) + " at (" + std::to_string(p.x()) + ", " +
+                                         std::to_string(p.y()) + ", " + std::to_string(p.z()) + ") on " +
+                                         scene.surfaces[s].id,
+                                     reason);
+        return true;
+      }
+  return false;
+}
+
+std::vector<int> TaskLayer::robotsThatTake(int object) {
+  const Scene& scene = *scene_;
   const Pose& start = space_.location(object, space_.startLocation(object)).X_WO;
   std::vector<int> robots;
   for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r)
@@ -170,40 +197,43 @@ bool TaskLayer::expand(int object, const std::string& reason) {
         (reachability_.canGrasp(r, object, start, GraspClass::kTop) ||
          reachability_.canGrasp(r, object, start, GraspClass::kSide)))
       robots.push_back(r);
-  std::vector<PlacementRegion> regions;
-  for (const SceneSurface& s : scene.surfaces) regions.emplace_back(s);
-  const ObjectLayout none = ObjectLayout::empty(scene);
-  // First clear of every known location, so that moved-out objects can rest side by side; only if
-  // there is no room, clear of the anchored ones (starts and goals) alone.
-  for (int attempt = 0; attempt < 2 * kMoveOutAttempts; ++attempt) {
-    const bool clear_of_extras = attempt < kMoveOutAttempts;
-    for (int r : robots) {
-      const int s = static_cast<int>(rng_.integer(0, static_cast<std::int64_t>(regions.size()) - 1));
-      const bool arm = scene.robots[r].model->kinematics == KinematicsKind::kUrDh;
-      const auto pose = arm ? regions[s].sampleNear(obj.shape, scene.robots[r].X_WB.translation(), kMoveOutRadius, rng_, 4)
-                            : regions[s].sample(obj.shape, rng_, 4);
-      if (!pose) continue;
-      // Overlapping extra poses are allowed in the second pass: they are resampleable, and task
-      // conflict detection resamples them if both are ever occupied at once.
-      bool clear = true;
-      for (int o = 0; o < space_.objectCount() && clear; ++o)
-        for (const ObjectLocation& l : space_.locations(o))
-          if ((clear_of_extras || !l.resampleable) && (l.X_WO.translation() - pose->translation()).norm() < kMoveOutSpacing)
-            clear = false;
-      if (!clear || objectInCollision(sampler_.world(), sampler_.context(), object, *pose, none)) continue;
-      if (!reachability_.canGrasp(r, object, *pose, GraspClass::kTop) &&
-          !reachability_.canGrasp(r, object, *pose, GraspClass::kSide))
-        continue;
-      const int index = space_.addExtraLocation(object, *pose, s);
-      const Vec3 p = pose->translation();
-      emitter_->taskSpaceExpansion(static_cast<std::uint32_t>(object), obj.id,
-                                   space_.locationLabel(object, index) + " at (" + std::to_string(p.x()) + ", " +
-                                       std::to_string(p.y()) + ", " + std::to_string(p.z()) + ") on " +
-                                       scene.surfaces[s].id,
-                                   reason);
-      return true;
-    }
-  }
+  return robots;
+}
+
+// One sample on a random support surface (near the base of an arm), kept if it passes `rule`.
+std::optional<Pose> TaskLayer::sampleMoveOut(int object, int r, MoveOutRule rule,
+                                             const std::vector<PlacementRegion>& regions, int& surface) {
+  const Scene& scene = *scene_;
+  const SceneObject& obj = scene.objects[object];
+  surface = static_cast<int>(rng_.integer(0, static_cast<std::int64_t>(regions.size()) - 1));
+  const PlacementRegion& region = regions[surface];
+  const bool arm = scene.robots[r].model->kinematics == KinematicsKind::kUrDh;
+  const auto pose = arm ? region.sampleNear(obj.shape, scene.robots[r].X_WB.translation(), kMoveOutRadius, rng_, 4)
+                        : region.sample(obj.shape, rng_, 4);
+  if (!pose) return std::nullopt;
+  for (int o = 0; o < space_.objectCount(); ++o)
+    for (const ObjectLocation& l : space_.locations(o))
+      if ((rule.clear_of_extras || !l.resampleable) && (l.X_WO.translation() - pose->translation()).norm() < kMoveOutSpacing)
+        return std::nullopt;
+  if (objectInCollision(sampler_.world(), sampler_.context(), object, *pose, ObjectLayout::empty(scene)))
+    return std::nullopt;
+  if (!reachability_.canGrasp(r, object, *pose, GraspClass::kTop) &&
+      !reachability_.canGrasp(r, object, *pose, GraspClass::kSide))
+    return std::nullopt;
+  const Pose& start = space_.location(object, space_.startLocation(object)).X_WO;
+  if (rule.one_grasp && !movesOutWithOneGrasp(r, object, start, *pose)) return std::nullopt;
+  return pose;
+}
+
+// A move-out pose serves only if robot r can carry the object there from its start with one grasp:
+// some grasp that r can take at the start (the grasps task conflict detection tries) also holds the
+// object, statically free, at the new pose. A side grasp out of a shelf cubby often has no such twin
+// on a table, and a pose that only some other grasp reaches is a move-out that no chain can use.
+bool TaskLayer::movesOutWithOneGrasp(int robot, int object, const Pose& from, const Pose& to) {
+  const TaskConflictParams& p = params_.conflicts;
+  for (GraspClass g : {GraspClass::kTop, GraspClass::kSide})
+    for (const GraspConfig& gc : sampler_.graspConfigs(robot, object, from, g, p.grasp_candidates, p.prefer_free_approach))
+      if (!sampler_.holdConfigs(robot, object, to, gc.X_TO, 1).empty()) return true;
   return false;
 }
 

@@ -12,6 +12,7 @@
 #include "engine/core/deadline.h"
 #include "engine/core/rng.h"
 #include "engine/events/event_emitter.h"
+#include "engine/placement/placement_region.h"
 #include "engine/task/geometric_reachability.h"
 #include "engine/task/task_conflict_detection.h"
 #include "engine/task/task_query.h"
@@ -24,6 +25,9 @@ struct TaskLayerParams {
   ReachabilityParams reachability;
   int max_iterations = 1000;
   int max_extra_locations_per_object = 3;
+  /// Task space expansion first looks for a move-out pose that a robot can carry the object to with
+  /// the grasp it takes it with at its start (beyond the paper; planner parameter move_out_one_grasp).
+  bool move_out_one_grasp = true;
   /// Times a run may lift the temporary bans when no schedule avoids them (the motion budget is then
   /// raised, a bounded number of times: LazyDash). On large scenes independent failures meet often.
   int max_ban_lifts = 20;
@@ -104,6 +108,17 @@ class TaskLayer {
   /// Counts one answered task query down on the temporary constraints, logging those that expire.
   void expireTemporaryConstraints();
   bool expand(int object, const std::string& reason);
+  struct MoveOutRule {
+    bool one_grasp = true;        ///< the robot carries the object there with the grasp it takes it with
+    bool clear_of_extras = true;  ///< clear of the other move-out poses too, not only of starts and goals
+  };
+  /// The robots that can take `object` at its start.
+  std::vector<int> robotsThatTake(int object);
+  /// One move-out pose sampled for robot r, if it passes `rule`; `surface` is set to its surface.
+  std::optional<Pose> sampleMoveOut(int object, int r, MoveOutRule rule, const std::vector<PlacementRegion>& regions,
+                                    int& surface);
+  /// Robot r can take `object` at `from` and put it down at `to` with the same grasp.
+  bool movesOutWithOneGrasp(int robot, int object, const Pose& from, const Pose& to);
   std::vector<int> objectsToExpandAfterFailure() const;
   bool holdsTemporaryMotionBans() const;
   /// After a failed query: move-out states for the objects of the constraints (false if none was added).

@@ -2,6 +2,8 @@
 // find what the paper's Algorithm 2 finds there, and the task query must get round it.
 #include <gtest/gtest.h>
 
+#include <variant>
+
 #include "engine/events/memory_sink.h"
 #include "engine/scenarios/scenario_registry.h"
 #include "engine/task/task_layer.h"
@@ -289,6 +291,34 @@ TEST(TaskConflictDetection, AMoveOutPoseWithNoTransitionConfigurationIsResampled
   LayerRun& banning = threeLayerStockingSeed2();  // the default: move_out_resamples 0
   ASSERT_EQ(banning.result.status, TaskLayerStatus::kFeasible) << banning.result.reason;
   EXPECT_EQ(banning.sink.counter("move_out_resamples"), 0);
+}
+
+// Created constraints that ban a place at a move-out pose for want of any transition configuration
+// there: a move-out pose no grasp chain can use.
+std::int64_t unusableMoveOutBans(const LayerRun& run) {
+  std::int64_t n = 0;
+  for (const log::Event& e : run.sink.events()) {
+    const auto* c = std::get_if<log::ConstraintEvent>(&e.payload);
+    if (c && c->action == log::ConstraintAction::Created && c->conflict.find("@extra") != std::string::npos &&
+        c->conflict.find("no collision-free transition configuration") != std::string::npos)
+      ++n;
+  }
+  return n;
+}
+
+// Seed 2 again: items taken out of a shelf cubby with a side grasp. A move-out pose on the low table
+// that only some other grasp reaches cannot serve their chain (pick with the side grasp, place there),
+// and its place step is banned for want of a transition configuration. With move_out_one_grasp (the
+// default) expansion first looks for poses the robot reaches with the grasp it takes the item with:
+// fewer such bans than with it off (the paper value).
+TEST(TaskSpaceExpansion, MoveOutPosesReachedWithTheStartGraspAreBannedLessOftenOnThreeLayerStocking) {
+  TaskLayerParams any_grasp;
+  any_grasp.move_out_one_grasp = false;
+  LayerRun off("stocking", {{"layers", "3"}, {"objects", "18"}}, 2, any_grasp);
+  LayerRun& on = threeLayerStockingSeed2();
+  ASSERT_EQ(on.result.status, TaskLayerStatus::kFeasible) << on.result.reason;
+  EXPECT_GE(unusableMoveOutBans(off), 1);
+  EXPECT_LT(unusableMoveOutBans(on), unusableMoveOutBans(off));
 }
 
 }  // namespace
