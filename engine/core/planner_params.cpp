@@ -97,8 +97,9 @@ std::vector<ParamInfo> lazyDashParameters() {
              "transition configurations of one task hyperarc turned down before the hyperarc is banned"),
       count("move_out_resamples", 0, 0, 100, kBeyond,
             "times a move-out pose is resampled when its object's chain has no collision-free transition "
-            "configuration there, before the step is banned for some task queries (off: 3 fixed stocking 3/18 seed 2 "
-            "but broke seed 1 of 3/18 and 2/28, experiments/RESULTS.md)"),
+            "configuration there or at a later step (a place at the goal), before the step is banned for some task "
+            "queries; with move_out_one_grasp the new pose traps no robot (off: 3 solves stocking 2/28 seed 4 but "
+            "loses stocking 3/18 seeds 4 and 5, experiments/RESULTS.md)"),
       count("validator_rechecks", 3, 0, 100, kBeyond,
             "schedule again, checking the instant the validator found a contact at (per round)"),
       flag("restart_when_exhausted", true, true, theory + ": constraints \"can be lifted when new task or motion samples "

@@ -4,6 +4,7 @@
 
 #include "engine/collision/collision_queries.h"
 #include "engine/placement/placement_region.h"
+#include "engine/task/move_out_sampler.h"
 
 namespace dash {
 
@@ -413,18 +414,33 @@ void TaskConflictDetector::solveObjectChains(const TaskPlan& plan, const Trace& 
     // No collision-free transition configuration even without resting objects.
     const std::size_t at = std::min(alone.deepest(), chains[o].size() - 1);
     const int k = chains[o][at];
-    if (resampleChainLocation(plan, trace, k, result)) continue;
+    if (resampleChainLocation(plan, trace, chains[o], at, result)) continue;
     banUnservedStep(plan, k, at > 0 || alone.exhausted(), result);
   }
 }
 
-bool TaskConflictDetector::resampleChainLocation(const TaskPlan& plan, const Trace& trace, int step,
+bool TaskConflictDetector::resampleChainLocation(const TaskPlan& plan, const Trace& trace,
+                                                 const std::vector<int>& chain, std::size_t at,
                                                  TaskConflictResult& result) {
-  const TaskArc& a = plan.steps[step].action;
-  if ((a.type != TaskArcType::kPlace && a.type != TaskArcType::kPick) || a.location < 0) return false;
-  if (!space_->location(a.object, a.location).resampleable) return false;
+  const int step = chain[at];
+  // The failing step's own move-out pose, or else the last one the chain passes before it (a place at
+  // the goal that no grasp taken at that move-out fits).
+  const TaskArc* moved_out = nullptr;
+  for (std::size_t i = at + 1; i-- > 0 && !moved_out;) {
+    const TaskArc& b = plan.steps[chain[i]].action;
+    if ((b.type == TaskArcType::kPlace || b.type == TaskArcType::kPick) && b.location >= 0 &&
+        space_->location(b.object, b.location).resampleable)
+      moved_out = &b;
+  }
+  if (!moved_out) return false;
+  const TaskArc& a = *moved_out;
   int& done = chain_resamples_[{a.object, a.location}];
-  if (done >= params_.chain_location_resamples || !resampleLocation(a.object, a.location, trace)) return false;
+  if (done >= params_.chain_location_resamples) return false;
+  const std::optional<MoveOutPose> moved = move_outs_ ? move_outs_->forResample(a.object, *rng_) : std::nullopt;
+  if (moved)
+    space_->resample(a.object, a.location, moved->X_WO, moved->surface);
+  else if (!resampleLocation(a.object, a.location, trace))
+    return false;
   ++done;
   ++result.resampled;
   ++result.move_outs_resampled;

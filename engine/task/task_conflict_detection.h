@@ -25,6 +25,8 @@
 
 namespace dash {
 
+class MoveOutSampler;
+
 /// The sampled configurations of one task step (valid when `sampled`).
 struct TransitionConfig {
   bool sampled = false;
@@ -43,8 +45,10 @@ struct TaskConflictParams {
   bool prefer_free_approach = true;
   /// Times a move-out pose (a resampleable extra location) is resampled because an object's chain has no
   /// collision-free transition configuration at it, before the step is banned for some task queries
-  /// (an application of the paper's "resampling is performed to search for valid alternatives"; off by
-  /// default: the planner parameter move_out_resamples, docs/planners.md).
+  /// (an application of the paper's "resampling is performed to search for valid alternatives", beyond
+  /// it; the planner parameter move_out_resamples, off by default, docs/planners.md). With a
+  /// MoveOutSampler (resampleMoveOutsWith) the new pose is one that traps no robot; else it is on the
+  /// same surface.
   int chain_location_resamples = 0;
 };
 
@@ -69,6 +73,9 @@ class TaskConflictDetector {
   /// Configurations to choose only when a chain has no other (the motion layer could not reach them);
   /// `rejected` must outlive the detector.
   void avoid(const RejectedConfigurations& rejected) { rejected_ = &rejected; }
+  /// A move-out pose that no grasp chain can use is resampled by `move_outs` (anywhere a robot that
+  /// takes the object can carry it) rather than on its own surface; it must outlive the detector.
+  void resampleMoveOutsWith(const MoveOutSampler& move_outs) { move_outs_ = &move_outs; }
   /// Stops early (result.interrupted) when the deadline expires.
   TaskConflictResult detect(const TaskPlan& plan, const Deadline& deadline = Deadline());
 
@@ -91,10 +98,11 @@ class TaskConflictDetector {
   /// Whether robots `giver` and `receiver` can hand `object` over with these grasp classes at all
   /// (no resting objects, any grasps). Static, so cached for the whole run.
   bool handoverPossible(int giver, int receiver, int object, GraspClass g1, GraspClass g2);
-  /// A chain with no collision-free transition configuration at `step`: where the step places the
-  /// object at (or picks it from) a move-out pose, that pose is resampled (at most
-  /// chain_location_resamples times per pose). Returns whether it was.
-  bool resampleChainLocation(const TaskPlan& plan, const Trace& trace, int step, TaskConflictResult& result);
+  /// A chain with no collision-free transition configuration at chain[at]: where that step places the
+  /// object at (or picks it from) a move-out pose, or else an earlier step of the chain does, that pose
+  /// is resampled (at most chain_location_resamples times per pose). Returns whether it was.
+  bool resampleChainLocation(const TaskPlan& plan, const Trace& trace, const std::vector<int>& chain, std::size_t at,
+                             TaskConflictResult& result);
 
   TransitionSampler* sampler_;
   TaskSpace* space_;
@@ -103,6 +111,7 @@ class TaskConflictDetector {
   TaskConflictParams params_;
   static inline const RejectedConfigurations kNoneRejected{};
   const RejectedConfigurations* rejected_ = &kNoneRejected;
+  const MoveOutSampler* move_outs_ = nullptr;
   std::map<std::tuple<int, int, int, int, long, long, long>, bool> handover_possible_;
   std::map<std::pair<int, int>, int> chain_resamples_;  ///< (object, location): resampleChainLocation's
 };

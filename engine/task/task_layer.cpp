@@ -8,10 +8,6 @@
 namespace dash {
 
 namespace {
-constexpr double kMoveOutRadius = 0.75;      // around the robot base that will move the object out
-constexpr double kMoveOutSpacing = 0.09;     // centre distance to every other known object location
-constexpr int kMoveOutAttempts = 400;
-
 log::ConstraintKind toLogKind(TaskConstraint::Kind k) {
   switch (k) {
     case TaskConstraint::Kind::kFrontier: return log::ConstraintKind::Frontier;
@@ -40,7 +36,8 @@ TaskLayer::TaskLayer(const Scene& scene, const CollisionWorld& world, CollisionC
       rng_(Rng::derive(seed, 11)),
       space_(scene),
       sampler_(world, context),
-      reachability_(sampler_, params_.reachability) {
+      reachability_(sampler_, params_.reachability),
+      move_outs_(space_, sampler_, reachability_, params_.conflicts, params_.move_out_one_grasp) {
   // A task that needs an object out of the way (a lid) needs somewhere to put it: one resampleable
   // extra location each, the minimal task space that can express the task.
   for (const SceneTask& task : scene.tasks)
@@ -124,6 +121,7 @@ std::optional<std::vector<TransitionConfig>> TaskLayer::resampleTransitions(cons
   log::PhaseTimer timer(*emitter_, log::Phase::TaskConflictDetection);
   TaskConflictDetector detector(sampler_, space_, graph_, rng_, params_.conflicts);
   detector.avoid(rejected_);
+  detector.resampleMoveOutsWith(move_outs_);
   TaskConflictResult conflicts = detector.detect(plan, deadline);
   if (!conflicts.feasible()) return std::nullopt;
   return std::move(conflicts.transitions);
@@ -157,84 +155,19 @@ void TaskLayer::expireTemporaryConstraints() {
                          c.cause);
 }
 
-// Task space expansion: an extra stable pose ("move-out" state) for `object`, on a support surface
-// near a robot that can take it from its start. Three passes of kMoveOutAttempts samples per robot:
-// (1) a pose the robot can carry the object to with a grasp it takes it with, clear of every known
-// object location; (2) a pose it can grasp with some grasp, clear of every known location; (3) the
-// same, clear of the anchored locations (starts and goals) alone. Overlapping extra poses are
-// resampleable: task conflict detection resamples them if both are ever occupied at once.
+// Task space expansion: an extra stable pose ("move-out" state) for `object` (MoveOutSampler).
 bool TaskLayer::expand(int object, const std::string& reason) {
   if (space_.extraLocationCount(object) >= params_.max_extra_locations_per_object) return false;
-  const Scene& scene = *scene_;
-  const std::vector<int> robots = robotsThatTake(object);
-  std::vector<PlacementRegion> regions;
-  for (const SceneSurface& surface : scene.surfaces) regions.emplace_back(surface);
-  for (const MoveOutRule rule : {MoveOutRule{true, true}, MoveOutRule{false, true}, MoveOutRule{false, false}})
-    for (int attempt = 0; attempt < kMoveOutAttempts; ++attempt)
-      for (int r : robots) {
-        if (rule.one_grasp && !params_.move_out_one_grasp) break;
-        int s = -1;
-        const auto pose = sampleMoveOut(object, r, rule, regions, s);
-        if (!pose) continue;
-        const int index = space_.addExtraLocation(object, *pose, s);
-        const Vec3 p = pose->translation();
-        emitter_->taskSpaceExpansion(static_cast<std::uint32_t>(object), scene.objects[object].id,
-                                     space_.locationLabel(object, index) + " at (" + std::to_string(p.x()) + ", " +
-                                         std::to_string(p.y()) + ", " + std::to_string(p.z()) + ") on " +
-                                         scene.surfaces[s].id,
-                                     reason);
-        return true;
-      }
-  return false;
-}
-
-std::vector<int> TaskLayer::robotsThatTake(int object) {
-  const Scene& scene = *scene_;
-  const Pose& start = space_.location(object, space_.startLocation(object)).X_WO;
-  std::vector<int> robots;
-  for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r)
-    if (scene.robots[r].hasCapability("grasp") &&
-        (reachability_.canGrasp(r, object, start, GraspClass::kTop) ||
-         reachability_.canGrasp(r, object, start, GraspClass::kSide)))
-      robots.push_back(r);
-  return robots;
-}
-
-// One sample on a random support surface (near the base of an arm), kept if it passes `rule`.
-std::optional<Pose> TaskLayer::sampleMoveOut(int object, int r, MoveOutRule rule,
-                                             const std::vector<PlacementRegion>& regions, int& surface) {
-  const Scene& scene = *scene_;
-  const SceneObject& obj = scene.objects[object];
-  surface = static_cast<int>(rng_.integer(0, static_cast<std::int64_t>(regions.size()) - 1));
-  const PlacementRegion& region = regions[surface];
-  const bool arm = scene.robots[r].model->kinematics == KinematicsKind::kUrDh;
-  const auto pose = arm ? region.sampleNear(obj.shape, scene.robots[r].X_WB.translation(), kMoveOutRadius, rng_, 4)
-                        : region.sample(obj.shape, rng_, 4);
-  if (!pose) return std::nullopt;
-  for (int o = 0; o < space_.objectCount(); ++o)
-    for (const ObjectLocation& l : space_.locations(o))
-      if ((rule.clear_of_extras || !l.resampleable) && (l.X_WO.translation() - pose->translation()).norm() < kMoveOutSpacing)
-        return std::nullopt;
-  if (objectInCollision(sampler_.world(), sampler_.context(), object, *pose, ObjectLayout::empty(scene)))
-    return std::nullopt;
-  if (!reachability_.canGrasp(r, object, *pose, GraspClass::kTop) &&
-      !reachability_.canGrasp(r, object, *pose, GraspClass::kSide))
-    return std::nullopt;
-  const Pose& start = space_.location(object, space_.startLocation(object)).X_WO;
-  if (rule.one_grasp && !movesOutWithOneGrasp(r, object, start, *pose)) return std::nullopt;
-  return pose;
-}
-
-// A move-out pose serves only if robot r can carry the object there from its start with one grasp:
-// some grasp that r can take at the start (the grasps task conflict detection tries) also holds the
-// object, statically free, at the new pose. A side grasp out of a shelf cubby often has no such twin
-// on a table, and a pose that only some other grasp reaches is a move-out that no chain can use.
-bool TaskLayer::movesOutWithOneGrasp(int robot, int object, const Pose& from, const Pose& to) {
-  const TaskConflictParams& p = params_.conflicts;
-  for (GraspClass g : {GraspClass::kTop, GraspClass::kSide})
-    for (const GraspConfig& gc : sampler_.graspConfigs(robot, object, from, g, p.grasp_candidates, p.prefer_free_approach))
-      if (!sampler_.holdConfigs(robot, object, to, gc.X_TO, 1).empty()) return true;
-  return false;
+  const std::optional<MoveOutPose> found = move_outs_.forExpansion(object, rng_);
+  if (!found) return false;
+  const int index = space_.addExtraLocation(object, found->X_WO, found->surface);
+  const Vec3 p = found->X_WO.translation();
+  emitter_->taskSpaceExpansion(static_cast<std::uint32_t>(object), scene_->objects[object].id,
+                               space_.locationLabel(object, index) + " at (" + std::to_string(p.x()) + ", " +
+                                   std::to_string(p.y()) + ", " + std::to_string(p.z()) + ") on " +
+                                   scene_->surfaces[found->surface].id,
+                               reason);
+  return true;
 }
 
 // The query failed under constraints: the objects that block others where they rest get a move-out
@@ -345,6 +278,7 @@ TaskLayerResult TaskLayer::plan(const Deadline& deadline) {
   rebuild();
   TaskConflictDetector detector(sampler_, space_, graph_, rng_, params_.conflicts);
   detector.avoid(rejected_);
+  detector.resampleMoveOutsWith(move_outs_);
   const TaskQueryObserver observer = queryObserver();
 
   for (int iteration = 0; iteration < params_.max_iterations; ++iteration) {

@@ -12,8 +12,8 @@
 #include "engine/core/deadline.h"
 #include "engine/core/rng.h"
 #include "engine/events/event_emitter.h"
-#include "engine/placement/placement_region.h"
 #include "engine/task/geometric_reachability.h"
+#include "engine/task/move_out_sampler.h"
 #include "engine/task/task_conflict_detection.h"
 #include "engine/task/task_query.h"
 
@@ -108,17 +108,6 @@ class TaskLayer {
   /// Counts one answered task query down on the temporary constraints, logging those that expire.
   void expireTemporaryConstraints();
   bool expand(int object, const std::string& reason);
-  struct MoveOutRule {
-    bool one_grasp = true;        ///< the robot carries the object there with the grasp it takes it with
-    bool clear_of_extras = true;  ///< clear of the other move-out poses too, not only of starts and goals
-  };
-  /// The robots that can take `object` at its start.
-  std::vector<int> robotsThatTake(int object);
-  /// One move-out pose sampled for robot r, if it passes `rule`; `surface` is set to its surface.
-  std::optional<Pose> sampleMoveOut(int object, int r, MoveOutRule rule, const std::vector<PlacementRegion>& regions,
-                                    int& surface);
-  /// Robot r can take `object` at `from` and put it down at `to` with the same grasp.
-  bool movesOutWithOneGrasp(int robot, int object, const Pose& from, const Pose& to);
   std::vector<int> objectsToExpandAfterFailure() const;
   bool holdsTemporaryMotionBans() const;
   /// After a failed query: move-out states for the objects of the constraints (false if none was added).
@@ -138,6 +127,7 @@ class TaskLayer {
   TaskSpace space_;
   TransitionSampler sampler_;
   GeometricReachability reachability_;
+  MoveOutSampler move_outs_;
   TaskHypergraph graph_;
   TaskConstraintSet constraints_;
   RejectedConfigurations rejected_;

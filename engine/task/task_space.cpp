@@ -63,10 +63,11 @@ int TaskSpace::addExtraLocation(int object, const Pose& X_WO, int surface) {
   return static_cast<int>(locations_[object].size()) - 1;
 }
 
-void TaskSpace::resample(int object, int index, const Pose& X_WO) {
+void TaskSpace::resample(int object, int index, const Pose& X_WO, int surface) {
   ObjectLocation& loc = locations_[object][index];
   DASH_DEMAND(loc.resampleable);
   loc.X_WO = X_WO;
+  if (surface >= 0) loc.surface = surface;
 }
 
 int TaskSpace::extraLocationCount(int object) const {

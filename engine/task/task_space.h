@@ -41,7 +41,8 @@ class TaskSpace {
   /// Adds an extra stable pose; returns its index.
   int addExtraLocation(int object, const Pose& X_WO, int surface);
   /// Moves a resampleable location (task conflict detection resolving a pose conflict).
-  void resample(int object, int index, const Pose& X_WO);
+  /// A new pose for a resampleable location (and its support surface, unless -1).
+  void resample(int object, int index, const Pose& X_WO, int surface = -1);
   int extraLocationCount(int object) const;
   /// "O3@goal", "O1@extra2" for people and logs.
   std::string locationLabel(int object, int index) const;

@@ -75,6 +75,7 @@ TEST(PlannerParams, ThePaperProfileIsThePublishedAlgorithm) {
   EXPECT_FALSE(p.task.query.remove_round_trips);
   EXPECT_FALSE(p.task.handover_class_bans);
   EXPECT_FALSE(p.task.move_out_one_grasp);
+  EXPECT_EQ(p.task.conflicts.chain_location_resamples, 0);
   EXPECT_FALSE(p.task.conflicts.prefer_free_approach);
   EXPECT_FALSE(p.scheduler.staggered_arrivals);
   EXPECT_FALSE(p.scheduler.schedule_memo);

@@ -277,11 +277,10 @@ TEST(TaskConflictDetection, GraspChainFailureDoesNotForbidAGoalForEver) {
   }
 }
 
-// Seed 2 again: an item's move-out pose on the table where no grasp serves its pick from the start and
-// its place there. The pose is resampled (paper: "resampling is performed to search for valid
-// alternatives") before its step is banned when move_out_resamples allows it; with none (the default)
-// the step is banned at once. (With 3, the full planner solves seed 2 in 44 s instead of spending its
-// 600 s lifting and renewing that ban, but seed 1 of 3/18 and of 2/28 then time out: off by default.)
+// Seed 2 again: an item's move-out pose where no grasp serves its pick from the start and its place
+// there. The pose is resampled (paper: "resampling is performed to search for valid alternatives")
+// before its step is banned when move_out_resamples allows it; with none (the default and the paper
+// value) the step is banned at once.
 TEST(TaskConflictDetection, AMoveOutPoseWithNoTransitionConfigurationIsResampledBeforeItsStepIsBanned) {
   TaskLayerParams three;
   three.conflicts.chain_location_resamples = 3;
@@ -309,8 +308,8 @@ std::int64_t unusableMoveOutBans(const LayerRun& run) {
 // Seed 2 again: items taken out of a shelf cubby with a side grasp. A move-out pose on the low table
 // that only some other grasp reaches cannot serve their chain (pick with the side grasp, place there),
 // and its place step is banned for want of a transition configuration. With move_out_one_grasp (the
-// default) expansion first looks for poses the robot reaches with the grasp it takes the item with:
-// fewer such bans than with it off (the paper value).
+// default) task space expansion looks first for poses that trap no robot (MoveOutSampler): fewer such
+// bans than with it off (the paper value).
 TEST(TaskSpaceExpansion, MoveOutPosesReachedWithTheStartGraspAreBannedLessOftenOnThreeLayerStocking) {
   TaskLayerParams any_grasp;
   any_grasp.move_out_one_grasp = false;
