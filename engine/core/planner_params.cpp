@@ -82,9 +82,11 @@ std::vector<ParamInfo> lazyDashParameters() {
            "a motion failure at a handover bans its class (robots, grasps) instead of the one hyperarc"),
       budget("move_outs_per_object", 3, 0, 100, "Task Planning Layer: task space expansion",
              "extra stable poses (move-out states) task space expansion may add per object"),
-      flag("move_out_one_grasp", true, false, kBeyond,
-           "task space expansion first samples move-out poses that a robot can carry the object to with the grasp "
-           "it takes it with at its start (a side grasp out of a shelf cubby has no twin on a low table)"),
+      flag("move_out_one_grasp", false, false, kBeyond,
+           "task space expansion first samples move-out poses that trap no robot: each robot that takes the object "
+           "at its start and can grasp it there carries it there, and on to its goal, with one grasp (on: solves "
+           "stocking 3/18 seed 2 but loses 2/28 seed 4, and the task query of 3/18 seed 1 grows 10x, "
+           "experiments/RESULTS.md)"),
       budget("ban_queries", 8, 1, 1000, motion_query + ": \"the invalid motion hyperarc is not permanently excluded\"",
              "a hyperarc the motion layer failed on is banned for as many task queries as it failed, at most this many"),
       budget("ban_lifts", 20, 0, 100000, motion_query,

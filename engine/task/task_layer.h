@@ -25,9 +25,9 @@ struct TaskLayerParams {
   ReachabilityParams reachability;
   int max_iterations = 1000;
   int max_extra_locations_per_object = 3;
-  /// Task space expansion first looks for a move-out pose that a robot can carry the object to with
-  /// the grasp it takes it with at its start (beyond the paper; planner parameter move_out_one_grasp).
-  bool move_out_one_grasp = true;
+  /// Task space expansion first looks for move-out poses that trap no robot (MoveOutSampler; beyond the
+  /// paper; planner parameter move_out_one_grasp, off by default: docs/planners.md says why).
+  bool move_out_one_grasp = false;
   /// Times a run may lift the temporary bans when no schedule avoids them (the motion budget is then
   /// raised, a bounded number of times: LazyDash). On large scenes independent failures meet often.
   int max_ban_lifts = 20;

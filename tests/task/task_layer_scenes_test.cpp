@@ -307,14 +307,14 @@ std::int64_t unusableMoveOutBans(const LayerRun& run) {
 
 // Seed 2 again: items taken out of a shelf cubby with a side grasp. A move-out pose on the low table
 // that only some other grasp reaches cannot serve their chain (pick with the side grasp, place there),
-// and its place step is banned for want of a transition configuration. With move_out_one_grasp (the
-// default) task space expansion looks first for poses that trap no robot (MoveOutSampler): fewer such
-// bans than with it off (the paper value).
-TEST(TaskSpaceExpansion, MoveOutPosesReachedWithTheStartGraspAreBannedLessOftenOnThreeLayerStocking) {
-  TaskLayerParams any_grasp;
-  any_grasp.move_out_one_grasp = false;
-  LayerRun off("stocking", {{"layers", "3"}, {"objects", "18"}}, 2, any_grasp);
-  LayerRun& on = threeLayerStockingSeed2();
+// and its place step is banned for want of a transition configuration. With move_out_one_grasp (off by
+// default and in the paper) task space expansion looks first for poses that trap no robot
+// (MoveOutSampler): fewer such bans than with it off.
+TEST(TaskSpaceExpansion, MoveOutPosesThatTrapNoRobotAreBannedLessOftenOnThreeLayerStocking) {
+  TaskLayerParams one_grasp;
+  one_grasp.move_out_one_grasp = true;
+  LayerRun on("stocking", {{"layers", "3"}, {"objects", "18"}}, 2, one_grasp);
+  LayerRun& off = threeLayerStockingSeed2();  // the default
   ASSERT_EQ(on.result.status, TaskLayerStatus::kFeasible) << on.result.reason;
   EXPECT_GE(unusableMoveOutBans(off), 1);
   EXPECT_LT(unusableMoveOutBans(on), unusableMoveOutBans(off));
