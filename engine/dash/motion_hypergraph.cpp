@@ -88,28 +88,37 @@ MotionHypergraph::Space& MotionHypergraph::space(int robot, const HeldObject& he
   return spaces_.back();
 }
 
+VertexId MotionHypergraph::restingVertex(int object, int placement) {
+  MotionVertex v;
+  v.kind = MotionVertex::Kind::kObject;
+  v.object = i16(object);
+  v.placement = i16(placement);
+  return vertex(v);
+}
+
+VertexId MotionHypergraph::taskVertex(int task, bool done) {
+  MotionVertex v;
+  v.kind = done ? MotionVertex::Kind::kTaskDone : MotionVertex::Kind::kTaskPending;
+  v.task = i16(task);
+  return vertex(v);
+}
+
+// The order of these steps is the order of the vertex and hyperarc ids, which break the queries' ties.
 MotionHypergraph::MotionHypergraph(const TaskSpace& space_in, const TransitionCatalog& catalog,
                                    log::EventEmitter& emitter)
     : space_(&space_in), catalog_(&catalog), emitter_(&emitter) {
-  const Scene& scene = space_in.scene();
-  const int robots = static_cast<int>(scene.robots.size());
-  auto objectVertex = [&](int o, int p) {
-    MotionVertex v;
-    v.kind = MotionVertex::Kind::kObject;
-    v.object = i16(o);
-    v.placement = i16(p);
-    return vertex(v);
-  };
-  auto taskVertex = [&](int k, bool done) {
-    MotionVertex v;
-    v.kind = done ? MotionVertex::Kind::kTaskDone : MotionVertex::Kind::kTaskPending;
-    v.task = i16(k);
-    return vertex(v);
-  };
+  addSourceAndSink();
+  addGraspArcs();
+  addHandoverArcs();
+  addInspectArcs();
+}
+
+void MotionHypergraph::addSourceAndSink() {
+  const Scene& scene = space_->scene();
   const VertexId src = vertex(MotionVertex{.kind = MotionVertex::Kind::kSource});
   const VertexId snk = vertex(MotionVertex{.kind = MotionVertex::Kind::kSink});
   std::vector<VertexId> start, goal;
-  for (int r = 0; r < robots; ++r) {
+  for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r) {
     home_.push_back(robotVertex(r, scene.robots[r].home));
     start.push_back(home_.back());
     goal.push_back(home_.back());
@@ -117,11 +126,21 @@ MotionHypergraph::MotionHypergraph(const TaskSpace& space_in, const TransitionCa
     s.entries.push_back(home_.back());
     s.exits.push_back(home_.back());
   }
+  addObjectVertices(start, goal);
+  for (int k = 0; k < static_cast<int>(scene.tasks.size()); ++k) {
+    start.push_back(taskVertex(k, false));
+    goal.push_back(taskVertex(k, true));
+  }
+  source_ = arc({src}, start, MotionArc{MotionArc::Type::kSource}, 0.0);
+  sink_ = arc(goal, {snk}, MotionArc{MotionArc::Type::kSink}, 0.0);
+}
+
+void MotionHypergraph::addObjectVertices(std::vector<VertexId>& start, std::vector<VertexId>& goal) {
   std::vector<Vec3> spots;  // extra locations at one position are one shared placement
-  for (int o = 0; o < space_in.objectCount(); ++o) {
-    for (int p = 0; p < static_cast<int>(space_in.locations(o).size()); ++p) {
-      const VertexId v = objectVertex(o, p);
-      const ObjectLocation& l = space_in.location(o, p);
+  for (int o = 0; o < space_->objectCount(); ++o) {
+    for (int p = 0; p < static_cast<int>(space_->locations(o).size()); ++p) {
+      const VertexId v = restingVertex(o, p);
+      const ObjectLocation& l = space_->location(o, p);
       if (l.kind != ObjectLocation::Kind::kExtra) continue;
       auto same = std::find_if(spots.begin(), spots.end(),
                                [&](const Vec3& q) { return (q - l.X_WO.translation()).norm() < 1e-9; });
@@ -133,21 +152,17 @@ MotionHypergraph::MotionHypergraph(const TaskSpace& space_in, const TransitionCa
       spot_of_[v.value()] = spot;
       spot_vertices_[spot].push_back(v);
     }
-    start.push_back(objectVertex(o, space_in.startLocation(o)));
-    if (space_in.goalLocation(o) >= 0) goal.push_back(objectVertex(o, space_in.goalLocation(o)));
+    start.push_back(restingVertex(o, space_->startLocation(o)));
+    if (space_->goalLocation(o) >= 0) goal.push_back(restingVertex(o, space_->goalLocation(o)));
   }
-  for (int k = 0; k < static_cast<int>(scene.tasks.size()); ++k) {
-    start.push_back(taskVertex(k, false));
-    goal.push_back(taskVertex(k, true));
-  }
-  source_ = arc({src}, start, MotionArc{MotionArc::Type::kSource}, 0.0);
-  sink_ = arc(goal, {snk}, MotionArc{MotionArc::Type::kSink}, 0.0);
+}
 
-  for (std::size_t i = 0; i < catalog.grasps.size(); ++i) {
-    const GraspSample& g = catalog.grasps[i];
+void MotionHypergraph::addGraspArcs() {
+  for (std::size_t i = 0; i < catalog_->grasps.size(); ++i) {
+    const GraspSample& g = catalog_->grasps[i];
     const VertexId pre = robotVertex(g.robot, g.q_pre);
     const VertexId hold = holdingVertex(g.robot, g.held, g.q_hold);
-    const VertexId at = objectVertex(g.object, g.placement);
+    const VertexId at = restingVertex(g.object, g.placement);
     const double cost = pathLength(g.pre_path) + pathLength(g.hold_path);
     const int index = static_cast<int>(i);
     transitions_from_[pre.value()].push_back(arc({pre, at}, {hold}, {MotionArc::Type::kPick, index}, cost));
@@ -159,8 +174,11 @@ MotionHypergraph::MotionHypergraph(const TaskSpace& space_in, const TransitionCa
     holding.entries.push_back(hold);
     holding.exits.push_back(hold);
   }
-  for (std::size_t i = 0; i < catalog.handovers.size(); ++i) {
-    const HandoverSample& h = catalog.handovers[i];
+}
+
+void MotionHypergraph::addHandoverArcs() {
+  for (std::size_t i = 0; i < catalog_->handovers.size(); ++i) {
+    const HandoverSample& h = catalog_->handovers[i];
     const VertexId v1 = holdingVertex(h.giver, h.held, h.q1);
     const VertexId v1post = robotVertex(h.giver, h.q1_post);
     const VertexId v2pre = robotVertex(h.receiver, h.q2_pre);
@@ -174,20 +192,23 @@ MotionHypergraph::MotionHypergraph(const TaskSpace& space_in, const TransitionCa
     space(h.receiver, {}).exits.push_back(v2pre);
     space(h.receiver, h.held2).entries.push_back(v2post);
   }
-  for (std::size_t i = 0; i < catalog.inspects.size(); ++i) {
-    const InspectSample& s = catalog.inspects[i];
+}
+
+void MotionHypergraph::addInspectArcs() {
+  for (std::size_t i = 0; i < catalog_->inspects.size(); ++i) {
+    const InspectSample& s = catalog_->inspects[i];
     const VertexId pre = robotVertex(s.robot, s.q_pre);
     const VertexId pending = taskVertex(s.task, false);
     const VertexId done = taskVertex(s.task, true);
     const double cost = 2.0 * pathLength(s.pre_path);
-    const int lid = scene.tasks[s.task].requires_removed_object;
+    const int lid = space_->scene().tasks[s.task].requires_removed_object;
     const int index = static_cast<int>(i);
     if (lid < 0) {
       transitions_from_[pre.value()].push_back(arc({pre, pending}, {pre, done}, {MotionArc::Type::kInspect, index}, cost));
     } else {
-      for (int p = 0; p < static_cast<int>(space_in.locations(lid).size()); ++p) {
-        if (p == space_in.startLocation(lid)) continue;
-        const VertexId at = objectVertex(lid, p);
+      for (int p = 0; p < static_cast<int>(space_->locations(lid).size()); ++p) {
+        if (p == space_->startLocation(lid)) continue;
+        const VertexId at = restingVertex(lid, p);
         transitions_from_[pre.value()].push_back(
             arc({pre, pending, at}, {pre, done, at}, {MotionArc::Type::kInspect, index, p}, cost));
       }

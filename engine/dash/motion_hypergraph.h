@@ -138,6 +138,14 @@ class MotionHypergraph {
   VertexId robotVertex(int robot, const JointVector& q);
   VertexId holdingVertex(int robot, const HeldObject& held, const JointVector& q);
   Space& space(int robot, const HeldObject& held);
+  VertexId restingVertex(int object, int placement);  ///< objectVertex(), added if new
+  VertexId taskVertex(int task, bool done);
+  // The constructor's steps (H_M before any move).
+  void addSourceAndSink();
+  void addObjectVertices(std::vector<VertexId>& start, std::vector<VertexId>& goal);
+  void addGraspArcs();
+  void addHandoverArcs();
+  void addInspectArcs();
 
   const TaskSpace* space_;
   const TransitionCatalog* catalog_;

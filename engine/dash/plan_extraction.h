@@ -4,7 +4,9 @@
 // for the transitions that produced what it consumes, through any moves in between), their sampled
 // configurations, and per robot its visits (the moves since its previous transition joined into one
 // transit, then approach, transition, retreat) and its way home. The same structures Lazy-DaSH's
-// motion layer produces, so both planners share one Scheduler.
+// motion layer produces, so both planners share one Scheduler (the Lazy-DaSH paper, "Method
+// Descriptions": both methods use the scheduled adaptive robot coordination of "Motion Conflict
+// Resolution Layer"; DaSH as in "Comparison with DaSH").
 #include <array>
 #include <vector>
 

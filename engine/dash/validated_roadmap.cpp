@@ -34,6 +34,127 @@ bool sameGrasp(const HeldObject& a, const HeldObject& b, const CollisionWorld& w
   return world.scene().objects[a.object].shape.size == world.scene().objects[b.object].shape.size &&
          a.X_TO.matrix() == b.X_TO.matrix();
 }
+
+// plan()'s checks against its context (resting objects, parked robots). Roadmap paths run between
+// approach lines: a held object keeps the clearance on every face.
+class ContextChecks {
+ public:
+  ContextChecks(const CollisionWorld& world, CollisionContext& collision, int robot, const MotionContext& context)
+      : world_(world), collision_(collision), robot_(robot), context_(context), held_(inTransit(context.held)) {}
+
+  bool stateOk(const JointVector& q, CheckScope scope) {
+    const RobotState self{robot_, q, held_};
+    if (context_.parked.empty()) return !robotInCollision(world_, collision_, self, context_.layout, nullptr, scope);
+    return !robotsAmongParked(world_, collision_, std::span<const RobotState>(&self, 1), context_.parked,
+                              context_.layout, nullptr, CheckScope::kAll);
+  }
+
+  bool motionOk(const JointVector& p, const JointVector& r, CheckScope scope) {
+    if (context_.parked.empty())
+      return !segmentInCollision(world_, collision_, RobotState{robot_, p, held_}, r, context_.layout, nullptr,
+                                 SegmentOptions{.scope = scope});
+    const RobotMotion self{RobotState{robot_, p, held_}, r};
+    return !motionsAmongParked(world_, collision_, std::span<const RobotMotion>(&self, 1), context_.parked,
+                               context_.layout);
+  }
+
+ private:
+  const CollisionWorld& world_;
+  CollisionContext& collision_;
+  const int robot_;
+  const MotionContext& context_;
+  const HeldObject held_;
+};
+
+using Adjacency = std::vector<std::vector<std::pair<int, double>>>;
+
+// Lazy-PRM's loop (Bohlin and Kavraki 2000) over a validated roadmap: shortest paths va -> vb, A* by
+// distance to b, whose vertices and edges are checked against the context only when a path uses them;
+// roadmap vertices and edges are statically valid, so only the context's part is checked.
+class LazySearch {
+ public:
+  LazySearch(const std::vector<JointVector>& q, const Adjacency& adj, ContextChecks& checks, int va, int vb,
+             const JointVector& b)
+      : q_(q), adj_(adj), checks_(checks), va_(va), vb_(vb), b_(b), vertex_ok_(q.size(), -1) {
+    vertex_ok_[va] = vertex_ok_[vb] = 1;
+  }
+
+  /// The vertices of a valid path va -> vb, none if there is none or the deadline passed.
+  std::optional<std::vector<int>> run(const Deadline& deadline) {
+    while (!deadline.expired()) {
+      const std::vector<int> path = shortestPath();
+      if (path.empty()) return std::nullopt;
+      // Lazy-PRM's order: vertices first (all invalid ones go), then the first invalid edge.
+      if (dropInvalidVertices(path) || dropFirstInvalidEdge(path)) continue;
+      return path;
+    }
+    return std::nullopt;
+  }
+
+ private:
+  static std::pair<int, int> edgeKey(int x, int y) { return std::make_pair(std::min(x, y), std::max(x, y)); }
+
+  // Over the vertices and edges not known invalid; empty when vb is unreachable.
+  std::vector<int> shortestPath() const {
+    using Item = std::pair<double, int>;
+    std::vector<double> g(q_.size(), std::numeric_limits<double>::infinity());
+    std::vector<int> pred(q_.size(), -1);
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+    g[va_] = 0.0;
+    open.push({(q_[va_] - b_).norm(), va_});
+    while (!open.empty()) {
+      const auto [f, v] = open.top();
+      open.pop();
+      if (v == vb_) break;
+      if (f - (q_[v] - b_).norm() > g[v] + 1e-12) continue;
+      for (const auto& [w, len] : adj_[v]) {
+        if (vertex_ok_[w] == 0 || bad_edges_.contains(edgeKey(v, w))) continue;
+        if (g[v] + len < g[w]) {
+          g[w] = g[v] + len;
+          pred[w] = v;
+          open.push({g[w] + (q_[w] - b_).norm(), w});
+        }
+      }
+    }
+    std::vector<int> path;
+    if (!std::isfinite(g[vb_])) return path;
+    for (int v = vb_; v >= 0; v = pred[v]) path.push_back(v);
+    std::reverse(path.begin(), path.end());
+    return path;
+  }
+
+  // Checks every unchecked vertex of `path`; whether one of them is invalid.
+  bool dropInvalidVertices(const std::vector<int>& path) {
+    bool dropped = false;
+    for (int v : path) {
+      if (vertex_ok_[v] < 0) vertex_ok_[v] = checks_.stateOk(q_[v], CheckScope::kObjectsOnly) ? 1 : 0;
+      dropped = dropped || vertex_ok_[v] == 0;
+    }
+    return dropped;
+  }
+
+  // Checks the unchecked edges of `path` in order up to the first invalid one; whether there is one.
+  bool dropFirstInvalidEdge(const std::vector<int>& path) {
+    for (std::size_t i = 1; i < path.size(); ++i) {
+      const auto key = edgeKey(path[i - 1], path[i]);
+      if (good_edges_.contains(key)) continue;
+      if (!checks_.motionOk(q_[path[i - 1]], q_[path[i]], CheckScope::kObjectsOnly)) {
+        bad_edges_.insert(key);
+        return true;
+      }
+      good_edges_.insert(key);
+    }
+    return false;
+  }
+
+  const std::vector<JointVector>& q_;
+  const Adjacency& adj_;
+  ContextChecks& checks_;
+  const int va_, vb_;
+  const JointVector& b_;
+  std::vector<signed char> vertex_ok_;
+  std::set<std::pair<int, int>> bad_edges_, good_edges_;
+};
 }  // namespace
 
 struct ValidatedRoadmap::Space {
@@ -216,85 +337,22 @@ std::optional<std::vector<JointVector>> ValidatedRoadmap::plan(const JointVector
                                                                const MotionContext& context,
                                                                const Deadline& deadline) {
   if ((a - b).cwiseAbs().maxCoeff() < kSameConfig) return std::vector<JointVector>{a};
-  // Roadmap paths run between approach lines: a held object keeps the clearance on every face.
-  const HeldObject held = inTransit(context.held);
-  auto stateOk = [&](const JointVector& q, CheckScope scope) {
-    const RobotState self{robot_, q, held};
-    if (context.parked.empty()) return !robotInCollision(*world_, *context_, self, context.layout, nullptr, scope);
-    return !robotsAmongParked(*world_, *context_, std::span<const RobotState>(&self, 1), context.parked,
-                              context.layout, nullptr, CheckScope::kAll);
-  };
-  auto motionOk = [&](const JointVector& p, const JointVector& r, CheckScope scope) {
-    if (context.parked.empty())
-      return !segmentInCollision(*world_, *context_, RobotState{robot_, p, held}, r, context.layout, nullptr,
-                                 SegmentOptions{.scope = scope});
-    const RobotMotion self{RobotState{robot_, p, held}, r};
-    return !motionsAmongParked(*world_, *context_, std::span<const RobotMotion>(&self, 1), context.parked,
-                               context.layout);
-  };
+  ContextChecks checks(*world_, *context_, robot_, context);
   // Cheapest first: the straight segment, checked against everything.
-  if (motionOk(a, b, CheckScope::kAll)) return std::vector<JointVector>{a, b};
-  if (!stateOk(a, CheckScope::kAll) || !stateOk(b, CheckScope::kAll)) return std::nullopt;
+  if (checks.motionOk(a, b, CheckScope::kAll)) return std::vector<JointVector>{a, b};
+  if (!checks.stateOk(a, CheckScope::kAll) || !checks.stateOk(b, CheckScope::kAll)) return std::nullopt;
 
   const int s = space(context.held);
   const int va = anchor(s, a);
   const int vb = anchor(s, b);
-  Space& sp = *spaces_[s];
-  // Roadmap vertices and edges are statically valid; only the context's part is checked here.
-  std::vector<signed char> vertex_ok(sp.q.size(), -1);
-  vertex_ok[va] = vertex_ok[vb] = 1;
-  std::set<std::pair<int, int>> bad_edges, good_edges;
-  auto edgeKey = [](int x, int y) { return std::make_pair(std::min(x, y), std::max(x, y)); };
-  using Item = std::pair<double, int>;
-  while (!deadline.expired()) {
-    std::vector<double> g(sp.q.size(), std::numeric_limits<double>::infinity());
-    std::vector<int> pred(sp.q.size(), -1);
-    std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-    g[va] = 0.0;
-    open.push({(sp.q[va] - b).norm(), va});
-    while (!open.empty()) {
-      const auto [f, v] = open.top();
-      open.pop();
-      if (v == vb) break;
-      if (f - (sp.q[v] - b).norm() > g[v] + 1e-12) continue;
-      for (const auto& [w, len] : sp.adj[v]) {
-        if (vertex_ok[w] == 0 || bad_edges.contains(edgeKey(v, w))) continue;
-        if (g[v] + len < g[w]) {
-          g[w] = g[v] + len;
-          pred[w] = v;
-          open.push({g[w] + (sp.q[w] - b).norm(), w});
-        }
-      }
-    }
-    if (!std::isfinite(g[vb])) return std::nullopt;
-    std::vector<int> path;
-    for (int v = vb; v >= 0; v = pred[v]) path.push_back(v);
-    std::reverse(path.begin(), path.end());
-    // Lazy-PRM's order: vertices first (all invalid ones go), then the first invalid edge.
-    bool retry = false;
-    for (int v : path) {
-      if (vertex_ok[v] < 0) vertex_ok[v] = stateOk(sp.q[v], CheckScope::kObjectsOnly) ? 1 : 0;
-      retry = retry || vertex_ok[v] == 0;
-    }
-    if (retry) continue;
-    for (std::size_t i = 1; i < path.size() && !retry; ++i) {
-      const auto key = edgeKey(path[i - 1], path[i]);
-      if (good_edges.contains(key)) continue;
-      if (motionOk(sp.q[path[i - 1]], sp.q[path[i]], CheckScope::kObjectsOnly)) {
-        good_edges.insert(key);
-      } else {
-        bad_edges.insert(key);
-        retry = true;
-      }
-    }
-    if (retry) continue;
-    std::vector<JointVector> out;
-    for (int v : path) out.push_back(sp.q[v]);
-    out.front() = a;
-    out.back() = b;
-    return out;
-  }
-  return std::nullopt;
+  const Space& sp = *spaces_[s];
+  const std::optional<std::vector<int>> path = LazySearch(sp.q, sp.adj, checks, va, vb, b).run(deadline);
+  if (!path) return std::nullopt;
+  std::vector<JointVector> out;
+  for (int v : *path) out.push_back(sp.q[v]);
+  out.front() = a;
+  out.back() = b;
+  return out;
 }
 
 std::size_t ValidatedRoadmap::vertexCount() const {

@@ -113,42 +113,12 @@ void ResultsDb::Impl::writeEventLocked(std::int64_t run_id, RunState& s, const E
   f.max_iteration = std::max<std::int64_t>(f.max_iteration, e.iteration);
   f.last_t = std::max(f.last_t, e.t);
   switch (e.type) {
-    case 0: {  // representation: buffered for insert_events
-      const int layer = static_cast<int>(e.layer);
-      auto& count = e.kind == ElementKind::Vertex ? f.sizes.vertices[layer] : f.sizes.hyperarcs[layer];
-      count += e.change == ElementChange::Added ? 1 : -1;
-      EventRow& row = event_rows[static_cast<std::size_t>(pending_rows++)];
-      row.run_id = run_id;
-      row.seq = seq;
-      row.t = e.t;
-      row.iteration = e.iteration;
-      row.layer = layer;
-      row.kind = static_cast<int>(e.kind);
-      row.change = static_cast<int>(e.change);
-      row.id = e.id;
-      row.arc_type = e.arc_type;
-      row.label = e.label;
-      if (e.kind == ElementKind::Hyperarc) {
-        writeIds(e.head, row.head);
-        writeIds(e.tail, row.tail);
-      }
-      if (pending_rows == kRowsPerInsert) flushEventRowsLocked();
-      // Within a long phase too (DaSH builds H_M for many seconds in one phase), not only at its end.
-      if (e.t - s.last_progress_t >= s.progress_interval) writeProgressLocked(run_id, s, e.t, e.iteration);
+    case 0:  // representation: buffered for insert_events
+      writeRepresentationLocked(run_id, seq, s, e);
       break;
-    }
-    case 1: {
-      f.active_constraints += e.action == ConstraintAction::Created ? 1 : -1;
-      if (e.action == ConstraintAction::Created) ++f.constraints[static_cast<int>(e.constraint_kind)];
-      writeIds(e.vertices, s.ids_buffer);
-      sql::Statement& st = insert_constraint;
-      st.bind(1, run_id).bind(2, seq).bind(3, e.t).bind(4, e.iteration);
-      st.bindStatic(5, toString(e.constraint_kind)).bindStatic(6, toString(e.action));
-      st.bind(7, static_cast<std::int64_t>(e.id)).bindStatic(8, e.content).bindStatic(9, s.ids_buffer);
-      st.bindOrNull(10, e.conflict);
-      st.runKeepingBindings();
+    case 1:
+      writeConstraintLocked(run_id, seq, s, e);
       break;
-    }
     case 2: {
       ++f.expansions;
       sql::Statement& st = insert_expansion;
@@ -176,23 +146,66 @@ void ResultsDb::Impl::writeEventLocked(std::int64_t run_id, RunState& s, const E
       writeProgressLocked(run_id, s, e.t, e.iteration);
       break;
     }
-    default: {  // 4, counter
-      if (e.name == "roadmap_vertices") s.roadmap_vertices = e.value;
-      if (e.name == "roadmap_edges") s.roadmap_edges = e.value;
-      if (e.name == "collision_checks_eager") s.checks_eager = e.value;
-      if (e.name == "collision_checks_lazy") s.checks_lazy = e.value;
-      if (e.name == "collision_checks") s.checks_total = e.value;
-      if (auto it = f.counters.find(e.name); it != f.counters.end()) {
-        it->second = e.value;
-      } else {
-        f.counters.emplace(std::string(e.name), e.value);
-      }
-      sql::Statement& st = insert_counter;
-      st.bind(1, run_id).bind(2, seq).bind(3, e.t).bind(4, e.iteration).bindStatic(5, e.name).bind(6, e.value);
-      st.runKeepingBindings();
+    default:  // 4, counter
+      writeCounterLocked(run_id, seq, s, e);
       break;
-    }
   }
+}
+
+void ResultsDb::Impl::writeRepresentationLocked(std::int64_t run_id, std::int64_t seq, RunState& s,
+                                                const EventView& e) {
+  RunFigures& f = s.figures;
+  const int layer = static_cast<int>(e.layer);
+  auto& count = e.kind == ElementKind::Vertex ? f.sizes.vertices[layer] : f.sizes.hyperarcs[layer];
+  count += e.change == ElementChange::Added ? 1 : -1;
+  EventRow& row = event_rows[static_cast<std::size_t>(pending_rows++)];
+  row.run_id = run_id;
+  row.seq = seq;
+  row.t = e.t;
+  row.iteration = e.iteration;
+  row.layer = layer;
+  row.kind = static_cast<int>(e.kind);
+  row.change = static_cast<int>(e.change);
+  row.id = e.id;
+  row.arc_type = e.arc_type;
+  row.label = e.label;
+  if (e.kind == ElementKind::Hyperarc) {
+    writeIds(e.head, row.head);
+    writeIds(e.tail, row.tail);
+  }
+  if (pending_rows == kRowsPerInsert) flushEventRowsLocked();
+  // Within a long phase too (DaSH builds H_M for many seconds in one phase), not only at its end.
+  if (e.t - s.last_progress_t >= s.progress_interval) writeProgressLocked(run_id, s, e.t, e.iteration);
+}
+
+void ResultsDb::Impl::writeConstraintLocked(std::int64_t run_id, std::int64_t seq, RunState& s, const EventView& e) {
+  RunFigures& f = s.figures;
+  f.active_constraints += e.action == ConstraintAction::Created ? 1 : -1;
+  if (e.action == ConstraintAction::Created) ++f.constraints[static_cast<int>(e.constraint_kind)];
+  writeIds(e.vertices, s.ids_buffer);
+  sql::Statement& st = insert_constraint;
+  st.bind(1, run_id).bind(2, seq).bind(3, e.t).bind(4, e.iteration);
+  st.bindStatic(5, toString(e.constraint_kind)).bindStatic(6, toString(e.action));
+  st.bind(7, static_cast<std::int64_t>(e.id)).bindStatic(8, e.content).bindStatic(9, s.ids_buffer);
+  st.bindOrNull(10, e.conflict);
+  st.runKeepingBindings();
+}
+
+void ResultsDb::Impl::writeCounterLocked(std::int64_t run_id, std::int64_t seq, RunState& s, const EventView& e) {
+  RunFigures& f = s.figures;
+  if (e.name == "roadmap_vertices") s.roadmap_vertices = e.value;
+  if (e.name == "roadmap_edges") s.roadmap_edges = e.value;
+  if (e.name == "collision_checks_eager") s.checks_eager = e.value;
+  if (e.name == "collision_checks_lazy") s.checks_lazy = e.value;
+  if (e.name == "collision_checks") s.checks_total = e.value;
+  if (auto it = f.counters.find(e.name); it != f.counters.end()) {
+    it->second = e.value;
+  } else {
+    f.counters.emplace(std::string(e.name), e.value);
+  }
+  sql::Statement& st = insert_counter;
+  st.bind(1, run_id).bind(2, seq).bind(3, e.t).bind(4, e.iteration).bindStatic(5, e.name).bind(6, e.value);
+  st.runKeepingBindings();
 }
 
 void ResultsDb::Impl::flushEventRowsLocked() {

@@ -126,6 +126,10 @@ struct ResultsDb::Impl {
   void stopWriter();
   void writerLoop();
   void writeEventLocked(std::int64_t run_id, RunState& state, const EventView& event);
+  // writeEventLocked's kinds of event with a step of their own.
+  void writeRepresentationLocked(std::int64_t run_id, std::int64_t seq, RunState& state, const EventView& event);
+  void writeConstraintLocked(std::int64_t run_id, std::int64_t seq, RunState& state, const EventView& event);
+  void writeCounterLocked(std::int64_t run_id, std::int64_t seq, RunState& state, const EventView& event);
   /// Inserts the representation events still waiting in event_rows.
   void flushEventRowsLocked();
   void writeProgressLocked(std::int64_t run_id, RunState& state, double t, int iteration);

@@ -161,127 +161,166 @@ FkResult forwardKinematicsUr(const RobotModel& model, const Pose& X_WB, const Jo
 }
 }  // namespace detail
 
+namespace {
+
+/// One closed-form IK query (see the derivation at the top), its branches as steps: the shoulder
+/// (q1), then the wrist (q5, q6), then the elbow (q2, q3, q4); each solution within the joint limits
+/// is written to `out`.
+class UrIk {
+ public:
+  UrIk(const RobotModel& model, const Pose& X_WB, const Pose& X_WT, double q6_reference,
+       std::array<JointVector, kUrMaxIkSolutions>& out)
+      : model_(model), dh_(model.dh), d1_(dh_.d[0]), a2_(dh_.a[1]), a3_(dh_.a[2]), d4_(dh_.d[3]), d5_(dh_.d[4]),
+        d6_(dh_.d[5]), q6_ref_(wrapToPi(q6_reference)), out_(out) {
+    // Flange in the base frame: X_B6 = X_WB^-1 X_WT X_FT^-1 (isometries: transpose, no inverse).
+    const Mat3 R_WB_T = X_WB.linear().transpose();
+    const Mat3 R_BT = R_WB_T * X_WT.linear();
+    const Vec3 p_BT = R_WB_T * (X_WT.translation() - X_WB.translation());
+    const Mat3 R_FT_T = dh_.X_FT.linear().transpose();
+    R_ = R_BT * R_FT_T;
+    p_ = p_BT - R_ * dh_.X_FT.translation();
+    n_ = R_.col(0);
+    o_ = R_.col(1);
+    a_ = R_.col(2);
+    for (int j = 0; j < 6; ++j) {
+      lo_[j] = model.limits.position_min[j];
+      hi_[j] = model.limits.position_max[j];
+    }
+  }
+
+  int solve() {
+    // Shoulder pan: p5 . z1 = d4 with z1 = (s1, -c1, 0).
+    p5_ = p_ - d6_ * a_;
+    const double r2 = p5_.x() * p5_.x() + p5_.y() * p5_.y();
+    const double disc = r2 - d4_ * d4_;
+    if (disc < -kShoulderReachSlack || r2 == 0.0) return 0;
+    const double w_abs = std::sqrt(std::max(disc, 0.0));
+    for (int shoulder = 0; shoulder < 2; ++shoulder) {
+      if (shoulder == 1 && w_abs == 0.0) break;
+      shoulderBranch(shoulder == 0 ? w_abs : -w_abs, r2);
+    }
+    return count_;
+  }
+
+ private:
+  void shoulderBranch(double w, double r2) {
+    const double c1n = p5_.x() * w - p5_.y() * d4_;
+    const double s1n = p5_.y() * w + p5_.x() * d4_;
+    q1_ = std::atan2(s1n, c1n);
+    c1_ = c1n / r2;
+    s1_ = s1n / r2;
+
+    // Wrist 2: c5 = a . z1, |s5| = |a x z1|.
+    c5_ = a_.x() * s1_ - a_.y() * c1_;
+    const double axy = a_.x() * c1_ + a_.y() * s1_;
+    s5_abs_ = std::sqrt(axy * axy + a_.z() * a_.z());
+    wrist_singular_ = s5_abs_ < kUrWristSingularTolerance;
+    // Wrist 3 for the s5 > 0 branch (the other branch is q6 + pi).
+    q6_pos_ = q6_ref_;
+    c6_pos_ = 1.0;
+    s6_pos_ = 0.0;
+    q5_pos_ = c5_ >= 0.0 ? 0.0 : M_PI;
+    if (wrist_singular_) {
+      c6_pos_ = std::cos(q6_ref_);
+      s6_pos_ = std::sin(q6_ref_);
+    } else {
+      const double u = n_.x() * s1_ - n_.y() * c1_;  //  c6 s5
+      const double v = o_.x() * s1_ - o_.y() * c1_;  // -s6 s5
+      const double h = std::sqrt(u * u + v * v);
+      q6_pos_ = std::atan2(-v, u);
+      c6_pos_ = u / h;
+      s6_pos_ = -v / h;
+      q5_pos_ = std::atan2(s5_abs_, c5_);
+    }
+    for (int wrist = 0; wrist < 2; ++wrist) {
+      if (wrist == 1 && wrist_singular_) break;
+      wristBranch(wrist);
+    }
+  }
+
+  void wristBranch(int wrist) {
+    const double sign = wrist == 0 ? 1.0 : -1.0;
+    const double s5 = wrist_singular_ ? 0.0 : sign * s5_abs_;
+    const double c5e = wrist_singular_ ? (c5_ >= 0.0 ? 1.0 : -1.0) : c5_;
+    const double q5 = wrist == 0 ? q5_pos_ : -q5_pos_;
+    double c6 = sign * c6_pos_;
+    double s6 = sign * s6_pos_;
+    double q6 = wrist == 0 ? q6_pos_ : wrapToPi(q6_pos_ + M_PI);
+
+    // Planar 3R chain in frame 1: p4 = (x, y), x4 at angle q234.
+    Vec3 p4 = p5_ + d5_ * (s6 * n_ + c6 * o_);  // p5 - d5 z4, z4 = -(s6 n + c6 o)
+    double x = p4.x() * c1_ + p4.y() * s1_;
+    double y = p4.z() - d1_;
+    double c3 = (x * x + y * y - a2_ * a2_ - a3_ * a3_) / (2.0 * a2_ * a3_);
+    bool rescued = false;
+    if (std::abs(c3) > 1.0 + kElbowCosSlack && (s5_abs_ < kNearSingularWrist || std::abs(c3) < 1.0 + kRescueWindow)) {
+      // Edge of the workspace: rounding in an ill-conditioned q6 (nearly singular wrist), or the
+      // reference q6 (singular wrist), moved p4 out of reach; move q6 to the nearest value that
+      // brings p4 back to the boundary. Verified by FK below.
+      const double boundary_r2 = a2_ * a2_ + a3_ * a3_ + 2.0 * a2_ * a3_ * (c3 > 0.0 ? 1.0 : -1.0);
+      const WristCircle circle{p5_.x() * c1_ + p5_.y() * s1_, p5_.z() - d1_, d5_,
+                               n_.x() * c1_ + n_.y() * s1_, n_.z(), o_.x() * c1_ + o_.y() * s1_, o_.z()};
+      const bool too_far = c3 * a2_ * a3_ > 0.0;
+      if (circle.reachBoundary(boundary_r2, too_far, q6)) {
+        rescued = true;
+        s6 = std::sin(q6);
+        c6 = std::cos(q6);
+        p4 = p5_ + d5_ * (s6 * n_ + c6 * o_);
+        x = p4.x() * c1_ + p4.y() * s1_;
+        y = p4.z() - d1_;
+        c3 = (x * x + y * y - a2_ * a2_ - a3_ * a3_) / (2.0 * a2_ * a3_);
+      }
+    }
+    if (std::abs(c3) > 1.0 + kElbowCosSlack) return;
+    const Vec3 x4 = c5e * (c6 * n_ - s6 * o_) - s5 * a_;
+    const double q234 = std::atan2(x4.z(), x4.x() * c1_ + x4.y() * s1_);
+    elbowBranches(x, y, std::clamp(c3, -1.0, 1.0), q234, q5, q6, rescued);
+  }
+
+  void elbowBranches(double x, double y, double c3, double q234, double q5, double q6, bool rescued) {
+    const double s3_abs = std::sqrt((1.0 - c3) * (1.0 + c3));
+    const double q3_pos = std::atan2(s3_abs, c3);
+    const double phi = std::atan2(y, x);
+    const double beta_pos = std::atan2(a3_ * s3_abs, a2_ + a3_ * c3);
+    for (int elbow = 0; elbow < 2; ++elbow) {
+      if (elbow == 1 && s3_abs == 0.0) break;
+      const double q3 = elbow == 0 ? q3_pos : -q3_pos;
+      const double q2 = wrapToPi(phi - (elbow == 0 ? beta_pos : -beta_pos));
+      const double q4 = wrapToPi(q234 - q2 - q3);
+      double sol[6] = {q1_, q2, q3, q4, wrapToPi(q5), q6};
+      bool ok = true;
+      for (int j = 0; j < 6 && ok; ++j) ok = fitLimit(sol[j], lo_[j], hi_[j]);
+      if (!ok) continue;
+      if (rescued && !reproduces(model_, sol, R_, p_)) continue;
+      JointVector& qs = out_[static_cast<std::size_t>(count_++)];
+      qs.resize(6);
+      for (int j = 0; j < 6; ++j) qs[j] = sol[j];
+    }
+  }
+
+  const RobotModel& model_;
+  const DhParameters& dh_;
+  const double d1_, a2_, a3_, d4_, d5_, d6_;
+  const double q6_ref_;
+  std::array<JointVector, kUrMaxIkSolutions>& out_;
+  int count_ = 0;
+  Mat3 R_;               ///< flange orientation in the base frame
+  Vec3 p_, n_, o_, a_;   ///< flange position; the columns of R_
+  Vec3 p5_;              ///< wrist point
+  double lo_[6], hi_[6];  ///< joint limits
+  // The shoulder branch being solved: q1 and its cosine and sine, the wrist's |s5| and c5.
+  double q1_ = 0.0, c1_ = 0.0, s1_ = 0.0, c5_ = 0.0, s5_abs_ = 0.0;
+  bool wrist_singular_ = false;
+  // The s5 > 0 wrist branch of the shoulder branch.
+  double q5_pos_ = 0.0, q6_pos_ = 0.0, c6_pos_ = 0.0, s6_pos_ = 0.0;
+};
+
+}  // namespace
+
 int inverseKinematicsUr(const RobotModel& model, const Pose& X_WB, const Pose& X_WT,
                         std::array<JointVector, kUrMaxIkSolutions>& out, double q6_reference) {
   DASH_DEMAND(model.kinematics == KinematicsKind::kUrDh);
-  const DhParameters& dh = model.dh;
-  const double d1 = dh.d[0], a2 = dh.a[1], a3 = dh.a[2], d4 = dh.d[3], d5 = dh.d[4], d6 = dh.d[5];
-
-  // Flange in the base frame: X_B6 = X_WB^-1 X_WT X_FT^-1 (isometries: transpose, no inverse).
-  const Mat3 R_WB_T = X_WB.linear().transpose();
-  const Mat3 R_BT = R_WB_T * X_WT.linear();
-  const Vec3 p_BT = R_WB_T * (X_WT.translation() - X_WB.translation());
-  const Mat3 R_FT_T = dh.X_FT.linear().transpose();
-  const Mat3 R = R_BT * R_FT_T;
-  const Vec3 p = p_BT - R * dh.X_FT.translation();
-  const Vec3 n = R.col(0), o = R.col(1), a = R.col(2);
-
-  const double lo[6] = {model.limits.position_min[0], model.limits.position_min[1], model.limits.position_min[2],
-                        model.limits.position_min[3], model.limits.position_min[4], model.limits.position_min[5]};
-  const double hi[6] = {model.limits.position_max[0], model.limits.position_max[1], model.limits.position_max[2],
-                        model.limits.position_max[3], model.limits.position_max[4], model.limits.position_max[5]};
-  const double q6_ref = wrapToPi(q6_reference);
-
-  // Shoulder pan: p5 . z1 = d4 with z1 = (s1, -c1, 0).
-  const Vec3 p5 = p - d6 * a;
-  const double r2 = p5.x() * p5.x() + p5.y() * p5.y();
-  const double disc = r2 - d4 * d4;
-  if (disc < -kShoulderReachSlack || r2 == 0.0) return 0;
-  const double w_abs = std::sqrt(std::max(disc, 0.0));
-
-  int count = 0;
-  for (int shoulder = 0; shoulder < 2; ++shoulder) {
-    if (shoulder == 1 && w_abs == 0.0) break;
-    const double w = shoulder == 0 ? w_abs : -w_abs;
-    const double c1n = p5.x() * w - p5.y() * d4;
-    const double s1n = p5.y() * w + p5.x() * d4;
-    const double q1 = std::atan2(s1n, c1n);
-    const double c1 = c1n / r2;
-    const double s1 = s1n / r2;
-
-    // Wrist 2: c5 = a . z1, |s5| = |a x z1|.
-    const double c5 = a.x() * s1 - a.y() * c1;
-    const double axy = a.x() * c1 + a.y() * s1;
-    const double s5_abs = std::sqrt(axy * axy + a.z() * a.z());
-    const bool wrist_singular = s5_abs < kUrWristSingularTolerance;
-    // Wrist 3 for the s5 > 0 branch (the other branch is q6 + pi).
-    double q6_pos = q6_ref;
-    double c6_pos = 1.0;
-    double s6_pos = 0.0;
-    double q5_pos = c5 >= 0.0 ? 0.0 : M_PI;
-    if (wrist_singular) {
-      c6_pos = std::cos(q6_ref);
-      s6_pos = std::sin(q6_ref);
-    } else {
-      const double u = n.x() * s1 - n.y() * c1;  //  c6 s5
-      const double v = o.x() * s1 - o.y() * c1;  // -s6 s5
-      const double h = std::sqrt(u * u + v * v);
-      q6_pos = std::atan2(-v, u);
-      c6_pos = u / h;
-      s6_pos = -v / h;
-      q5_pos = std::atan2(s5_abs, c5);
-    }
-
-    for (int wrist = 0; wrist < 2; ++wrist) {
-      if (wrist == 1 && wrist_singular) break;
-      const double sign = wrist == 0 ? 1.0 : -1.0;
-      const double s5 = wrist_singular ? 0.0 : sign * s5_abs;
-      const double c5e = wrist_singular ? (c5 >= 0.0 ? 1.0 : -1.0) : c5;
-      const double q5 = wrist == 0 ? q5_pos : -q5_pos;
-      double c6 = sign * c6_pos;
-      double s6 = sign * s6_pos;
-      double q6 = wrist == 0 ? q6_pos : wrapToPi(q6_pos + M_PI);
-
-      // Planar 3R chain in frame 1: p4 = (x, y), x4 at angle q234.
-      Vec3 p4 = p5 + d5 * (s6 * n + c6 * o);  // p5 - d5 z4, z4 = -(s6 n + c6 o)
-      double x = p4.x() * c1 + p4.y() * s1;
-      double y = p4.z() - d1;
-      double c3 = (x * x + y * y - a2 * a2 - a3 * a3) / (2.0 * a2 * a3);
-      bool rescued = false;
-      if (std::abs(c3) > 1.0 + kElbowCosSlack && (s5_abs < kNearSingularWrist || std::abs(c3) < 1.0 + kRescueWindow)) {
-        // Edge of the workspace: rounding in an ill-conditioned q6 (nearly singular wrist), or the
-        // reference q6 (singular wrist), moved p4 out of reach; move q6 to the nearest value that
-        // brings p4 back to the boundary. Verified by FK below.
-        const double boundary_r2 = a2 * a2 + a3 * a3 + 2.0 * a2 * a3 * (c3 > 0.0 ? 1.0 : -1.0);
-        const WristCircle circle{p5.x() * c1 + p5.y() * s1, p5.z() - d1, d5,
-                                 n.x() * c1 + n.y() * s1, n.z(), o.x() * c1 + o.y() * s1, o.z()};
-        const bool too_far = c3 * a2 * a3 > 0.0;
-        if (circle.reachBoundary(boundary_r2, too_far, q6)) {
-          rescued = true;
-          s6 = std::sin(q6);
-          c6 = std::cos(q6);
-          p4 = p5 + d5 * (s6 * n + c6 * o);
-          x = p4.x() * c1 + p4.y() * s1;
-          y = p4.z() - d1;
-          c3 = (x * x + y * y - a2 * a2 - a3 * a3) / (2.0 * a2 * a3);
-        }
-      }
-      if (std::abs(c3) > 1.0 + kElbowCosSlack) continue;
-      const Vec3 x4 = c5e * (c6 * n - s6 * o) - s5 * a;
-      const double q234 = std::atan2(x4.z(), x4.x() * c1 + x4.y() * s1);
-      c3 = std::clamp(c3, -1.0, 1.0);
-      const double s3_abs = std::sqrt((1.0 - c3) * (1.0 + c3));
-      const double q3_pos = std::atan2(s3_abs, c3);
-      const double phi = std::atan2(y, x);
-      const double beta_pos = std::atan2(a3 * s3_abs, a2 + a3 * c3);
-
-      for (int elbow = 0; elbow < 2; ++elbow) {
-        if (elbow == 1 && s3_abs == 0.0) break;
-        const double q3 = elbow == 0 ? q3_pos : -q3_pos;
-        const double q2 = wrapToPi(phi - (elbow == 0 ? beta_pos : -beta_pos));
-        const double q4 = wrapToPi(q234 - q2 - q3);
-        double sol[6] = {q1, q2, q3, q4, wrapToPi(q5), q6};
-        bool ok = true;
-        for (int j = 0; j < 6 && ok; ++j) ok = fitLimit(sol[j], lo[j], hi[j]);
-        if (!ok) continue;
-        if (rescued && !reproduces(model, sol, R, p)) continue;
-        JointVector& qs = out[static_cast<std::size_t>(count++)];
-        qs.resize(6);
-        for (int j = 0; j < 6; ++j) qs[j] = sol[j];
-      }
-    }
-  }
-  return count;
+  return UrIk(model, X_WB, X_WT, q6_reference, out).solve();
 }
 
 }  // namespace dash

@@ -167,10 +167,8 @@ int nearestRobot(const Scene& scene, const Vec3& p) {
   return best;
 }
 
-}  // namespace
-
-RgbImage renderScene(const Scene& scene, const PictureOptions& options) {
-  // Extent: obstacles, surfaces, robots (gantries: their reach), objects.
+/// Extent: obstacles, surfaces, robots (gantries: their reach), objects; plus the margin.
+Eigen::AlignedBox2d sceneExtent(const Scene& scene, double margin) {
   Eigen::AlignedBox2d extent;
   for (const auto& o : scene.obstacles) {
     for (const Vec2& p : footprint(o.shape, o.X_WO)) extent.extend(p);
@@ -186,17 +184,13 @@ RgbImage renderScene(const Scene& scene, const PictureOptions& options) {
   }
   for (const auto& o : scene.objects) extent.extend(Vec2(o.X_WO_start.translation().head<2>()));
   if (extent.isEmpty()) extent.extend(Vec2::Zero());
-  extent.min() -= Vec2::Constant(options.margin);
-  extent.max() += Vec2::Constant(options.margin);
-  const Vec2 size = extent.sizes();
-  Canvas canvas;
-  canvas.scale = options.max_side_pixels / std::max(size.x(), size.y());
-  canvas.x0 = extent.min().x();
-  canvas.y1 = extent.max().y();
-  canvas.image = RgbImage(std::max(1, static_cast<int>(std::lround(size.x() * canvas.scale))),
-                          std::max(1, static_cast<int>(std::lround(size.y() * canvas.scale))), 0xff);
+  extent.min() -= Vec2::Constant(margin);
+  extent.max() += Vec2::Constant(margin);
+  return extent;
+}
 
-  // Obstacles, lowest first.
+/// Obstacles, lowest first.
+void drawObstacles(Canvas& canvas, const Scene& scene) {
   std::vector<std::size_t> order(scene.obstacles.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -209,8 +203,10 @@ RgbImage renderScene(const Scene& scene, const PictureOptions& options) {
     canvas.fillConvex(poly, shade(topOf(o.shape, o.X_WO)));
     canvas.outline(poly, shade(topOf(o.shape, o.X_WO) + 0.3));
   }
-  // Surfaces: outlined; "box_N" in robot N's colour. The one as large as the table is left out.
-  const double area_limit = 0.5 * size.x() * size.y();
+}
+
+/// Surfaces: outlined; "box_N" in robot N's colour. Those larger than `area_limit` (the table) are left out.
+void drawSurfaces(Canvas& canvas, const Scene& scene, double area_limit) {
   for (const auto& s : scene.surfaces) {
     const Eigen::AlignedBox2d box = [&] {
       Eigen::AlignedBox2d b;
@@ -226,25 +222,30 @@ RgbImage renderScene(const Scene& scene, const PictureOptions& options) {
     }
     canvas.outline(s.polygon, colour, 2);
   }
-  // Robots.
+}
+
+/// A gantry: its reach, and its bodies (bridge, carriage, ram, tool) at home.
+void drawGantry(Canvas& canvas, const SceneRobot& robot, std::uint32_t colour) {
+  canvas.outline(gantryReach(robot), colour, 2);
+  std::vector<Pose> frames(robot.model->bodies.size());
+  bodyFrames(*robot.model, robot.X_WB, robot.home, frames);
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const CollisionBody& body = robot.model->bodies[i];
+    if (body.kind != CollisionBody::Kind::kBox) continue;
+    Pose X = frames[i];
+    X.translation() += X.linear() * body.box_center;
+    const auto poly = footprint(BoxShape{.size = 2.0 * body.box_half_extents}, X);
+    canvas.fillConvex(poly, lighten(colour, 0.45));
+    canvas.outline(poly, colour);
+  }
+}
+
+void drawRobots(Canvas& canvas, const Scene& scene) {
   for (std::size_t r = 0; r < scene.robots.size(); ++r) {
     const SceneRobot& robot = scene.robots[r];
     const Vec2 base = robot.X_WB.translation().head<2>();
     if (robot.model->kinematics == KinematicsKind::kGantry) {
-      // Its reach, and its bodies (bridge, carriage, ram, tool) at home.
-      const std::uint32_t colour = kPalette[r % kPalette.size()];
-      canvas.outline(gantryReach(robot), colour, 2);
-      std::vector<Pose> frames(robot.model->bodies.size());
-      bodyFrames(*robot.model, robot.X_WB, robot.home, frames);
-      for (std::size_t i = 0; i < frames.size(); ++i) {
-        const CollisionBody& body = robot.model->bodies[i];
-        if (body.kind != CollisionBody::Kind::kBox) continue;
-        Pose X = frames[i];
-        X.translation() += X.linear() * body.box_center;
-        const auto poly = footprint(BoxShape{.size = 2.0 * body.box_half_extents}, X);
-        canvas.fillConvex(poly, lighten(colour, 0.45));
-        canvas.outline(poly, colour);
-      }
+      drawGantry(canvas, robot, kPalette[r % kPalette.size()]);
       continue;
     }
     const Vec3 tcp = forwardKinematics(*robot.model, robot.X_WB, robot.home).X_WT.translation();
@@ -253,7 +254,10 @@ RgbImage renderScene(const Scene& scene, const PictureOptions& options) {
     canvas.line(base, base + dir * (kUrBaseRadius + kHomeTick), kRobotColour, 3);
     canvas.disc(base, 0.35 * kUrBaseRadius, kPalette[r % kPalette.size()]);
   }
-  // Objects: goals (outlined) under starts (filled).
+}
+
+/// Objects: goals (outlined) under starts (filled).
+void drawObjects(Canvas& canvas, const Scene& scene) {
   auto colourOf = [&](const SceneObject& o) {
     if (o.fixed) return kFixedColour;
     if (!o.X_WO_goal || translationDistance(*o.X_WO_goal, o.X_WO_start) < 1e-3) return kUnchangedColour;
@@ -269,6 +273,23 @@ RgbImage renderScene(const Scene& scene, const PictureOptions& options) {
     canvas.fillConvex(poly, colourOf(o));
     canvas.outline(poly, 0x202020);
   }
+}
+
+}  // namespace
+
+RgbImage renderScene(const Scene& scene, const PictureOptions& options) {
+  const Eigen::AlignedBox2d extent = sceneExtent(scene, options.margin);
+  const Vec2 size = extent.sizes();
+  Canvas canvas;
+  canvas.scale = options.max_side_pixels / std::max(size.x(), size.y());
+  canvas.x0 = extent.min().x();
+  canvas.y1 = extent.max().y();
+  canvas.image = RgbImage(std::max(1, static_cast<int>(std::lround(size.x() * canvas.scale))),
+                          std::max(1, static_cast<int>(std::lround(size.y() * canvas.scale))), 0xff);
+  drawObstacles(canvas, scene);
+  drawSurfaces(canvas, scene, 0.5 * size.x() * size.y());
+  drawRobots(canvas, scene);
+  drawObjects(canvas, scene);
   return canvas.image;
 }
 

@@ -82,36 +82,62 @@ Pose onTable(const Vec2& p, double yaw) { return yawPose(Vec3(p.x(), p.y(), 0.5 
 // on one side starts behind the robot at the mirrored place on the other side, so it crosses the wall
 // round an end: 1 handover with 2 robots, at least 2 with 4 or more. In each cubby the rear object
 // must go in before the front one.
-GeneratedLayout generateShelfWall(const FamilyInput& in) {
-  const int robots = in.params.get("robots");
-  const int objects = in.params.get("objects");
-  const int k = robots / 2;
-  const int faces = robots;
+namespace {
+
+/// Shelf-wall's layout before any random choice: faces, cubbies, robot frames, table and divider.
+struct ShelfWallGeometry {
+  int k = 0;                    ///< robots per side
+  int faces = 0;                ///< one per robot: 0..k-1 south, k..2k-1 north
+  std::vector<int> per_face;    ///< objects per face, round robin
+  int columns = 0, levels = 0;  ///< cubbies of each face
+  double divider_half = 0.0, table_half_x = 0.0, table_half_y = 0.0;
+  std::vector<layout::WorkFrame> robot_frames;
+  /// The face on the other side of the wall that a face's objects start behind.
+  int mirror(int face) const { return face < k ? k + (k - 1 - face) : (k - 1 - (face - k)); }
+};
+
+ShelfWallGeometry shelfWallGeometry(int robots, int objects) {
+  ShelfWallGeometry g;
+  g.k = robots / 2;
+  g.faces = robots;
+  const int k = g.k;
   // Objects per face, round robin; two per cubby (rear, then front).
-  std::vector<int> per_face(at(faces), 0);
-  for (int i = 0; i < objects; ++i) ++per_face[at(i % faces)];
-  const int cubbies = (*std::max_element(per_face.begin(), per_face.end()) + 1) / 2;
-  const int columns = std::min(kMaxColumnsShelfWall, cubbies);
-  const int levels = (cubbies + columns - 1) / columns;
+  g.per_face.assign(at(g.faces), 0);
+  for (int i = 0; i < objects; ++i) ++g.per_face[at(i % g.faces)];
+  const int cubbies = (*std::max_element(g.per_face.begin(), g.per_face.end()) + 1) / 2;
+  g.columns = std::min(kMaxColumnsShelfWall, cubbies);
+  g.levels = (cubbies + g.columns - 1) / g.columns;
 
   const double depth = shelf::unitDepth(2);
-  const double width = shelf::unitWidth(columns);
+  const double width = shelf::unitWidth(g.columns);
   const double robot_y = 0.5 * kDivider + depth + kRobotToShelf;
   std::vector<double> xs;
   for (int j = 0; j < k; ++j) xs.push_back((j - 0.5 * (k - 1)) * kRowSpacing);
-  const double divider_half = xs.back() + 0.5 * width + kDividerEndMargin;
-  const double table_half_x = divider_half + 1.0;
-  const double table_half_y = robot_y + layout::AreaSpec{}.max_reach + kTableMargin;
+  g.divider_half = xs.back() + 0.5 * width + kDividerEndMargin;
+  g.table_half_x = g.divider_half + 1.0;
+  g.table_half_y = robot_y + layout::AreaSpec{}.max_reach + kTableMargin;
 
   // Faces 0..k-1 on the south side (robots at -y), k..2k-1 on the north side.
-  std::vector<layout::WorkFrame> robot_frames;
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
     for (int j = 0; j < k; ++j) {
-      robot_frames.push_back({.origin = Vec2(xs[at(j)], sign * robot_y), .yaw = sign * 0.5 * std::numbers::pi});
+      g.robot_frames.push_back({.origin = Vec2(xs[at(j)], sign * robot_y), .yaw = sign * 0.5 * std::numbers::pi});
     }
   }
-  auto mirror = [&](int face) { return face < k ? k + (k - 1 - face) : (k - 1 - (face - k)); };
+  return g;
+}
+
+}  // namespace
+
+GeneratedLayout generateShelfWall(const FamilyInput& in) {
+  const int robots = in.params.get("robots");
+  const int objects = in.params.get("objects");
+  const ShelfWallGeometry g = shelfWallGeometry(robots, objects);
+  const int k = g.k, faces = g.faces, columns = g.columns, levels = g.levels;
+  const double table_half_x = g.table_half_x, table_half_y = g.table_half_y, divider_half = g.divider_half;
+  const std::vector<layout::WorkFrame>& robot_frames = g.robot_frames;
+  const std::vector<int>& per_face = g.per_face;
+  auto mirror = [&](int face) { return g.mirror(face); };
 
   SceneBuilder b(in.library, sceneName(in, "r" + std::to_string(robots) + "-o" + std::to_string(objects)),
                  generatorRecord(in));

@@ -101,24 +101,30 @@ struct RobotArea {
   std::vector<Vec2> box;      ///< the box's slots; the first ones hold goals
 };
 
-GeneratedLayout generateRing(const FamilyInput& in, int robots, int objects, const std::vector<int>& wall_gaps,
-                             const std::string& short_params) {
-  const Ring ring = makeRing(robots);
-  std::vector<Wall> walls;
-  for (const int g : wall_gaps) walls.push_back(makeWall(ring, g));
+/// Which objects start and end where: object k starts at robot k mod robots and goes to its goalRobot.
+struct Assignment {
+  std::vector<int> start_robot, goal_robot;  ///< per object
+  std::vector<int> starting, arriving;       ///< per robot: objects starting, arriving there
+};
 
-  // Which objects start and end where.
-  std::vector<int> start_robot(at(objects)), goal_robot(at(objects));
-  std::vector<int> starting(at(robots), 0), arriving(at(robots), 0);
+Assignment assignObjects(int robots, int objects, const std::vector<int>& wall_gaps) {
+  Assignment as{.start_robot = std::vector<int>(at(objects)),
+                .goal_robot = std::vector<int>(at(objects)),
+                .starting = std::vector<int>(at(robots), 0),
+                .arriving = std::vector<int>(at(robots), 0)};
   for (int k = 0; k < objects; ++k) {
-    start_robot[at(k)] = k % robots;
-    goal_robot[at(k)] = goalRobot(k % robots, robots, wall_gaps);
-    ++starting[at(start_robot[at(k)])];
-    ++arriving[at(goal_robot[at(k)])];
+    as.start_robot[at(k)] = k % robots;
+    as.goal_robot[at(k)] = goalRobot(k % robots, robots, wall_gaps);
+    ++as.starting[at(as.start_robot[at(k)])];
+    ++as.arriving[at(as.goal_robot[at(k)])];
   }
+  return as;
+}
 
-  const double table_half =
-      ring.radius + std::max(layout::AreaSpec{}.max_reach + kTableMargin, walls.empty() ? 0.0 : kWallHalfLength + 0.05);
+/// Slots: the largest pitch at which every robot's cluster and box fit, each in a random order.
+std::vector<RobotArea> robotAreas(const FamilyInput& in, const Ring& ring, const std::vector<Wall>& walls,
+                                  double table_half, const Assignment& as) {
+  const int robots = ring.robots;
   auto keep = [&](int self) {
     return [&, self](const Vec2& p) {
       for (int r = 0; r < robots; ++r) {
@@ -130,8 +136,6 @@ GeneratedLayout generateRing(const FamilyInput& in, int robots, int objects, con
       return std::abs(p.x()) < table_half - 0.1 && std::abs(p.y()) < table_half - 0.1;
     };
   };
-
-  // Slots: the largest pitch at which every robot's cluster and box fit.
   std::vector<RobotArea> areas;
   for (const double pitch : kSlotPitches) {
     areas.clear();
@@ -139,18 +143,19 @@ GeneratedLayout generateRing(const FamilyInput& in, int robots, int objects, con
     for (int r = 0; r < robots && fits; ++r) {
       const auto left = layout::gridSlots(ring.frames[at(r)], {}, layout::Side::kLeft, pitch, keep(r));
       const auto right = layout::gridSlots(ring.frames[at(r)], {}, layout::Side::kRight, pitch, keep(r));
-      const int box_slots = std::max(arriving[at(r)], kMinBoxSlots);
-      fits = static_cast<int>(left.size()) >= starting[at(r)] && static_cast<int>(right.size()) >= box_slots;
+      const int box_slots = std::max(as.arriving[at(r)], kMinBoxSlots);
+      fits = static_cast<int>(left.size()) >= as.starting[at(r)] && static_cast<int>(right.size()) >= box_slots;
       if (fits)
-        areas.push_back({.cluster = layout::compactCluster(left, starting[at(r)], in.rng),
+        areas.push_back({.cluster = layout::compactCluster(left, as.starting[at(r)], in.rng),
                          .box = layout::compactCluster(right, box_slots, in.rng)});
     }
     if (fits) break;
     areas.clear();
   }
   if (areas.empty()) {
-    throw ScenarioError(in.family + ": " + std::to_string(objects) + " objects do not fit with " +
-                        std::to_string(robots) + " robots (a robot's cluster or box has no room for its " +
+    throw ScenarioError(in.family + ": " + std::to_string(static_cast<int>(as.start_robot.size())) +
+                        " objects do not fit with " + std::to_string(robots) +
+                        " robots (a robot's cluster or box has no room for its " +
                         "share; use fewer objects or more robots)");
   }
   // Cubes take the slots of their cluster and box in a random order.
@@ -160,6 +165,18 @@ GeneratedLayout generateRing(const FamilyInput& in, int robots, int objects, con
     portable::shuffle(goals, in.rng);
     a.box = goals;
   }
+  return areas;
+}
+
+GeneratedLayout generateRing(const FamilyInput& in, int robots, int objects, const std::vector<int>& wall_gaps,
+                             const std::string& short_params) {
+  const Ring ring = makeRing(robots);
+  std::vector<Wall> walls;
+  for (const int g : wall_gaps) walls.push_back(makeWall(ring, g));
+  const Assignment as = assignObjects(robots, objects, wall_gaps);
+  const double table_half =
+      ring.radius + std::max(layout::AreaSpec{}.max_reach + kTableMargin, walls.empty() ? 0.0 : kWallHalfLength + 0.05);
+  const std::vector<RobotArea> areas = robotAreas(in, ring, walls, table_half, as);
 
   SceneBuilder b(in.library, sceneName(in, short_params), generatorRecord(in));
   for (int r = 0; r < robots; ++r) {
@@ -182,8 +199,8 @@ GeneratedLayout generateRing(const FamilyInput& in, int robots, int objects, con
   std::vector<int> next_start(at(robots), 0), next_goal(at(robots), 0);
   const Vec3 cube(layout::kCube, layout::kCube, layout::kCube);
   for (int k = 0; k < objects; ++k) {
-    const int s = start_robot[at(k)];
-    const int g = goal_robot[at(k)];
+    const int s = as.start_robot[at(k)];
+    const int g = as.goal_robot[at(k)];
     const Vec2 p = areas[at(s)].cluster[at(next_start[at(s)]++)];
     const Vec2 q = areas[at(g)].box[at(next_goal[at(g)]++)];
     b.addObject("obj_" + std::to_string(k), cube,

@@ -219,110 +219,131 @@ std::string formatPaired(const std::vector<const Row*>& rows) {
          table.str() + "\n";
 }
 
-}  // namespace
-
-double median(std::vector<double> values) {
-  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+/// A row's parameters from a run's stored JSON, in the family's order (the stored JSON object is sorted
+/// by name); an unknown family's in the stored order.
+Row paramsRow(const std::string& family, const std::string& params_json) {
+  const nlohmann::json params = nlohmann::json::parse(params_json, nullptr, false);
+  std::vector<std::pair<std::string, int>> ordered;
+  if (const ScenarioFamily* f = findScenarioFamily(family)) {
+    for (const ParamSpec& p : f->params) {
+      if (params.is_object() && params.contains(p.name) && params[p.name].is_number_integer()) {
+        ordered.emplace_back(p.name, params[p.name].get<int>());
+      }
+    }
+  } else if (params.is_object()) {
+    for (const auto& [k, v] : params.items()) ordered.emplace_back(k, v.is_number_integer() ? v.get<int>() : 0);
+  }
+  Row row;
+  for (const auto& [k, v] : ordered) {
+    row.param_values.push_back(v);
+    row.params_text += (row.params_text.empty() ? "" : " ") + k + "=" + std::to_string(v);
+  }
+  return row;
 }
 
-std::string formatReport(const log::ResultsDb& db, const ReportOptions& options) {
-  log::RunFilter filter;
-  filter.batch_id = options.batch_id;
-  filter.limit = std::numeric_limits<std::int32_t>::max();
-  filter.newest_first = false;
-  const std::vector<log::RunRecord> runs = db.listRuns(filter);
+/// Runs the axis stop rule skipped (axis_stop.h), per (params, planner): count, reason and the first
+/// ordinal (the spec's order, so sizes read 4, 8, 16 rather than 16, 4, 8).
+struct Skipped {
+  int runs = 0;
+  std::string why;
+  int first_ordinal = 0;
+};
 
-  std::map<std::string, int> planner_order;
-  std::map<std::string, std::map<std::string, Row>> families;  // family -> row key -> row
-  std::vector<std::string> family_order;
-  for (const log::RunRecord& r : runs) {
-    if (!finishedStatus(r.status)) continue;
+// One formatReport, its steps as methods: group the finished runs by family and row (parameters,
+// planner), add what the batch's store knows (skipped runs, stop axis lines), then per family its tables.
+class ReportWriter {
+ public:
+  ReportWriter(const log::ResultsDb& db, const ReportOptions& options) : db_(db), options_(options) {}
+
+  std::string run() {
+    log::RunFilter filter;
+    filter.batch_id = options_.batch_id;
+    filter.limit = std::numeric_limits<std::int32_t>::max();
+    filter.newest_first = false;
+    runs_ = db_.listRuns(filter);
+    for (const log::RunRecord& r : runs_)
+      if (finishedStatus(r.status)) addRun(r);
+    if (!options_.batch_id.empty()) addStoredRuns();
+    if (family_order_.empty()) {
+      return options_.batch_id.empty() ? "no finished runs\n" : "no finished runs in batch " + options_.batch_id + "\n";
+    }
+    std::ostringstream out;
+    for (const std::string& family : orderedFamilies()) out << formatFamily(family);
+    return out.str();
+  }
+
+ private:
+  void addRun(const log::RunRecord& r) {
     const std::string& family = r.meta.family;
-    if (!families.count(family)) family_order.push_back(family);
+    if (!families_.count(family)) family_order_.push_back(family);
     const std::string planner = r.meta.planner_config_name.empty() ? r.meta.planner : r.meta.planner_config_name;
-    planner_order.emplace(planner, static_cast<int>(planner_order.size()));
-    // Parameters in the family's order (the stored JSON object is sorted by name).
-    const nlohmann::json params = nlohmann::json::parse(r.meta.params_json, nullptr, false);
-    std::vector<std::pair<std::string, int>> ordered;
-    if (const ScenarioFamily* f = findScenarioFamily(family)) {
-      for (const ParamSpec& p : f->params) {
-        if (params.is_object() && params.contains(p.name) && params[p.name].is_number_integer()) {
-          ordered.emplace_back(p.name, params[p.name].get<int>());
-        }
-      }
-    } else if (params.is_object()) {
-      for (const auto& [k, v] : params.items()) ordered.emplace_back(k, v.is_number_integer() ? v.get<int>() : 0);
-    }
-    Row row;
-    for (const auto& [k, v] : ordered) {
-      row.param_values.push_back(v);
-      row.params_text += (row.params_text.empty() ? "" : " ") + k + "=" + std::to_string(v);
-    }
+    planner_order_.emplace(planner, static_cast<int>(planner_order_.size()));
+    const Row row = paramsRow(family, r.meta.params_json);
     const std::string key = row.params_text + "\n" + planner;
-    Row& slot = families[family].try_emplace(key, row).first->second;
+    Row& slot = families_[family].try_emplace(key, row).first->second;
     slot.planner = planner;
-    slot.planner_order = planner_order[planner];
+    slot.planner_order = planner_order_[planner];
     slot.runs.push_back(&r);
   }
-  // Runs the axis stop rule skipped (axis_stop.h): per family, (params, planner) -> count, reason and the
-  // first ordinal (the spec's order, so sizes read 4, 8, 16 rather than 16, 4, 8).
-  struct Skipped {
-    int runs = 0;
-    std::string why;
-    int first_ordinal = 0;
-  };
-  std::map<std::string, std::map<std::pair<std::string, std::string>, Skipped>> skipped;
-  std::map<std::string, std::map<AxisLineKey, AxisLine>> axis_lines;  // family -> line
-  if (!options.batch_id.empty()) {
-    const BatchStore store(db.path(), log::OpenMode::ReadOnly);
-    for (const StoredRun& r : store.runs(options.batch_id)) {
-      addToAxisLine(r, axis_lines);
+
+  void addStoredRuns() {
+    const BatchStore store(db_.path(), log::OpenMode::ReadOnly);
+    for (const StoredRun& r : store.runs(options_.batch_id)) {
+      addToAxisLine(r, axis_lines_);
       if (r.skipped.empty()) continue;
-      if (!families.count(r.spec.family) && !skipped.count(r.spec.family)) family_order.push_back(r.spec.family);
-      auto& slot = skipped[r.spec.family][{r.spec.paramsText(), r.spec.label}];
+      if (!families_.count(r.spec.family) && !skipped_.count(r.spec.family)) family_order_.push_back(r.spec.family);
+      auto& slot = skipped_[r.spec.family][{r.spec.paramsText(), r.spec.label}];
       if (slot.runs++ == 0) slot.first_ordinal = r.spec.ordinal;  // runs() comes in ordinal order
       slot.why = r.skipped;
     }
   }
-  if (family_order.empty()) {
-    return options.batch_id.empty() ? "no finished runs\n" : "no finished runs in batch " + options.batch_id + "\n";
-  }
+
   // Families in the registry's order, unknown ones after.
-  std::vector<std::string> ordered_families;
-  for (const auto& f : scenarioFamilies()) {
-    if (families.count(f.name) || skipped.count(f.name)) ordered_families.push_back(f.name);
-  }
-  for (const auto& f : family_order) {
-    if (!findScenarioFamily(f)) ordered_families.push_back(f);
+  std::vector<std::string> orderedFamilies() const {
+    std::vector<std::string> ordered;
+    for (const auto& f : scenarioFamilies()) {
+      if (families_.count(f.name) || skipped_.count(f.name)) ordered.push_back(f.name);
+    }
+    for (const auto& f : family_order_) {
+      if (!findScenarioFamily(f)) ordered.push_back(f);
+    }
+    return ordered;
   }
 
-  std::ostringstream out;
-  const char* basis = options.include_unsolved ? "finished runs" : "solved runs";
-  for (const std::string& family : ordered_families) {
+  std::string formatFamily(const std::string& family) {
     std::vector<const Row*> rows;
-    for (const auto& [key, row] : families[family]) rows.push_back(&row);
+    for (const auto& [key, row] : families_[family]) rows.push_back(&row);
     std::sort(rows.begin(), rows.end(), [](const Row* a, const Row* b) {
       if (a->param_values != b->param_values) return a->param_values < b->param_values;
       return a->planner_order < b->planner_order;
     });
     std::size_t count = 0;
     for (const Row* r : rows) count += r->runs.size();
+    const char* basis = options_.include_unsolved ? "finished runs" : "solved runs";
+    std::ostringstream out;
     out << "== " << family << " (" << count << " finished runs; medians across seeds over " << basis << ") ==\n\n";
+    out << "Representation sizes (vertices V, hyperarcs A)\n" << sizesTable(rows) << "\n";
+    out << "Time breakdown (s, phase totals)\n" << timesTable(rows) << "\n";
+    out << "Success rate\n" << successTable(rows) << "\n";
+    out << formatPaired(rows);
+    if (skipped_.count(family)) out << "Skipped by the axis stop rule (not run)\n" << skippedTable(family) << "\n";
+    if (axis_lines_.count(family)) out << formatAxisLines(axis_lines_[family]);
+    return out.str();
+  }
 
-    auto basisRuns = [&](const Row& row) {
-      std::vector<const log::RunRecord*> v;
-      for (const auto* r : row.runs) {
-        if (r->status == RunStatus::Solved ||
-            (options.include_unsolved && (r->status == RunStatus::Timeout || r->status == RunStatus::Infeasible))) {
-          v.push_back(r);
-        }
+  // The runs of a row the medians are over.
+  std::vector<const log::RunRecord*> basisRuns(const Row& row) const {
+    std::vector<const log::RunRecord*> v;
+    for (const auto* r : row.runs) {
+      if (r->status == RunStatus::Solved ||
+          (options_.include_unsolved && (r->status == RunStatus::Timeout || r->status == RunStatus::Infeasible))) {
+        v.push_back(r);
       }
-      return v;
-    };
+    }
+    return v;
+  }
 
+  std::string sizesTable(const std::vector<const Row*>& rows) const {
     Table sizes({"params", "planner", "n", "H_T V", "H_T A", "H_TE V", "H_TE A", "H_M V", "H_M A", "H_ME V", "H_ME A"},
                 2);
     for (const Row* row : rows) {
@@ -340,10 +361,12 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
       }
       sizes.add(cells);
     }
-    out << "Representation sizes (vertices V, hyperarcs A)\n" << sizes.str() << "\n";
+    return sizes.str();
+  }
 
-    // Phase indices: TaskConstruction, TaskQuery, TaskConflictDetection, MotionConstruction,
-    // MotionQuery, ConflictResolution.
+  // Phase indices: TaskConstruction, TaskQuery, TaskConflictDetection, MotionConstruction,
+  // MotionQuery, ConflictResolution.
+  std::string timesTable(const std::vector<const Row*>& rows) const {
     Table times({"params", "planner", "n", "task constr", "task query", "task conflicts", "motion constr",
                  "motion query", "conflict res", "total"},
                 2);
@@ -364,10 +387,12 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
       cells.push_back(fmtSeconds(median(total)));
       times.add(cells);
     }
-    out << "Time breakdown (s, phase totals)\n" << times.str() << "\n";
+    return times.str();
+  }
 
-    // A run stopped by its memory limit is stored as crashed with an error that says so (run_process.cpp);
-    // it is counted apart: out of memory is an outcome, a crash a defect.
+  // A run stopped by its memory limit is stored as crashed with an error that says so (run_process.cpp);
+  // it is counted apart: out of memory is an outcome, a crash a defect.
+  static std::string successTable(const std::vector<const Row*>& rows) {
     Table success({"params", "planner", "runs", "solved", "timeout", "infeasible", "out of memory", "crashed", "success",
                    "95% CI (Wilson)"},
                   2);
@@ -388,21 +413,41 @@ std::string formatReport(const log::ResultsDb& db, const ReportOptions& options)
                    std::to_string(infeasible), std::to_string(out_of_memory), std::to_string(crashed), rate,
                    fmtInterval(figures::wilson(solved, static_cast<int>(n)))});
     }
-    out << "Success rate\n" << success.str() << "\n";
-    out << formatPaired(rows);
-    if (skipped.count(family)) {
-      std::vector<std::pair<const std::pair<std::string, std::string>*, const Skipped*>> in_spec_order;
-      for (const auto& [key, value] : skipped[family]) in_spec_order.emplace_back(&key, &value);
-      std::sort(in_spec_order.begin(), in_spec_order.end(),
-                [](const auto& a, const auto& b) { return a.second->first_ordinal < b.second->first_ordinal; });
-      Table skips({"params", "planner", "runs", "why"}, 4);
-      for (const auto& [key, value] : in_spec_order)
-        skips.add({key->first, key->second, std::to_string(value->runs), value->why});
-      out << "Skipped by the axis stop rule (not run)\n" << skips.str() << "\n";
-    }
-    if (axis_lines.count(family)) out << formatAxisLines(axis_lines[family]);
+    return success.str();
   }
-  return out.str();
+
+  std::string skippedTable(const std::string& family) {
+    std::vector<std::pair<const std::pair<std::string, std::string>*, const Skipped*>> in_spec_order;
+    for (const auto& [key, value] : skipped_[family]) in_spec_order.emplace_back(&key, &value);
+    std::sort(in_spec_order.begin(), in_spec_order.end(),
+              [](const auto& a, const auto& b) { return a.second->first_ordinal < b.second->first_ordinal; });
+    Table skips({"params", "planner", "runs", "why"}, 4);
+    for (const auto& [key, value] : in_spec_order)
+      skips.add({key->first, key->second, std::to_string(value->runs), value->why});
+    return skips.str();
+  }
+
+  const log::ResultsDb& db_;
+  const ReportOptions& options_;
+  std::vector<log::RunRecord> runs_;  ///< the rows point into it
+  std::map<std::string, int> planner_order_;
+  std::map<std::string, std::map<std::string, Row>> families_;  // family -> row key -> row
+  std::vector<std::string> family_order_;
+  std::map<std::string, std::map<std::pair<std::string, std::string>, Skipped>> skipped_;
+  std::map<std::string, std::map<AxisLineKey, AxisLine>> axis_lines_;  // family -> line
+};
+
+}  // namespace
+
+double median(std::vector<double> values) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+std::string formatReport(const log::ResultsDb& db, const ReportOptions& options) {
+  return ReportWriter(db, options).run();
 }
 
 }  // namespace dash::batch

@@ -1,7 +1,6 @@
 #include "server/batch/batch_runner.h"
 
 #include <fcntl.h>
-#include <poll.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -20,6 +19,7 @@
 #include "engine/log/sqlite_recorder.h"
 #include "server/batch/axis_stop.h"
 #include "server/batch/batch_store.h"
+#include "server/batch/run_child.h"
 #include "server/batch/run_process.h"
 #include "server/batch/run_protocol.h"
 
@@ -44,8 +44,6 @@ using std::chrono::milliseconds;
 /// SIGTERM for time comes at time_limit * this + RunnerOptions::time_slack: a planner that honours
 /// its deadline returns first, with its own (complete) result.
 constexpr double kTimeLimitMargin = 1.05;
-constexpr int kReadsPerWakeup = 16;               ///< per pipe, so that one chatty child cannot starve the rest
-constexpr std::size_t kStderrTailBytes = 4000;    ///< kept per child for the error text of a crash
 constexpr milliseconds kPollInterval{250};        ///< at most between two looks at the timers
 constexpr milliseconds kFlushInterval{500};       ///< recorded events become visible to readers
 constexpr milliseconds kHeartbeatInterval{2000};  ///< see kStaleHeartbeatSeconds
@@ -89,29 +87,6 @@ std::string formatSeconds(double s) {
   return buf;
 }
 
-struct Child {
-  RunSpec run;
-  std::string uuid;
-  pid_t pid = -1;
-  int msg_fd = -1;
-  int err_fd = -1;
-  proto::FrameDecoder decoder;
-  std::string stderr_tail;
-  std::unique_ptr<log::SqliteRecorder> recorder;
-  Clock::time_point spawned;
-  Clock::time_point term_at;  ///< SIGTERM for the time limit
-  Clock::time_point kill_at;  ///< SIGKILL after SIGTERM
-  bool started = false;       ///< the planner's clock started ('S')
-  bool term_sent = false;
-  bool kill_sent = false;
-  StopReason stop = StopReason::kNone;
-  std::optional<proto::ChildResult> result;
-  std::optional<proto::ChildError> error;
-  std::string protocol_error;
-  std::string spawn_error;
-  std::optional<log::ProgressEvent> work;  ///< its planner's latest progress event
-  std::optional<log::Phase> phase;         ///< the phase its planner is in (its latest phase start)
-};
 
 }  // namespace
 
@@ -148,7 +123,7 @@ struct BatchRunner::Impl {
   BatchResult result;
 
   // Runner-thread state.
-  std::list<Child> children;
+  std::list<RunChild> children;
   Stopwatch clock;
   std::int64_t finished_here = 0;
   bool cancelling = false;
@@ -206,7 +181,7 @@ struct BatchRunner::Impl {
       progress.finished = std::move(finished_run);
       progress.active.clear();
       const Clock::time_point now = Clock::now();
-      for (const Child& c : children)
+      for (const RunChild& c : children)
         progress.active.push_back({c.run.key, c.uuid, Seconds(now - c.spawned).count(), c.work, c.phase});
       copy = progress;
       progress.finished.reset();
@@ -237,9 +212,7 @@ struct BatchRunner::Impl {
       progress.total = static_cast<std::int64_t>(todo.size()) + progress.skipped;
     }
     cancel_requests.store(0);
-    char drain[64];
-    while (read(wake_read, drain, sizeof drain) > 0) {
-    }
+    drainPipe(wake_read);
     storeForWrite().setRunner(batch_id, RunnerInfo{.pid = getpid(),
                                                    .host = hostName(),
                                                    .started = utcNow("%Y-%m-%dT%H:%M:%SZ"),
@@ -283,7 +256,7 @@ struct BatchRunner::Impl {
 
   /// After a fatal runner error: kill and reap every child (their rows stay 'running': a resume re-runs them).
   void killAll() noexcept {
-    for (Child& c : children) {
+    for (RunChild& c : children) {
       if (c.pid > 0) {
         kill(c.pid, SIGKILL);
         int st = 0;
@@ -334,17 +307,12 @@ struct BatchRunner::Impl {
       const int requests = cancel_requests.load();
       if (requests > 0 && !cancelling) {
         cancelling = true;
-        for (Child& c : children) stopChild(c, StopReason::kCancel);
+        for (RunChild& c : children) stopChild(c, StopReason::kCancel, options.kill_grace);
         publish();
       }
       if (requests > 1 && !escalated) {
         escalated = true;
-        for (Child& c : children) {
-          if (c.pid > 0 && !c.kill_sent) {
-            kill(c.pid, SIGKILL);
-            c.kill_sent = true;
-          }
-        }
+        for (RunChild& c : children) killChild(c);
       }
       bool spawned = false;
       while (!cancelling && children.size() < static_cast<std::size_t>(std::max(1, options.workers))) {
@@ -358,22 +326,22 @@ struct BatchRunner::Impl {
       if (spawned) publish();
       if (children.empty() && (cancelling || waiting.empty())) break;
 
-      waitForActivity();
+      waitForChildren(children, wake_read, kPollInterval,
+                      [this](RunChild& c, const proto::Frame& frame) { handleFrame(c, frame); });
 
       const auto now = Clock::now();
-      for (Child& c : children) {
+      for (RunChild& c : children) {
         if (c.pid <= 0) continue;
         if (!c.term_sent && now >= c.term_at) {
-          stopChild(c, StopReason::kTime);
-        } else if (c.term_sent && !c.kill_sent && now >= c.kill_at) {
-          kill(c.pid, SIGKILL);
-          c.kill_sent = true;
+          stopChild(c, StopReason::kTime, options.kill_grace);
+        } else if (c.term_sent && now >= c.kill_at) {
+          killChild(c);
         }
       }
       for (auto it = children.begin(); it != children.end();) {
         if (it->msg_fd < 0 && it->err_fd < 0) {
           // Out of `children` first, so that the progress it reports no longer counts it as running.
-          std::list<Child> ended;
+          std::list<RunChild> ended;
           ended.splice(ended.begin(), children, it++);
           finishChild(ended.front());
         } else {
@@ -395,92 +363,7 @@ struct BatchRunner::Impl {
     }
   }
 
-  void waitForActivity() {
-    std::vector<pollfd> fds;
-    std::vector<std::pair<Child*, bool>> owners;  // (child, is its stderr)
-    fds.push_back({wake_read, POLLIN, 0});
-    owners.emplace_back(nullptr, false);
-    auto timeout = kPollInterval;
-    const auto now = Clock::now();
-    for (Child& c : children) {
-      if (c.msg_fd >= 0) {
-        fds.push_back({c.msg_fd, POLLIN, 0});
-        owners.emplace_back(&c, false);
-      }
-      if (c.err_fd >= 0) {
-        fds.push_back({c.err_fd, POLLIN, 0});
-        owners.emplace_back(&c, true);
-      }
-      if (c.pid > 0 && !c.kill_sent) {
-        const auto due = c.term_sent ? c.kill_at : c.term_at;
-        const auto left = std::chrono::ceil<milliseconds>(due - now);
-        timeout = std::clamp(left, milliseconds(0), timeout);
-      }
-    }
-    const int n = poll(fds.data(), fds.size(), static_cast<int>(timeout.count()));
-    if (n < 0) {
-      if (errno == EINTR) return;
-      throw std::runtime_error(std::string("poll failed: ") + std::strerror(errno));
-    }
-    if (fds[0].revents != 0) {
-      char drain[64];
-      while (read(wake_read, drain, sizeof drain) > 0) {
-      }
-    }
-    for (std::size_t i = 1; i < fds.size(); ++i) {
-      if (fds[i].revents == 0) continue;
-      Child& c = *owners[i].first;
-      if (owners[i].second) {
-        readStderr(c);
-      } else {
-        readMessages(c);
-      }
-    }
-  }
-
-  void readStderr(Child& c) {
-    char buf[4096];
-    for (int i = 0; i < kReadsPerWakeup; ++i) {
-      const ssize_t n = read(c.err_fd, buf, sizeof buf);
-      if (n > 0) {
-        c.stderr_tail.append(buf, static_cast<std::size_t>(n));
-        if (c.stderr_tail.size() > kStderrTailBytes) c.stderr_tail.erase(0, c.stderr_tail.size() - kStderrTailBytes);
-        continue;
-      }
-      if (n < 0 && (errno == EAGAIN || errno == EINTR)) return;
-      close(c.err_fd);
-      c.err_fd = -1;
-      return;
-    }
-  }
-
-  void readMessages(Child& c) {
-    char buf[65536];
-    for (int i = 0; i < kReadsPerWakeup; ++i) {
-      const ssize_t n = read(c.msg_fd, buf, sizeof buf);
-      if (n > 0) {
-        if (!c.protocol_error.empty()) continue;  // drain, ignore
-        c.decoder.feed(buf, static_cast<std::size_t>(n));
-        try {
-          proto::Frame frame;
-          while (c.decoder.next(frame)) handleFrame(c, frame);
-        } catch (const proto::ProtocolError& e) {
-          c.protocol_error = e.what();
-          if (c.pid > 0 && !c.kill_sent) {
-            kill(c.pid, SIGKILL);
-            c.kill_sent = true;
-          }
-        }
-        continue;
-      }
-      if (n < 0 && (errno == EAGAIN || errno == EINTR)) return;
-      close(c.msg_fd);
-      c.msg_fd = -1;
-      return;
-    }
-  }
-
-  void handleFrame(Child& c, const proto::Frame& frame) {
+  void handleFrame(RunChild& c, const proto::Frame& frame) {
     switch (frame.type) {
       case proto::MessageType::kHello: {
         const proto::Hello hello = proto::decodeHello(frame.payload);
@@ -520,16 +403,8 @@ struct BatchRunner::Impl {
     }
   }
 
-  void stopChild(Child& c, StopReason why) {
-    if (c.pid <= 0 || c.term_sent) return;
-    kill(c.pid, SIGTERM);
-    c.term_sent = true;
-    c.stop = why;
-    c.kill_at = Clock::now() + std::chrono::duration_cast<Clock::duration>(Seconds(options.kill_grace));
-  }
-
   void spawn(const RunSpec& run) {
-    Child& c = children.emplace_back();
+    RunChild& c = children.emplace_back();
     c.run = run;
     c.uuid = newUuid();
     c.spawned = Clock::now();
@@ -562,7 +437,7 @@ struct BatchRunner::Impl {
     }
   }
 
-  void finishChild(Child& c) {
+  void finishChild(RunChild& c) {
     RunEnd end;
     end.run = &c.run;
     if (c.pid > 0) {

@@ -129,6 +129,121 @@ Json optionsJson(const SlurmSubmitOptions& o, int runs_per_task, const std::stri
               {"executable", executable}};
 }
 
+/// The manifest's tasks: `runs` in chunks of `per_task`; the run keys of each task.
+std::vector<std::vector<std::string>> fillManifest(SlurmManifest& manifest, const std::vector<RunSpec>& runs,
+                                                   int per_task) {
+  std::vector<std::vector<std::string>> task_keys;
+  for (const auto& chunk : chunkRuns(runs.size(), per_task)) {
+    std::vector<RunSpec> task_runs;
+    std::vector<std::string> keys;
+    for (int i : chunk) {
+      task_runs.push_back(runs[static_cast<std::size_t>(i)]);
+      keys.push_back(runs[static_cast<std::size_t>(i)].key);
+    }
+    manifest.tasks.push_back(std::move(task_runs));
+    task_keys.push_back(std::move(keys));
+  }
+  return task_keys;
+}
+
+void writeJobScript(const std::string& script_path, const JobScript& job) {
+  std::ofstream out(script_path, std::ios::binary | std::ios::trunc);
+  DASH_THROW_UNLESS(out.good(), "cannot write " + script_path);
+  out << formatJobScript(job);
+}
+
+/// Records a job sbatch accepted (and, for a new batch, the batch and its runs).
+void recordJob(const std::string& db_path, const SlurmJobRecord& job,
+               const std::vector<std::vector<std::string>>& task_keys, const std::vector<RunSpec>& runs,
+               const BatchSpec* new_batch) {
+  log::ResultsDb db(db_path);
+  if (new_batch != nullptr) {
+    db.putBatch(
+        log::BatchRecord{.id = job.batch_id, .name = new_batch->name, .spec_json = new_batch->json, .status = "queued"});
+    db.flush();
+    BatchStore(db_path).addRuns(job.batch_id, runs);
+  }
+  SlurmStore(db_path).addJob(job, task_keys);
+  db.setBatchStatus(job.batch_id, "submitted");
+}
+
+/// What Slurm says of one job's tasks: squeue first (asked once, unless every task is final), then
+/// sacct (asked once, when squeue does not know a task), then the task's own state file.
+class JobStates {
+ public:
+  JobStates(const SlurmClient& client, const SlurmJobRecord& job, bool all_final) : client_(client), job_(job) {
+    if (!all_final) queue_ = client_.queue(job_.job_id);
+  }
+
+  /// The task's state now and where it comes from ("squeue", "sacct", "shard", or as recorded).
+  SlurmState stateOf(const SlurmTaskRecord& t, std::string& source) {
+    SlurmState state = slurmStateFromName(t.state);
+    source = t.source;
+    if (isFinal(state)) return state;
+    if (queue_ && queue_->count(t.task) != 0) {
+      state = queue_->at(t.task);
+      source = "squeue";
+    } else {
+      if (!asked_accounting_) {
+        accounting_ = client_.accounting(job_.job_id);
+        asked_accounting_ = true;
+      }
+      if (accounting_ && accounting_->count(t.task) != 0) {
+        state = accounting_->at(t.task);
+        source = "sacct";
+      } else if (queue_) {  // Slurm answered and has forgotten the task: it ended long enough ago
+        state = stateFromTaskFile(job_.shard_dir, t.task, job_.cancelled);
+        source = "shard";
+      }
+    }
+    if (state == SlurmState::kUnknown) state = slurmStateFromName(t.state);
+    return state;
+  }
+
+ private:
+  const SlurmClient& client_;
+  const SlurmJobRecord& job_;
+  std::optional<std::map<int, SlurmState>> queue_;
+  std::optional<std::map<int, SlurmState>> accounting_;
+  bool asked_accounting_ = false;
+};
+
+/// One job's tasks into `view`: their states (changes recorded) and their shards (merged when changed).
+void updateJob(log::ResultsDb& db, BatchStore& store, SlurmStore& slurm, const SlurmClient& client,
+               const std::string& batch_id, const SlurmJobRecord& job, SlurmBatchView& view) {
+  std::vector<SlurmTaskRecord> tasks = slurm.tasks(batch_id, job.submission);
+  const bool all_final = std::all_of(tasks.begin(), tasks.end(),
+                                     [](const SlurmTaskRecord& t) { return isFinal(slurmStateFromName(t.state)); });
+  JobStates states(client, job, all_final);
+  std::map<int, std::vector<std::string>> keys_of_task;
+  for (const auto& [key, task] : slurm.runTasks(batch_id, job.submission)) keys_of_task[task].push_back(key);
+
+  for (SlurmTaskRecord& t : tasks) {
+    std::string source;
+    const SlurmState state = states.stateOf(t, source);
+    if (!isFinal(slurmStateFromName(t.state)) && (toString(state) != t.state || source != t.source)) {
+      slurm.setTaskState(batch_id, job.submission, t.task, toString(state), source);
+    }
+    if (!isFinal(state)) view.active = true;
+
+    const std::string shard = shardPath(job.shard_dir, t.task);
+    const std::string stamp = shardStamp(shard);
+    if (!stamp.empty() && stamp != t.shard_stamp) {
+      db.mergeFrom(shard);
+      db.flush();
+      view.merged += adoptShardRuns(db, store, batch_id, shard);
+      slurm.setShardStamp(batch_id, job.submission, t.task, stamp);
+    }
+    ++view.by_state[state];
+    view.tasks.push_back(SlurmTaskView{.submission = job.submission,
+                                       .job_id = job.job_id,
+                                       .task = t.task,
+                                       .state = state,
+                                       .source = source,
+                                       .keys = keys_of_task[t.task]});
+  }
+}
+
 }  // namespace
 
 SlurmBackend::SlurmBackend(std::string db_path, SlurmClient client)
@@ -175,17 +290,7 @@ std::string SlurmBackend::submitRuns(const std::string& batch_id, const std::str
   const int per_task = runsPerTask(runs.size(), options.runs_per_task);
 
   SlurmManifest manifest{.batch_id = batch_id, .name = name, .submission = submission, .shard_dir = dir.string()};
-  std::vector<std::vector<std::string>> task_keys;
-  for (const auto& chunk : chunkRuns(runs.size(), per_task)) {
-    std::vector<RunSpec> task_runs;
-    std::vector<std::string> keys;
-    for (int i : chunk) {
-      task_runs.push_back(runs[static_cast<std::size_t>(i)]);
-      keys.push_back(runs[static_cast<std::size_t>(i)].key);
-    }
-    manifest.tasks.push_back(std::move(task_runs));
-    task_keys.push_back(std::move(keys));
-  }
+  const std::vector<std::vector<std::string>> task_keys = fillManifest(manifest, runs, per_task);
   const std::string manifest_path = (dir / "manifest.json").string();
   writeManifest(manifest_path, manifest);
 
@@ -200,33 +305,21 @@ std::string SlurmBackend::submitRuns(const std::string& batch_id, const std::str
   job.executable = executable;
   job.manifest = manifest_path;
   const std::string script_path = (dir / "job.sbatch").string();
-  {
-    std::ofstream out(script_path, std::ios::binary | std::ios::trunc);
-    DASH_THROW_UNLESS(out.good(), "cannot write " + script_path);
-    out << formatJobScript(job);
-  }
+  writeJobScript(script_path, job);
   const std::string job_id =
       client_.submit(script_path, {"--output=" + (dir / "slurm-%A_%a.out").string(), "--chdir=" + dir.string()});
   written.keep = true;
-
   try {
-    log::ResultsDb db(db_path_);
-    if (new_batch != nullptr) {
-      db.putBatch(
-          log::BatchRecord{.id = batch_id, .name = new_batch->name, .spec_json = new_batch->json, .status = "queued"});
-      db.flush();
-      BatchStore(db_path_).addRuns(batch_id, runs);
-    }
-    SlurmStore(db_path_).addJob(SlurmJobRecord{.batch_id = batch_id,
-                                               .submission = submission,
-                                               .job_id = job_id,
-                                               .shard_dir = dir.string(),
-                                               .tasks = job.tasks,
-                                               .submitted = utcNow(),
-                                               .cancelled = false,
-                                               .options_json = optionsJson(options, per_task, executable).dump()},
-                                task_keys);
-    db.setBatchStatus(batch_id, "submitted");
+    recordJob(db_path_,
+              SlurmJobRecord{.batch_id = batch_id,
+                             .submission = submission,
+                             .job_id = job_id,
+                             .shard_dir = dir.string(),
+                             .tasks = job.tasks,
+                             .submitted = utcNow(),
+                             .cancelled = false,
+                             .options_json = optionsJson(options, per_task, executable).dump()},
+              task_keys, runs, new_batch);
   } catch (...) {
     // A job nobody can follow: take it back from Slurm rather than let it run unrecorded.
     try {
@@ -250,59 +343,7 @@ SlurmBatchView SlurmBackend::update(const std::string& batch_id) {
   bool any_cancelled = false;
   for (const SlurmJobRecord& job : jobs) {
     any_cancelled = any_cancelled || job.cancelled;
-    std::vector<SlurmTaskRecord> tasks = slurm.tasks(batch_id, job.submission);
-    const bool all_final = std::all_of(tasks.begin(), tasks.end(),
-                                       [](const SlurmTaskRecord& t) { return isFinal(slurmStateFromName(t.state)); });
-    std::optional<std::map<int, SlurmState>> queue;
-    std::optional<std::map<int, SlurmState>> accounting;
-    bool asked_accounting = false;
-    if (!all_final) queue = client_.queue(job.job_id);
-    std::map<int, std::vector<std::string>> keys_of_task;
-    for (const auto& [key, task] : slurm.runTasks(batch_id, job.submission)) keys_of_task[task].push_back(key);
-
-    for (SlurmTaskRecord& t : tasks) {
-      SlurmState state = slurmStateFromName(t.state);
-      std::string source = t.source;
-      if (!isFinal(state)) {
-        if (queue && queue->count(t.task) != 0) {
-          state = queue->at(t.task);
-          source = "squeue";
-        } else {
-          if (!asked_accounting) {
-            accounting = client_.accounting(job.job_id);
-            asked_accounting = true;
-          }
-          if (accounting && accounting->count(t.task) != 0) {
-            state = accounting->at(t.task);
-            source = "sacct";
-          } else if (queue) {  // Slurm answered and has forgotten the task: it ended long enough ago
-            state = stateFromTaskFile(job.shard_dir, t.task, job.cancelled);
-            source = "shard";
-          }
-        }
-        if (state == SlurmState::kUnknown) state = slurmStateFromName(t.state);
-        if (toString(state) != t.state || source != t.source) {
-          slurm.setTaskState(batch_id, job.submission, t.task, toString(state), source);
-        }
-      }
-      if (!isFinal(state)) view.active = true;
-
-      const std::string shard = shardPath(job.shard_dir, t.task);
-      const std::string stamp = shardStamp(shard);
-      if (!stamp.empty() && stamp != t.shard_stamp) {
-        db.mergeFrom(shard);
-        db.flush();
-        view.merged += adoptShardRuns(db, store, batch_id, shard);
-        slurm.setShardStamp(batch_id, job.submission, t.task, stamp);
-      }
-      ++view.by_state[state];
-      view.tasks.push_back(SlurmTaskView{.submission = job.submission,
-                                         .job_id = job.job_id,
-                                         .task = t.task,
-                                         .state = state,
-                                         .source = source,
-                                         .keys = keys_of_task[t.task]});
-    }
+    updateJob(db, store, slurm, client_, batch_id, job, view);
   }
   for (const StoredRun& r : store.runs(batch_id)) {
     ++view.runs;

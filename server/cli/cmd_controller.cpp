@@ -91,6 +91,101 @@ int port(const Args& args, const std::string& name, int fallback) {
   return static_cast<int>(p);
 }
 
+dispatch::AgentOptions agentOptions(const Args& args) {
+  dispatch::AgentOptions agent;
+  agent.server_url = args.require("server");
+  agent.robot = args.require("robot");
+  agent.token = readToken(args.require("token-file"));
+  agent.report_hz = args.number("report-hz", 50.0);
+  DASH_THROW_UNLESS(agent.report_hz >= 1.0, "--report-hz must be at least 1");
+  if (args.has("sim-drop-at")) agent.drop_at = args.number("sim-drop-at", 0.0);
+  if (!args.has("quiet")) {
+    agent.log = [](const std::string& line) {
+      std::fprintf(stderr, "dashbench controller: %s\n", line.c_str());
+      std::fflush(stderr);
+    };
+  }
+  return agent;
+}
+
+dispatch::SimDriverOptions simOptions(const Args& args, const RobotModel& model) {
+  dispatch::SimDriverOptions sim;
+  if (args.has("sim-start")) {
+    const auto q = parseNumberList(args.require("sim-start"), "--sim-start");
+    DASH_THROW_UNLESS(static_cast<int>(q.size()) == model.dof(),
+                      "--sim-start: expected " + std::to_string(model.dof()) + " numbers");
+    sim.initial = JointVector::Map(q.data(), static_cast<Eigen::Index>(q.size()));
+  }
+  sim.speed = args.number("sim-speed", 1.0);
+  DASH_THROW_UNLESS(sim.speed > 0.0 && sim.speed <= 10.0, "--sim-speed must be within 0 .. 10");
+  sim.pause_rate = args.number("sim-pause-rate", 0.0);
+  sim.pause_max = args.number("sim-pause-max", 0.0);
+  sim.gripper_time = args.number("sim-gripper-time", 0.0);
+  sim.gripper_jitter = args.number("sim-gripper-jitter", 0.0);
+  sim.seed = static_cast<std::uint64_t>(args.integer("sim-seed", 1));
+  DASH_THROW_UNLESS(sim.pause_rate >= 0.0 && sim.pause_rate <= 100.0, "--sim-pause-rate: 0 to 100 per second");
+  DASH_THROW_UNLESS(sim.pause_max >= 0.0 && sim.pause_max <= 60.0, "--sim-pause-max: 0 to 60 s");
+  DASH_THROW_UNLESS(sim.gripper_time >= 0.0 && sim.gripper_time <= 30.0, "--sim-gripper-time: 0 to 30 s");
+  DASH_THROW_UNLESS(sim.gripper_jitter >= 0.0 && sim.gripper_jitter <= sim.gripper_time,
+                    "--sim-gripper-jitter: 0 to --sim-gripper-time");
+  if (args.has("sim-stop-at")) sim.stop_at = args.number("sim-stop-at", 0.0);
+  sim.refuse = args.has("sim-refuse");
+  return sim;
+}
+
+dispatch::UrDriverOptions urOptions(const Args& args) {
+  dispatch::UrDriverOptions ur;
+  ur.robot_ip = args.require("robot-ip");
+  ur.host_ip = args.get("host-ip", "");
+  ur.listen_host = args.get("listen-host", "0.0.0.0");
+  ur.reverse_port = port(args, "reverse-port", 50001);
+  ur.script_port = port(args, "script-port", 50002);
+  ur.trajectory_port = port(args, "trajectory-port", 50003);
+  ur.script_command_port = port(args, "script-command-port", 50004);
+  ur.rtde_port = port(args, "rtde-port", 30004);
+  ur.read_timeout_ms = static_cast<int>(args.integer("read-timeout-ms", 100));
+  ur.keepalive_ms = static_cast<int>(args.integer("keepalive-ms", 10));
+  ur.rtde_frequency = args.number("rtde-hz", 500.0);
+  DASH_THROW_UNLESS(ur.rtde_frequency >= 1.0 && ur.rtde_frequency <= 500.0, "--rtde-hz: 1 to 500");
+  if (args.has("stale-ms")) {
+    const long long stale = args.integer("stale-ms", 0);
+    DASH_THROW_UNLESS(stale >= 1 && stale <= 10000, "--stale-ms: 1 to 10000");
+    ur.state_stale_after = static_cast<double>(stale) * 1e-3;
+  }
+  const std::string point_type = args.get("point-type", "spline");
+  DASH_THROW_UNLESS(point_type == "spline" || point_type == "movej", "--point-type: spline or movej");
+  ur.point_type = point_type == "spline" ? dispatch::ur::PointType::kSpline : dispatch::ur::PointType::kMovej;
+  const std::string gripper = args.get("gripper", "none");
+  DASH_THROW_UNLESS(gripper == "robotiq" || gripper == "none", "--gripper: robotiq or none");
+  ur.gripper = gripper == "robotiq";
+  ur.gripper_host = args.get("gripper-host", "");
+  ur.gripper_port = port(args, "gripper-port", dispatch::robotiq::kPort);
+  for (const auto& [name, target] : {std::pair<const char*, int*>{"gripper-speed", &ur.gripper_speed},
+                                     std::pair<const char*, int*>{"gripper-force", &ur.gripper_force}}) {
+    const long long v = args.integer(name, 255);
+    DASH_THROW_UNLESS(v >= 0 && v <= 255, std::string("--") + name + ": 0 to 255");
+    *target = static_cast<int>(v);
+  }
+  return ur;
+}
+
+std::unique_ptr<dispatch::ArmDriver> makeDriver(const Args& args, const std::string& driver_name,
+                                                const RobotModel& model, const std::string& robot) {
+  if (driver_name == "sim") return std::make_unique<dispatch::SimDriver>(model, simOptions(args, model));
+  if (driver_name != "ur") throw InputError("--driver: expected sim or ur, got '" + driver_name + "'");
+  const dispatch::UrDriverOptions ur = urOptions(args);
+  auto ur_driver = std::make_unique<dispatch::UrDriver>(model, ur);
+  const auto p = ur_driver->ports();
+  if (!args.has("quiet")) {
+    std::fprintf(stderr,
+                 "dashbench controller: %s: listening for the robot on %s: reverse %d, script %d, trajectory %d, "
+                 "script command %d; RTDE from %s:%d\n",
+                 robot.c_str(), ur.listen_host.c_str(), p.reverse, p.script, p.trajectory, p.script_command,
+                 ur.robot_ip.c_str(), ur.rtde_port);
+  }
+  return ur_driver;
+}
+
 }  // namespace
 
 int runController(const std::vector<std::string>& words) {
@@ -101,94 +196,12 @@ int runController(const std::vector<std::string>& words) {
                                 "read-timeout-ms", "keepalive-ms", "point-type", "gripper", "gripper-host",
                                 "gripper-port", "rtde-hz", "stale-ms", "gripper-speed", "gripper-force"},
                     .flags = {"sim-refuse", "quiet"}});
-  dispatch::AgentOptions agent;
-  agent.server_url = args.require("server");
-  agent.robot = args.require("robot");
-  agent.token = readToken(args.require("token-file"));
-  agent.report_hz = args.number("report-hz", 50.0);
-  DASH_THROW_UNLESS(agent.report_hz >= 1.0, "--report-hz must be at least 1");
-  if (args.has("sim-drop-at")) agent.drop_at = args.number("sim-drop-at", 0.0);
+  const dispatch::AgentOptions agent = agentOptions(args);
   const bool quiet = args.has("quiet");
-  if (!quiet) {
-    agent.log = [](const std::string& line) {
-      std::fprintf(stderr, "dashbench controller: %s\n", line.c_str());
-      std::fflush(stderr);
-    };
-  }
   const std::string driver_name = args.require("driver");
   const auto library = RobotLibrary::loadDefault();
   const RobotModel& model = library->get(args.get("model", "ur5e"));
-
-  std::unique_ptr<dispatch::ArmDriver> driver;
-  if (driver_name == "sim") {
-    dispatch::SimDriverOptions sim;
-    if (args.has("sim-start")) {
-      const auto q = parseNumberList(args.require("sim-start"), "--sim-start");
-      DASH_THROW_UNLESS(static_cast<int>(q.size()) == model.dof(),
-                        "--sim-start: expected " + std::to_string(model.dof()) + " numbers");
-      sim.initial = JointVector::Map(q.data(), static_cast<Eigen::Index>(q.size()));
-    }
-    sim.speed = args.number("sim-speed", 1.0);
-    DASH_THROW_UNLESS(sim.speed > 0.0 && sim.speed <= 10.0, "--sim-speed must be within 0 .. 10");
-    sim.pause_rate = args.number("sim-pause-rate", 0.0);
-    sim.pause_max = args.number("sim-pause-max", 0.0);
-    sim.gripper_time = args.number("sim-gripper-time", 0.0);
-    sim.gripper_jitter = args.number("sim-gripper-jitter", 0.0);
-    sim.seed = static_cast<std::uint64_t>(args.integer("sim-seed", 1));
-    DASH_THROW_UNLESS(sim.pause_rate >= 0.0 && sim.pause_rate <= 100.0, "--sim-pause-rate: 0 to 100 per second");
-    DASH_THROW_UNLESS(sim.pause_max >= 0.0 && sim.pause_max <= 60.0, "--sim-pause-max: 0 to 60 s");
-    DASH_THROW_UNLESS(sim.gripper_time >= 0.0 && sim.gripper_time <= 30.0, "--sim-gripper-time: 0 to 30 s");
-    DASH_THROW_UNLESS(sim.gripper_jitter >= 0.0 && sim.gripper_jitter <= sim.gripper_time,
-                      "--sim-gripper-jitter: 0 to --sim-gripper-time");
-    if (args.has("sim-stop-at")) sim.stop_at = args.number("sim-stop-at", 0.0);
-    sim.refuse = args.has("sim-refuse");
-    driver = std::make_unique<dispatch::SimDriver>(model, sim);
-  } else if (driver_name == "ur") {
-    dispatch::UrDriverOptions ur;
-    ur.robot_ip = args.require("robot-ip");
-    ur.host_ip = args.get("host-ip", "");
-    ur.listen_host = args.get("listen-host", "0.0.0.0");
-    ur.reverse_port = port(args, "reverse-port", 50001);
-    ur.script_port = port(args, "script-port", 50002);
-    ur.trajectory_port = port(args, "trajectory-port", 50003);
-    ur.script_command_port = port(args, "script-command-port", 50004);
-    ur.rtde_port = port(args, "rtde-port", 30004);
-    ur.read_timeout_ms = static_cast<int>(args.integer("read-timeout-ms", 100));
-    ur.keepalive_ms = static_cast<int>(args.integer("keepalive-ms", 10));
-    ur.rtde_frequency = args.number("rtde-hz", 500.0);
-    DASH_THROW_UNLESS(ur.rtde_frequency >= 1.0 && ur.rtde_frequency <= 500.0, "--rtde-hz: 1 to 500");
-    if (args.has("stale-ms")) {
-      const long long stale = args.integer("stale-ms", 0);
-      DASH_THROW_UNLESS(stale >= 1 && stale <= 10000, "--stale-ms: 1 to 10000");
-      ur.state_stale_after = static_cast<double>(stale) * 1e-3;
-    }
-    const std::string point_type = args.get("point-type", "spline");
-    DASH_THROW_UNLESS(point_type == "spline" || point_type == "movej", "--point-type: spline or movej");
-    ur.point_type = point_type == "spline" ? dispatch::ur::PointType::kSpline : dispatch::ur::PointType::kMovej;
-    const std::string gripper = args.get("gripper", "none");
-    DASH_THROW_UNLESS(gripper == "robotiq" || gripper == "none", "--gripper: robotiq or none");
-    ur.gripper = gripper == "robotiq";
-    ur.gripper_host = args.get("gripper-host", "");
-    ur.gripper_port = port(args, "gripper-port", dispatch::robotiq::kPort);
-    for (const auto& [name, target] : {std::pair<const char*, int*>{"gripper-speed", &ur.gripper_speed},
-                                       std::pair<const char*, int*>{"gripper-force", &ur.gripper_force}}) {
-      const long long v = args.integer(name, 255);
-      DASH_THROW_UNLESS(v >= 0 && v <= 255, std::string("--") + name + ": 0 to 255");
-      *target = static_cast<int>(v);
-    }
-    auto ur_driver = std::make_unique<dispatch::UrDriver>(model, ur);
-    const auto p = ur_driver->ports();
-    if (!quiet) {
-      std::fprintf(stderr,
-                   "dashbench controller: %s: listening for the robot on %s: reverse %d, script %d, trajectory %d, "
-                   "script command %d; RTDE from %s:%d\n",
-                   agent.robot.c_str(), ur.listen_host.c_str(), p.reverse, p.script, p.trajectory, p.script_command,
-                   ur.robot_ip.c_str(), ur.rtde_port);
-    }
-    driver = std::move(ur_driver);
-  } else {
-    throw InputError("--driver: expected sim or ur, got '" + driver_name + "'");
-  }
+  const std::unique_ptr<dispatch::ArmDriver> driver = makeDriver(args, driver_name, model, agent.robot);
 
   struct sigaction action {};
   action.sa_handler = onSignal;

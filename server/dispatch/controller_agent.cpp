@@ -233,6 +233,68 @@ void ControllerAgent::streamLoop() {
   }
 }
 
+bool ControllerAgent::waitForSample(std::int64_t next_sample) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  cv_.wait_until(lock, std::chrono::steady_clock::time_point(std::chrono::microseconds(next_sample)),
+                 [&] { return stopping_.load() || kicked_; });
+  const bool kicked = kicked_;
+  kicked_ = false;
+  return kicked;
+}
+
+ControllerAgent::ReportSnapshot ControllerAgent::snapshot(std::int64_t now, ArmStatus& logged) {
+  ReportSnapshot r;
+  r.state = driver_.state();
+  std::lock_guard<std::mutex> goal_lock(goal_mutex_);
+  r.progress = driver_.progress();
+  logGoalEnd(r.progress, logged);
+  std::lock_guard<std::mutex> lock(mutex_);
+  r.offset = offset_us_;
+  r.synchronised = same_clock_ || offset_samples_.size() >= kMinOffsetSamples;
+  // Fault injection: drop the connection once, drop_at seconds after the start.
+  if (options_.drop_at && !dropped_ && start_local_us_ && r.progress.status == ArmStatus::kExecuting &&
+      now - *start_local_us_ >= micros(*options_.drop_at)) {
+    dropped_ = true;
+    away_until_us_ = now + micros(options_.drop_for);
+    connected_ = false;
+    log("dropping the connection (--sim-drop-at)");
+  }
+  r.connected = connected_;
+  r.session = session_;
+  r.dispatch_id = dispatch_id_;
+  return r;
+}
+
+AgentReport ControllerAgent::report(const ReportSnapshot& s, const std::vector<JointSample>& samples) {
+  AgentReport report;
+  report.session = s.session;
+  report.driver = driver_.kind();
+  report.model = driver_.model();
+  report.joint_names = driver_.jointNames();
+  report.ready = driver_.ready(report.detail);
+  if (report.ready && !s.synchronised) {
+    report.ready = false;
+    report.detail = "measuring the clock offset to the server";
+  }
+  report.status = s.progress.status;
+  report.dispatch_id = s.dispatch_id;
+  report.result = s.progress.result;
+  report.message = s.progress.message;
+  report.gripper = driver_.gripperState();
+  report.samples = samples;
+  return report;
+}
+
+void ControllerAgent::addOffsetSample(std::int64_t t0, std::int64_t t1, std::int64_t server_time) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (same_clock_) return;
+  offset_samples_.emplace_back(t1 - t0, server_time - (t0 + t1) / 2);
+  if (offset_samples_.size() > kOffsetWindow) offset_samples_.pop_front();
+  const auto best = std::min_element(offset_samples_.begin(), offset_samples_.end());
+  offset_us_ = best->second;
+  offset_known_ = true;
+}
+
 void ControllerAgent::reportLoop() {
   httplib::Client client(options_.server_url);
   client.set_tcp_nodelay(true);
@@ -251,72 +313,27 @@ void ControllerAgent::reportLoop() {
   std::int64_t last_post = 0;
   const std::int64_t sample_period = micros(1.0 / options_.sample_hz);
   while (!stopping_) {
-    bool kicked = false;
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      cv_.wait_until(lock, std::chrono::steady_clock::time_point(std::chrono::microseconds(next_sample)),
-                     [&] { return stopping_.load() || kicked_; });
-      kicked = kicked_;
-      kicked_ = false;
-    }
+    const bool kicked = waitForSample(next_sample);
     if (stopping_) break;
     const std::int64_t now = steadyMicros();
     if (now >= next_sample) next_sample = std::max(next_sample + sample_period, now);
 
-    const DriverState s = driver_.state();
-    std::unique_lock<std::mutex> goal_lock(goal_mutex_);
-    const DriverProgress p = driver_.progress();
-    logGoalEnd(p, logged);
-    std::string session, dispatch_id;
-    bool connected = false;
-    bool synchronised = false;
-    std::int64_t offset = 0;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      offset = offset_us_;
-      synchronised = same_clock_ || offset_samples_.size() >= kMinOffsetSamples;
-      // Fault injection: drop the connection once, drop_at seconds after the start.
-      if (options_.drop_at && !dropped_ && start_local_us_ && p.status == ArmStatus::kExecuting &&
-          now - *start_local_us_ >= micros(*options_.drop_at)) {
-        dropped_ = true;
-        away_until_us_ = now + micros(options_.drop_for);
-        connected_ = false;
-        log("dropping the connection (--sim-drop-at)");
-      }
-      connected = connected_;
-      session = session_;
-      dispatch_id = dispatch_id_;
-    }
-    goal_lock.unlock();
-    if (s.valid) {
-      const std::int64_t measured = s.stamp_us != 0 ? s.stamp_us : now;
-      batch.push_back({measured + offset, s.q, s.qd});
+    const ReportSnapshot s = snapshot(now, logged);
+    if (s.state.valid) {
+      const std::int64_t measured = s.state.stamp_us != 0 ? s.state.stamp_us : now;
+      batch.push_back({measured + s.offset, s.state.q, s.state.qd});
       if (batch.size() > kMaxBatch) batch.erase(batch.begin());
     }
-    if (!connected) continue;
+    if (!s.connected) continue;
+    const DriverProgress& p = s.progress;
     const bool busy = p.status == ArmStatus::kArmed || p.status == ArmStatus::kExecuting;
     const double hz = busy ? options_.report_hz : options_.idle_report_hz;
     const bool changed = !sent_any || p.status != last_sent.status || p.result != last_sent.result;
     if (!kicked && !changed && now - last_post < micros(1.0 / hz)) continue;
 
-    AgentReport report;
-    report.session = session;
-    report.driver = driver_.kind();
-    report.model = driver_.model();
-    report.joint_names = driver_.jointNames();
-    report.ready = driver_.ready(report.detail);
-    if (report.ready && !synchronised) {
-      report.ready = false;
-      report.detail = "measuring the clock offset to the server";
-    }
-    report.status = p.status;
-    report.dispatch_id = dispatch_id;
-    report.result = p.result;
-    report.message = p.message;
-    report.gripper = driver_.gripperState();
-    report.samples = batch;
+    const AgentReport r = report(s, batch);
     const std::int64_t t0 = steadyMicros();
-    auto res = client.Post(path, headers, agentReportToJson(report), "application/json");
+    auto res = client.Post(path, headers, agentReportToJson(r), "application/json");
     const std::int64_t t1 = steadyMicros();
     last_post = t1;
     if (!res) continue;  // unreachable: keep the samples for the next try
@@ -337,15 +354,7 @@ void ControllerAgent::reportLoop() {
     batch.clear();
     last_sent = p;
     sent_any = true;
-    if (const auto server_time = parseServerTime(res->body)) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (same_clock_) continue;
-      offset_samples_.emplace_back(t1 - t0, *server_time - (t0 + t1) / 2);
-      if (offset_samples_.size() > kOffsetWindow) offset_samples_.pop_front();
-      const auto best = std::min_element(offset_samples_.begin(), offset_samples_.end());
-      offset_us_ = best->second;
-      offset_known_ = true;
-    }
+    if (const auto server_time = parseServerTime(res->body)) addOffsetSample(t0, t1, *server_time);
   }
 }
 

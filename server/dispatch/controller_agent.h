@@ -63,6 +63,22 @@ class ControllerAgent {
   void refusedToken(int status);
   /// Logs the goal's end once, when the driver's status becomes final.
   void logGoalEnd(const DriverProgress& p, ArmStatus& logged);
+  // reportLoop's steps.
+  /// What one state report says, read together under the goal lock and the agent's lock.
+  struct ReportSnapshot {
+    DriverState state;
+    DriverProgress progress;
+    std::string session, dispatch_id;
+    bool connected = false;
+    bool synchronised = false;  ///< the clock offset to the server is known
+    std::int64_t offset = 0;    ///< server time - local time, microseconds
+  };
+  /// Waits until `next_sample` (local steady microseconds), a kick or stop(); whether it was kicked.
+  bool waitForSample(std::int64_t next_sample);
+  ReportSnapshot snapshot(std::int64_t now, ArmStatus& logged);
+  AgentReport report(const ReportSnapshot& s, const std::vector<JointSample>& samples);
+  /// One round trip (local send t0, answer t1) and the server's time in its answer.
+  void addOffsetSample(std::int64_t t0, std::int64_t t1, std::int64_t server_time);
 
   AgentOptions options_;
   ArmDriver& driver_;

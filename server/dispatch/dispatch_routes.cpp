@@ -175,108 +175,108 @@ void streamStatus(DispatchService& svc, httplib::Response& res) {
       });
 }
 
+void handleHistory(const DispatchRecorder* history, const httplib::Request& req, httplib::Response& res) {
+  if (history == nullptr) {
+    reply(res, 404, errorToJson("none", "this server does not record dispatches"));
+    return;
+  }
+  const int limit = intParam(req, "limit", 50, 1, 1000);
+  const int offset = intParam(req, "offset", 0, 0, 1 << 30);
+  reply(res, 200, history->historyJson(limit, offset));
+}
+
+void handleRecord(const DispatchRecorder* history, const httplib::Request& req, httplib::Response& res) {
+  const std::string record = history != nullptr ? history->recordJson(req.matches[1]) : "";
+  if (record.empty()) {
+    reply(res, 404, errorToJson("unknown_dispatch", "no recorded dispatch '" + std::string(req.matches[1]) + "'"));
+    return;
+  }
+  reply(res, 200, record);
+}
+
+/// A controller agent's command stream (server-sent events), with a ping when nothing else comes.
+void streamCommands(DispatchService* svc, const httplib::Request& req, httplib::Response& res) {
+  const std::string robot = req.matches[1];
+  const DispatchService::StreamHandle handle = svc->openStream(robot);
+  const auto heartbeat =
+      std::chrono::microseconds(static_cast<std::int64_t>(svc->config().heartbeat_interval * 1e6));
+  res.set_header("Cache-Control", "no-cache");
+  res.set_header("X-Accel-Buffering", "no");
+  res.set_chunked_content_provider(
+      "text/event-stream",
+      [stream = handle.stream, svc, heartbeat](std::size_t, httplib::DataSink& sink) {
+        std::vector<std::string> events;
+        if (!stream->next(events, heartbeat)) return false;
+        if (events.empty()) events.push_back(formatSse("ping", pingToJson(svc->now())));
+        for (const std::string& e : events) {
+          if (!sink.write(e.data(), e.size())) return false;
+        }
+        return true;
+      },
+      [svc, robot, session = handle.session](bool) { svc->closeStream(robot, session, "its command stream closed"); });
+}
+
+void handleReport(DispatchService& svc, const httplib::Request& req, httplib::Response& res) {
+  const std::string robot = req.matches[1];
+  const AgentReport report = parseAgentReport(req.body);
+  if (svc.report(robot, report) == ReportResult::kStaleSession) {
+    reply(res, 409, errorToJson("stale_session", "session '" + report.session + "' is not " + robot +
+                                                     "'s current connection; reconnect"));
+    return;
+  }
+  reply(res, 200, Json{{"server_time_us", svc.now()}}.dump());
+}
+
+void handleAbort(DispatchService& svc, const httplib::Request& req, httplib::Response& res) {
+  std::string reason = "abort requested";
+  if (!req.body.empty()) {
+    const Json j = json_util::parseObject(req.body, "request");
+    reason = json_util::strOr(j, "reason", reason, "request");
+  }
+  const AbortOutcome out = svc.abort(reason);
+  reply(res, 200, Json{{"aborted", out.had_dispatch},
+                       {"dispatch_id", out.dispatch_id},
+                       {"controllers_notified", out.controllers_notified},
+                       {"server_time_us", out.at_us}}
+                      .dump());
+}
+
+void handleStatus(DispatchService& svc, const httplib::Request& req, httplib::Response& res) {
+  const bool trace = req.has_param("trace") && req.get_param_value("trace") != "0";
+  const auto status = svc.status(trace);
+  if (!status) {
+    reply(res, 404, errorToJson("none", "no dispatch yet"));
+    return;
+  }
+  reply(res, 200, dispatchStatusToJson(*status));
+}
+
 }  // namespace
 
 void registerDispatchRoutes(httplib::Server& server, DispatchService& service, RequestAuthorizer authorized,
                             const DispatchRecorder* history) {
   DispatchService* svc = &service;
-
-  server.Get("/api/dispatch/stream", guarded(authorized, [svc](const httplib::Request&, httplib::Response& res) {
-               streamStatus(*svc, res);
-             }));
-
-  server.Get("/api/dispatches", guarded(authorized, [history](const httplib::Request& req, httplib::Response& res) {
-               if (history == nullptr) {
-                 reply(res, 404, errorToJson("none", "this server does not record dispatches"));
-                 return;
-               }
-               const int limit = intParam(req, "limit", 50, 1, 1000);
-               const int offset = intParam(req, "offset", 0, 0, 1 << 30);
-               reply(res, 200, history->historyJson(limit, offset));
-             }));
-
+  const std::string controller = std::string("/api/controllers/") + kRobotPattern;
+  using Req = httplib::Request;
+  using Res = httplib::Response;
+  server.Get("/api/dispatch/stream", guarded(authorized, [svc](const Req&, Res& res) { streamStatus(*svc, res); }));
+  server.Get("/api/dispatches",
+             guarded(authorized, [history](const Req& req, Res& res) { handleHistory(history, req, res); }));
   server.Get(R"(/api/dispatches/([A-Za-z0-9_.\-]+))",
-             guarded(authorized, [history](const httplib::Request& req, httplib::Response& res) {
-               const std::string record = history != nullptr ? history->recordJson(req.matches[1]) : "";
-               if (record.empty()) {
-                 reply(res, 404, errorToJson("unknown_dispatch", "no recorded dispatch '" + std::string(req.matches[1]) + "'"));
-                 return;
-               }
-               reply(res, 200, record);
-             }));
-
-  server.Get("/api/controllers", guarded(authorized, [svc](const httplib::Request&, httplib::Response& res) {
+             guarded(authorized, [history](const Req& req, Res& res) { handleRecord(history, req, res); }));
+  server.Get("/api/controllers", guarded(authorized, [svc](const Req&, Res& res) {
                reply(res, 200, controllersToJson(svc->controllers(), svc->now()));
              }));
-
-  server.Get(std::string("/api/controllers/") + kRobotPattern + "/stream",
-             guarded(authorized, [svc](const httplib::Request& req, httplib::Response& res) {
-               const std::string robot = req.matches[1];
-               const DispatchService::StreamHandle handle = svc->openStream(robot);
-               const auto heartbeat = std::chrono::microseconds(
-                   static_cast<std::int64_t>(svc->config().heartbeat_interval * 1e6));
-               res.set_header("Cache-Control", "no-cache");
-               res.set_header("X-Accel-Buffering", "no");
-               res.set_chunked_content_provider(
-                   "text/event-stream",
-                   [stream = handle.stream, svc, heartbeat](std::size_t, httplib::DataSink& sink) {
-                     std::vector<std::string> events;
-                     if (!stream->next(events, heartbeat)) return false;
-                     if (events.empty()) events.push_back(formatSse("ping", pingToJson(svc->now())));
-                     for (const std::string& e : events) {
-                       if (!sink.write(e.data(), e.size())) return false;
-                     }
-                     return true;
-                   },
-                   [svc, robot, session = handle.session](bool) {
-                     svc->closeStream(robot, session, "its command stream closed");
-                   });
-             }));
-
-  server.Post(std::string("/api/controllers/") + kRobotPattern + "/state",
-              guarded(authorized, [svc](const httplib::Request& req, httplib::Response& res) {
-                const std::string robot = req.matches[1];
-                const AgentReport report = parseAgentReport(req.body);
-                if (svc->report(robot, report) == ReportResult::kStaleSession) {
-                  reply(res, 409, errorToJson("stale_session", "session '" + report.session + "' is not " + robot +
-                                                                   "'s current connection; reconnect"));
-                  return;
-                }
-                reply(res, 200, Json{{"server_time_us", svc->now()}}.dump());
-              }));
-
-  server.Post("/api/dispatch", guarded(authorized, [svc](const httplib::Request& req, httplib::Response& res) {
-                handleDispatch(*svc, req, res);
-              }));
-
+  server.Get(controller + "/stream",
+             guarded(authorized, [svc](const Req& req, Res& res) { streamCommands(svc, req, res); }));
+  server.Post(controller + "/state",
+              guarded(authorized, [svc](const Req& req, Res& res) { handleReport(*svc, req, res); }));
+  server.Post("/api/dispatch", guarded(authorized, [svc](const Req& req, Res& res) { handleDispatch(*svc, req, res); }));
   server.Post("/api/dispatch/preflight",
-              guarded(authorized, [svc](const httplib::Request& req, httplib::Response& res) {
-                handlePreflight(*svc, req, res);
-              }));
-
-  server.Post("/api/dispatch/abort", guarded(authorized, [svc](const httplib::Request& req, httplib::Response& res) {
-                std::string reason = "abort requested";
-                if (!req.body.empty()) {
-                  const Json j = json_util::parseObject(req.body, "request");
-                  reason = json_util::strOr(j, "reason", reason, "request");
-                }
-                const AbortOutcome out = svc->abort(reason);
-                reply(res, 200, Json{{"aborted", out.had_dispatch},
-                                     {"dispatch_id", out.dispatch_id},
-                                     {"controllers_notified", out.controllers_notified},
-                                     {"server_time_us", out.at_us}}
-                                    .dump());
-              }));
-
-  server.Get("/api/dispatch", guarded(authorized, [svc](const httplib::Request& req, httplib::Response& res) {
-               const bool trace = req.has_param("trace") && req.get_param_value("trace") != "0";
-               const auto status = svc->status(trace);
-               if (!status) {
-                 reply(res, 404, errorToJson("none", "no dispatch yet"));
-                 return;
-               }
-               reply(res, 200, dispatchStatusToJson(*status));
-             }));
+              guarded(authorized, [svc](const Req& req, Res& res) { handlePreflight(*svc, req, res); }));
+  server.Post("/api/dispatch/abort",
+              guarded(authorized, [svc](const Req& req, Res& res) { handleAbort(*svc, req, res); }));
+  server.Get("/api/dispatch", guarded(authorized, [svc](const Req& req, Res& res) { handleStatus(*svc, req, res); }));
 }
 
 }  // namespace dash::dispatch

@@ -115,6 +115,71 @@ bool checkTimesAndSpeeds(const RobotTrajectory& rt, const RobotModel& model, con
   return true;
 }
 
+/// Joint names and order: the plan against the model, then the agent against both. Whether they agree.
+bool checkJointNames(const RobotTrajectory& rt, const RobotModel& model, const ControllerInfo* controller,
+                     Checker& checker) {
+  if (rt.joint_names != model.joint_names) {
+    checker.fail("joint_names", rt.robot,
+                 "the plan's joint names " + joinNames(rt.joint_names) + " differ from the " + model.name +
+                     " model's " + joinNames(model.joint_names),
+                 kBadPlan);
+    return false;
+  }
+  if (controller != nullptr && controller->connected && controller->joint_names != model.joint_names) {
+    checker.fail("joint_names", rt.robot,
+                 "the controller reports joint names " + joinNames(controller->joint_names) + ", the plan has " +
+                     joinNames(rt.joint_names),
+                 kArmsNotReady);
+    return false;
+  }
+  checker.pass("joint_names", rt.robot);
+  return true;
+}
+
+/// The robot's controller: connected, ready and idle, its arm at the plan's start.
+void checkController(const RobotTrajectory& rt, const RobotModel& model, const ControllerInfo* controller,
+                     bool names_ok, const PreflightOptions& options, Checker& checker) {
+  if (controller == nullptr || !controller->connected) {
+    checker.fail("controller_connected", rt.robot, "no controller agent is connected for this robot", kArmsNotReady);
+    return;
+  }
+  checker.pass("controller_connected", rt.robot, controller->driver + " driver");
+  const bool busy = controller->status == ArmStatus::kArmed || controller->status == ArmStatus::kExecuting;
+  if (!controller->ready || busy) {
+    checker.fail("controller_ready", rt.robot,
+                 std::string("the controller is not ready") + (busy ? " (it is still running a goal)" : "") +
+                     (controller->detail.empty() ? "" : ": " + controller->detail),
+                 kArmsNotReady);
+    return;
+  }
+  checker.pass("controller_ready", rt.robot);
+
+  const auto& sample = controller->last_sample;
+  const double age = sample ? (options.now_us - controller->last_report_us) * 1e-6 : INFINITY;
+  if (!sample || age > options.state_timeout) {
+    checker.fail("start_state", rt.robot, "no recent joint state from the controller", kArmsNotReady);
+    return;
+  }
+  if (!names_ok || rt.points.empty() || sample->q.size() != rt.points.front().q.size()) {
+    checker.fail("start_state", rt.robot, "the measured state has " + std::to_string(sample->q.size()) + " joints",
+                 kArmsNotReady);
+    return;
+  }
+  const JointVector diff = (sample->q - rt.points.front().q).cwiseAbs();
+  Eigen::Index worst = 0;
+  const double error = diff.maxCoeff(&worst);
+  if (error > options.start_tolerance) {
+    checker.fail("start_state", rt.robot,
+                 "the arm is not at the plan's start: " + model.joint_names[static_cast<std::size_t>(worst)] +
+                     " measured " + fmt(sample->q[worst], 4) + ", plan starts at " +
+                     fmt(rt.points.front().q[worst], 4) + " (difference " + fmt(error, 4) + " > tolerance " +
+                     fmt(options.start_tolerance, 4) + ")",
+                 kArmsNotReady);
+    return;
+  }
+  checker.pass("start_state", rt.robot, "within " + fmt(error, 5));
+}
+
 }  // namespace
 
 std::string PreflightReport::reason() const {
@@ -158,68 +223,12 @@ PreflightReport runPreflight(const Scene& scene, const Plan& plan, const std::ve
     const SceneRobot& sr = scene.robots[static_cast<std::size_t>(scene_index)];
     const RobotModel& model = *sr.model;
     const ControllerInfo* controller = findController(controllers, rt.robot);
-
-    // Joint names and order: the plan against the model, then the agent against both.
-    bool names_ok = rt.joint_names == model.joint_names;
-    if (!names_ok) {
-      checker.fail("joint_names", rt.robot,
-                   "the plan's joint names " + joinNames(rt.joint_names) + " differ from the " + model.name +
-                       " model's " + joinNames(model.joint_names),
-                   kBadPlan);
-    } else if (controller != nullptr && controller->connected && controller->joint_names != model.joint_names) {
-      names_ok = false;
-      checker.fail("joint_names", rt.robot,
-                   "the controller reports joint names " + joinNames(controller->joint_names) + ", the plan has " +
-                       joinNames(rt.joint_names),
-                   kArmsNotReady);
-    } else {
-      checker.pass("joint_names", rt.robot);
-    }
-
+    const bool names_ok = checkJointNames(rt, model, controller, checker);
     ArmTrajectory arm = armTrajectoryFromPlan(plan, rt.robot, options.time_scale);
     const bool times_ok = checkTimesAndSpeeds(rt, model, arm, options, checker);
     (void)times_ok;
     report.trajectories.push_back(std::move(arm));
-
-    if (controller == nullptr || !controller->connected) {
-      checker.fail("controller_connected", rt.robot, "no controller agent is connected for this robot", kArmsNotReady);
-      continue;
-    }
-    checker.pass("controller_connected", rt.robot, controller->driver + " driver");
-    const bool busy = controller->status == ArmStatus::kArmed || controller->status == ArmStatus::kExecuting;
-    if (!controller->ready || busy) {
-      checker.fail("controller_ready", rt.robot,
-                   std::string("the controller is not ready") + (busy ? " (it is still running a goal)" : "") +
-                       (controller->detail.empty() ? "" : ": " + controller->detail),
-                   kArmsNotReady);
-      continue;
-    }
-    checker.pass("controller_ready", rt.robot);
-
-    const auto& sample = controller->last_sample;
-    const double age = sample ? (options.now_us - controller->last_report_us) * 1e-6 : INFINITY;
-    if (!sample || age > options.state_timeout) {
-      checker.fail("start_state", rt.robot, "no recent joint state from the controller", kArmsNotReady);
-      continue;
-    }
-    if (!names_ok || rt.points.empty() || sample->q.size() != rt.points.front().q.size()) {
-      checker.fail("start_state", rt.robot, "the measured state has " + std::to_string(sample->q.size()) + " joints",
-                   kArmsNotReady);
-      continue;
-    }
-    const JointVector diff = (sample->q - rt.points.front().q).cwiseAbs();
-    Eigen::Index worst = 0;
-    const double error = diff.maxCoeff(&worst);
-    if (error > options.start_tolerance) {
-      checker.fail("start_state", rt.robot,
-                   "the arm is not at the plan's start: " + model.joint_names[static_cast<std::size_t>(worst)] +
-                       " measured " + fmt(sample->q[worst], 4) + ", plan starts at " +
-                       fmt(rt.points.front().q[worst], 4) + " (difference " + fmt(error, 4) + " > tolerance " +
-                       fmt(options.start_tolerance, 4) + ")",
-                   kArmsNotReady);
-      continue;
-    }
-    checker.pass("start_state", rt.robot, "within " + fmt(error, 5));
+    checkController(rt, model, controller, names_ok, options, checker);
   }
   return report;
 }

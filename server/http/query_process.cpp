@@ -147,30 +147,31 @@ ssize_t writeNoSignal(int fd, const char* data, std::size_t size) {
   return n;
 }
 
-}  // namespace
+enum class Stop { None, Time, Cancelled, TooBig };
 
-std::string runQueryInChild(const std::string& executable, const std::string& db_path, const std::string& sql,
-                            const log::QueryLimits& limits, const std::function<bool()>& cancelled,
-                            const QueryProcessLimits& process) {
-  const std::string request = Json{
-      {"db", db_path},
-      {"sql", sql},
-      {"max_rows", limits.max_rows},
-      {"timeout_seconds", limits.timeout_seconds},
-      {"max_cell_bytes", limits.max_cell_bytes},
-      {"max_columns", limits.max_columns},
-      {"max_result_bytes", limits.max_result_bytes},
-      {"sqlite_heap_bytes", process.sqlite_heap_bytes},
-      {"time_limit_advice", limits.time_limit_advice},
-      {"private_tables", limits.private_tables},
-      {"private_advice",
-       limits.private_advice}}.dump(-1, ' ', false, Json::error_handler_t::replace);
-  Child child = spawn(executable, process, limits.timeout_seconds);
-  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
-                                           limits.timeout_seconds + process.kill_grace_seconds));
+/// The worker's request: the query and its limits, one JSON object.
+std::string requestText(const std::string& db_path, const std::string& sql, const log::QueryLimits& limits,
+                        const QueryProcessLimits& process) {
+  return Json{{"db", db_path},
+              {"sql", sql},
+              {"max_rows", limits.max_rows},
+              {"timeout_seconds", limits.timeout_seconds},
+              {"max_cell_bytes", limits.max_cell_bytes},
+              {"max_columns", limits.max_columns},
+              {"max_result_bytes", limits.max_result_bytes},
+              {"sqlite_heap_bytes", process.sqlite_heap_bytes},
+              {"time_limit_advice", limits.time_limit_advice},
+              {"private_tables", limits.private_tables},
+              {"private_advice", limits.private_advice}}
+      .dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+/// Writes `request` to the child and reads its answer until the child closes its stdout, or until
+/// `deadline`, `cancelled` or an answer of more than `max_answer` bytes stops the exchange (said so).
+Stop exchange(Child& child, const std::string& request, std::string& answer, Clock::time_point deadline,
+              std::size_t max_answer, const std::function<bool()>& cancelled) {
   std::size_t written = 0;
-  std::string answer;
-  enum class Stop { None, Time, Cancelled, TooBig } stop = Stop::None;
+  Stop stop = Stop::None;
   while (child.out >= 0) {
     pollfd fds[2] = {{.fd = child.out, .events = POLLIN, .revents = 0},
                      {.fd = child.in, .events = POLLOUT, .revents = 0}};
@@ -192,21 +193,28 @@ std::string runQueryInChild(const std::string& executable, const std::string& db
         child.out = -1;
         break;
       }
-      // The rows are at most max_result_bytes of JSON (answerText); more is a broken child.
-      if (answer.size() > static_cast<std::size_t>(std::max<std::int64_t>(limits.max_result_bytes, 0)) +
-                              process.max_answer_overhead_bytes)
-        stop = Stop::TooBig;
+      if (answer.size() > max_answer) stop = Stop::TooBig;
     }
     if (stop == Stop::None && Clock::now() >= deadline) stop = Stop::Time;
     if (stop == Stop::None && cancelled && cancelled()) stop = Stop::Cancelled;
     if (stop != Stop::None) break;
   }
+  return stop;
+}
+
+/// Kills the child when the exchange was stopped, closes its pipes and reaps it; its wait status.
+int reap(Child& child, Stop stop) {
   if (stop != Stop::None) ::kill(child.pid, SIGKILL);
   if (child.in >= 0) ::close(child.in);
   if (child.out >= 0) ::close(child.out);
   int status = 0;
   while (::waitpid(child.pid, &status, 0) < 0 && errno == EINTR) {
   }
+  return status;
+}
+
+/// The child's answer when it is rows; otherwise the refusal or error it stands for, thrown.
+std::string answerOrThrow(const std::string& answer, int status, Stop stop, const log::QueryLimits& limits) {
   switch (stop) {
     case Stop::Time:
       throw log::timeLimitRefused(limits.timeout_seconds, kOneCallAdvice + limits.time_limit_advice);
@@ -234,6 +242,24 @@ std::string runQueryInChild(const std::string& executable, const std::string& db
   if (kind == "refused") throw log::QueryRefused(static_cast<log::QueryGuard>(j.value("guard", 0)), message);
   if (kind == "input") throw InputError(message);
   throw std::runtime_error(message);
+}
+
+}  // namespace
+
+std::string runQueryInChild(const std::string& executable, const std::string& db_path, const std::string& sql,
+                            const log::QueryLimits& limits, const std::function<bool()>& cancelled,
+                            const QueryProcessLimits& process) {
+  const std::string request = requestText(db_path, sql, limits, process);
+  Child child = spawn(executable, process, limits.timeout_seconds);
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
+                                           limits.timeout_seconds + process.kill_grace_seconds));
+  // The rows are at most max_result_bytes of JSON (answerText); more is a broken child.
+  const std::size_t max_answer =
+      static_cast<std::size_t>(std::max<std::int64_t>(limits.max_result_bytes, 0)) + process.max_answer_overhead_bytes;
+  std::string answer;
+  const Stop stop = exchange(child, request, answer, deadline, max_answer, cancelled);
+  const int status = reap(child, stop);
+  return answerOrThrow(answer, status, stop, limits);
 }
 
 int queryWorkerMain(int in_fd, int out_fd) {

@@ -39,6 +39,67 @@ HeadCheck refuse(HeadCheck c, int status, std::string message) {
   return c;
 }
 
+/// Bare CR or LF in buffer[start, scanned): line ends are CRLF only. httplib reads a bare LF as a line
+/// end where this gate would not: a header hidden behind one (a Content-Length) would be seen by one
+/// side only.
+bool hasBareLineEnd(std::string_view buffer, std::size_t start, std::size_t scanned) {
+  for (std::size_t i = start; i < scanned; ++i) {
+    const char ch = buffer[i];
+    if ((ch == '\n' && (i == 0 || buffer[i - 1] != '\r')) || (ch == '\r' && i + 1 < scanned && buffer[i + 1] != '\n')) {
+      return true;
+    }
+  }
+  return false;
+}
+
+/// One header line: refused into `c` (true) or noted there (Content-Length, Expect).
+bool refuseHeader(std::string_view line, HeadCheck& c, bool& have_length) {
+  // "name: value", the name a token: no space before the colon (RFC 9112 5.1), no folded lines,
+  // no line without a colon. httplib 0.11.4 reads "Content-Length : 5" as another header.
+  const std::size_t colon = line.find(':');
+  if (colon == std::string_view::npos || colon == 0 ||
+      !std::all_of(line.begin(), line.begin() + static_cast<std::ptrdiff_t>(colon), isTokenChar)) {
+    c = refuse(c, 400, "malformed request header line");
+    return true;
+  }
+  if (!std::all_of(line.begin() + static_cast<std::ptrdiff_t>(colon), line.end(), [](char ch) {
+        return ch == '\t' || (static_cast<unsigned char>(ch) >= 0x20 && ch != 0x7f);
+      })) {
+    c = refuse(c, 400, "control character in a request header");
+    return true;
+  }
+  if (startsWithName(line, "content-length")) {
+    const std::string_view v = valueOf(line);
+    if (v.empty() || v.size() > 15 || !std::all_of(v.begin(), v.end(), [](char d) { return d >= '0' && d <= '9'; })) {
+      c = refuse(c, 400, "malformed Content-Length");
+      return true;
+    }
+    // A repeated Content-Length is refused even when equal: one side of a proxy may take another.
+    if (have_length) {
+      c = refuse(c, 400, "more than one Content-Length header");
+      return true;
+    }
+    have_length = true;
+    c.body_bytes = std::stoull(std::string(v));
+  } else if (startsWithName(line, "transfer-encoding")) {
+    c = refuse(c, 411, "chunked or encoded request bodies are not accepted; send a Content-Length");
+    return true;
+  } else if (startsWithName(line, "content-encoding")) {
+    if (lowerText(valueOf(line)) != "identity") {
+      c = refuse(c, 415, "compressed request bodies are not accepted (Content-Encoding)");
+      return true;
+    }
+  } else if (startsWithName(line, "range")) {
+    if (valueOf(line).find(',') != std::string_view::npos) {
+      c = refuse(c, 416, "one byte range per request");
+      return true;
+    }
+  } else if (startsWithName(line, "expect")) {
+    c.expects_continue = lowerText(valueOf(line)) == "100-continue";
+  }
+  return false;
+}
+
 }  // namespace
 
 HeadCheck inspectHead(std::string_view buffer, const HeadLimits& limits) {
@@ -49,13 +110,8 @@ HeadCheck inspectHead(std::string_view buffer, const HeadLimits& limits) {
   while (buffer.substr(start, 2) == "\r\n") start += 2;
   const std::size_t found = buffer.find("\r\n\r\n", start);
   const std::size_t scanned = found == std::string_view::npos ? buffer.size() : found + 4;
-  // Line ends are CRLF only. httplib reads a bare LF as a line end where this gate would not: a
-  // header hidden behind one (a Content-Length) would be seen by one side only.
-  for (std::size_t i = start; i < scanned; ++i) {
-    const char ch = buffer[i];
-    if ((ch == '\n' && (i == 0 || buffer[i - 1] != '\r')) || (ch == '\r' && i + 1 < scanned && buffer[i + 1] != '\n')) {
-      return refuse(c, 400, "bare CR or LF in the request head; lines end with CRLF");
-    }
+  if (hasBareLineEnd(buffer, start, scanned)) {
+    return refuse(c, 400, "bare CR or LF in the request head; lines end with CRLF");
   }
   if (found == std::string_view::npos || found + 4 > limits.max_head_bytes) {
     if (buffer.size() >= limits.max_head_bytes) {
@@ -84,40 +140,7 @@ HeadCheck inspectHead(std::string_view buffer, const HeadLimits& limits) {
     if (++headers > limits.max_headers) {
       return refuse(c, 431, "more than " + std::to_string(limits.max_headers) + " request headers");
     }
-    // "name: value", the name a token: no space before the colon (RFC 9112 5.1), no folded lines,
-    // no line without a colon. httplib 0.11.4 reads "Content-Length : 5" as another header.
-    const std::size_t colon = line.find(':');
-    if (colon == std::string_view::npos || colon == 0 ||
-        !std::all_of(line.begin(), line.begin() + static_cast<std::ptrdiff_t>(colon), isTokenChar)) {
-      return refuse(c, 400, "malformed request header line");
-    }
-    if (!std::all_of(line.begin() + static_cast<std::ptrdiff_t>(colon), line.end(), [](char ch) {
-          return ch == '\t' || (static_cast<unsigned char>(ch) >= 0x20 && ch != 0x7f);
-        })) {
-      return refuse(c, 400, "control character in a request header");
-    }
-    if (startsWithName(line, "content-length")) {
-      const std::string_view v = valueOf(line);
-      if (v.empty() || v.size() > 15 || !std::all_of(v.begin(), v.end(), [](char d) { return d >= '0' && d <= '9'; })) {
-        return refuse(c, 400, "malformed Content-Length");
-      }
-      // A repeated Content-Length is refused even when equal: one side of a proxy may take another.
-      if (have_length) return refuse(c, 400, "more than one Content-Length header");
-      have_length = true;
-      c.body_bytes = std::stoull(std::string(v));
-    } else if (startsWithName(line, "transfer-encoding")) {
-      return refuse(c, 411, "chunked or encoded request bodies are not accepted; send a Content-Length");
-    } else if (startsWithName(line, "content-encoding")) {
-      if (lowerText(valueOf(line)) != "identity") {
-        return refuse(c, 415, "compressed request bodies are not accepted (Content-Encoding)");
-      }
-    } else if (startsWithName(line, "range")) {
-      if (valueOf(line).find(',') != std::string_view::npos) {
-        return refuse(c, 416, "one byte range per request");
-      }
-    } else if (startsWithName(line, "expect")) {
-      c.expects_continue = lowerText(valueOf(line)) == "100-continue";
-    }
+    if (refuseHeader(line, c, have_length)) return c;
   }
   // httplib reads a body for these methods; without a Content-Length it read until the client
   // closed, with no limit (1000 MB were accepted).

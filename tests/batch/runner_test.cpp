@@ -63,68 +63,42 @@ std::map<std::pair<std::string, std::string>, std::int64_t> storedSizes(const lo
   return out;
 }
 
-TEST(BatchRunner, TinyBatchEndToEndWithTwoWorkers) {
-  TempDir dir;
-  const std::string db_path = dir.file("results.db");
-  const BatchSpec spec = specOf(sortingSpec("[4, 8]", "[1, 2]", std::string("[") + kTaskOnly + "]"));
-  ProgressLog progress;
-  BatchRunner runner;
-  const Stopwatch clock;
-  const std::string id = runner.start(spec, db_path, testOptions(2), progress.callback());
-  const BatchResult result = runner.wait();
-  EXPECT_EQ(result.status, "finished") << result.error;
-  EXPECT_EQ(result.batch_id, id);
-  EXPECT_EQ(result.progress.total, 4);
-  EXPECT_EQ(result.progress.done, 4);
-  EXPECT_EQ(result.progress.solved, 4);
-  EXPECT_EQ(result.progress.failed, 0);
-  EXPECT_EQ(result.progress.remaining, 0);
-  EXPECT_TRUE(runner.done());
-  EXPECT_EQ(progress.finished.size(), 4u);
-  EXPECT_GE(progress.max_running, 1);
-  EXPECT_LE(progress.max_running, 2);
-  EXPECT_LT(clock.seconds(), 20.0);
-
-  const log::ResultsDb db(db_path, log::OpenMode::ReadOnly);
-  const auto runs = batchRuns(db, id);
-  ASSERT_EQ(runs.size(), 4u);
-  std::set<std::string> keys;
-  for (const log::RunRecord& r : runs) {
-    SCOPED_TRACE(r.meta.scene);
-    EXPECT_EQ(r.status, RunStatus::Solved) << r.summary.error;
-    EXPECT_EQ(r.meta.batch_id, id);
-    EXPECT_EQ(r.meta.family, "sorting");
-    EXPECT_EQ(r.meta.planner, "lazy-dash");
-    EXPECT_EQ(r.meta.planner_config_name, "lazy-task");
-    // The spec's settings, with the run's full effective parameter set beside them.
-    const nlohmann::json settings = nlohmann::json::parse(r.meta.planner_settings_json);
-    EXPECT_EQ(settings.at("task_only"), true) << r.meta.planner_settings_json;
-    EXPECT_EQ(settings.at("parameters").at("schedule_memo"), true) << r.meta.planner_settings_json;
-    EXPECT_EQ(r.meta.time_limit.value_or(0), 20.0);
-    EXPECT_EQ(r.meta.memory_limit.value_or(0), 2048.0);
-    EXPECT_EQ(r.meta.scene.rfind("sorting-", 0), 0u) << r.meta.scene;  // set once the child generated it
-    EXPECT_GT(r.event_count, 0);
-    ASSERT_TRUE(r.summary.total_time.has_value());
-    EXPECT_GT(*r.summary.total_time, 0.0);
-    EXPECT_GT(r.summary.peak_memory_mb.value_or(0), 1.0);
-    ASSERT_TRUE(r.summary.sizes.has_value());
-    EXPECT_GT(r.summary.sizes->vertices[0], 0);
-    EXPECT_GT(r.summary.sizes->hyperarcs[0], 0);
-    // The sizes the planner reported match the events that came through the pipe.
-    const auto stored = storedSizes(db, r.id);
-    for (int layer = 0; layer < log::kLayerCount; ++layer) {
-      const auto get = [&](const char* kind) {
-        const auto it = stored.find({log::kLayerNames[layer], kind});
-        return it == stored.end() ? 0 : it->second;
-      };
-      EXPECT_EQ(get("vertex"), r.summary.sizes->vertices[layer]) << log::kLayerNames[layer];
-      EXPECT_EQ(get("hyperarc"), r.summary.sizes->hyperarcs[layer]) << log::kLayerNames[layer];
-    }
-    keys.insert(r.meta.params_json + "/" + std::to_string(r.meta.seed));
+/// A finished run of the tiny batch: its metadata, figures, and sizes that match its stored events.
+void expectTinyRunStored(const log::ResultsDb& db, const log::RunRecord& r, const std::string& id) {
+  SCOPED_TRACE(r.meta.scene);
+  EXPECT_EQ(r.status, RunStatus::Solved) << r.summary.error;
+  EXPECT_EQ(r.meta.batch_id, id);
+  EXPECT_EQ(r.meta.family, "sorting");
+  EXPECT_EQ(r.meta.planner, "lazy-dash");
+  EXPECT_EQ(r.meta.planner_config_name, "lazy-task");
+  // The spec's settings, with the run's full effective parameter set beside them.
+  const nlohmann::json settings = nlohmann::json::parse(r.meta.planner_settings_json);
+  EXPECT_EQ(settings.at("task_only"), true) << r.meta.planner_settings_json;
+  EXPECT_EQ(settings.at("parameters").at("schedule_memo"), true) << r.meta.planner_settings_json;
+  EXPECT_EQ(r.meta.time_limit.value_or(0), 20.0);
+  EXPECT_EQ(r.meta.memory_limit.value_or(0), 2048.0);
+  EXPECT_EQ(r.meta.scene.rfind("sorting-", 0), 0u) << r.meta.scene;  // set once the child generated it
+  EXPECT_GT(r.event_count, 0);
+  ASSERT_TRUE(r.summary.total_time.has_value());
+  EXPECT_GT(*r.summary.total_time, 0.0);
+  EXPECT_GT(r.summary.peak_memory_mb.value_or(0), 1.0);
+  ASSERT_TRUE(r.summary.sizes.has_value());
+  EXPECT_GT(r.summary.sizes->vertices[0], 0);
+  EXPECT_GT(r.summary.sizes->hyperarcs[0], 0);
+  // The sizes the planner reported match the events that came through the pipe.
+  const auto stored = storedSizes(db, r.id);
+  for (int layer = 0; layer < log::kLayerCount; ++layer) {
+    const auto get = [&](const char* kind) {
+      const auto it = stored.find({log::kLayerNames[layer], kind});
+      return it == stored.end() ? 0 : it->second;
+    };
+    EXPECT_EQ(get("vertex"), r.summary.sizes->vertices[layer]) << log::kLayerNames[layer];
+    EXPECT_EQ(get("hyperarc"), r.summary.sizes->hyperarcs[layer]) << log::kLayerNames[layer];
   }
-  EXPECT_EQ(keys.size(), 4u);
+}
 
-  // Every event the planner emits arrives: compare one run with the same run done in this process.
+/// Every event the planner emits arrives: the first run against the same run done in this process.
+void expectEveryEventArrives(const log::ResultsDb& db, const std::vector<log::RunRecord>& runs) {
   const log::RunRecord& first = runs.front();
   const Scene scene = generateScenario("sorting", ScenarioParams({{"robots", 4}, {"objects", 4}}), first.meta.seed,
                                        RobotLibrary::loadDefault());
@@ -162,8 +136,10 @@ TEST(BatchRunner, TinyBatchEndToEndWithTwoWorkers) {
   EXPECT_EQ(count("dash_expansions"), expansions);
   EXPECT_EQ(count("dash_phases"), phase_ends);
   EXPECT_EQ(count("dash_counters"), counters);
+}
 
-  // The stored run list and the batch row.
+/// The stored run list and the batch row of a finished batch of 4 solved runs.
+void expectFinishedBatchOfFour(const std::string& db_path, const std::string& id) {
   const BatchStore store(db_path, log::OpenMode::ReadOnly);
   const auto stored = store.runs(id);
   ASSERT_EQ(stored.size(), 4u);
@@ -180,6 +156,41 @@ TEST(BatchRunner, TinyBatchEndToEndWithTwoWorkers) {
   EXPECT_EQ(info[0].pending, 0);
   EXPECT_EQ(info[0].by_status.at("solved"), 4);
   EXPECT_NE(formatBatchInfo(info).find(id), std::string::npos);
+}
+
+TEST(BatchRunner, TinyBatchEndToEndWithTwoWorkers) {
+  TempDir dir;
+  const std::string db_path = dir.file("results.db");
+  const BatchSpec spec = specOf(sortingSpec("[4, 8]", "[1, 2]", std::string("[") + kTaskOnly + "]"));
+  ProgressLog progress;
+  BatchRunner runner;
+  const Stopwatch clock;
+  const std::string id = runner.start(spec, db_path, testOptions(2), progress.callback());
+  const BatchResult result = runner.wait();
+  EXPECT_EQ(result.status, "finished") << result.error;
+  EXPECT_EQ(result.batch_id, id);
+  EXPECT_EQ(result.progress.total, 4);
+  EXPECT_EQ(result.progress.done, 4);
+  EXPECT_EQ(result.progress.solved, 4);
+  EXPECT_EQ(result.progress.failed, 0);
+  EXPECT_EQ(result.progress.remaining, 0);
+  EXPECT_TRUE(runner.done());
+  EXPECT_EQ(progress.finished.size(), 4u);
+  EXPECT_GE(progress.max_running, 1);
+  EXPECT_LE(progress.max_running, 2);
+  EXPECT_LT(clock.seconds(), 20.0);
+
+  const log::ResultsDb db(db_path, log::OpenMode::ReadOnly);
+  const auto runs = batchRuns(db, id);
+  ASSERT_EQ(runs.size(), 4u);
+  std::set<std::string> keys;
+  for (const log::RunRecord& r : runs) {
+    ASSERT_NO_FATAL_FAILURE(expectTinyRunStored(db, r, id));
+    keys.insert(r.meta.params_json + "/" + std::to_string(r.meta.seed));
+  }
+  EXPECT_EQ(keys.size(), 4u);
+  ASSERT_NO_FATAL_FAILURE(expectEveryEventArrives(db, runs));
+  ASSERT_NO_FATAL_FAILURE(expectFinishedBatchOfFour(db_path, id));
 }
 
 TEST(BatchStatus, ColumnsAddUpToTheRunsWhileSomeAreLive) {

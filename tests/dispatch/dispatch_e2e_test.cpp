@@ -123,6 +123,93 @@ class Dispatch : public ::testing::Test {
     EXPECT_EQ(arm->result, ResultCode::kCancelled) << robot << ": " << arm->message;
   }
 
+  // ThreeArmPlanSucceedsAndTheUrRobotGetsThePlanPoints's checks after the dispatch `st` ended.
+  void expectUrRobotRanThePlan(const DispatchStatus& st) {
+    // The simulated UR robot received the plan's points (the first, where it stood, skipped), byte for byte.
+    const RobotTrajectory& planned = *plan_.findRobot("ur5e_0");
+    const auto received = ur_.robot->points();
+    ASSERT_EQ(received.size(), planned.points.size() - 1);
+    for (std::size_t i = 0; i < received.size(); ++i) {
+      const TrajectoryPoint& p = planned.points[i + 1];
+      for (int j = 0; j < 6; ++j) EXPECT_EQ(received[i].raw[static_cast<std::size_t>(j)], std::llround(p.q[j] * 1e6));
+      EXPECT_EQ(received[i].raw[18], std::llround((p.t - planned.points[i].t) * 1e6)) << "point " << i;
+      EXPECT_EQ(received[i].raw[19], 1);
+      EXPECT_EQ(received[i].raw[20], 51);
+    }
+    const auto commands = ur_.robot->commands();
+    ASSERT_EQ(commands.size(), 1u);
+    EXPECT_EQ(commands[0].message, (ur::ReverseMessage{test::kLoadProofReadTimeoutMs, 1, static_cast<std::int32_t>(received.size()), 0, 0, 0, 0, 3}));
+    // START at the common start time: never before it (how late depends on the machine's load).
+    const double start_late_ms = (commands[0].received_us - st.start_time_us) * 1e-3;
+    EXPECT_GE(start_late_ms, -2.0) << "START before the common start time (ms)";
+    std::printf("[ measure  ] START reached the UR robot %.1f ms after the common start time\n", start_late_ms);
+    EXPECT_EQ(ur_.robot->resultsSent(), std::vector<std::int32_t>{0});
+    EXPECT_FALSE(ur_.robot->halted()) << ur_.robot->haltReason();
+    EXPECT_GT(ur_.robot->keepalives(), 10);
+    EXPECT_LT(ur_.robot->maxReverseGap(), test::kLoadProofReadTimeoutMs * 1e-3);  // else it would have halted
+    std::printf("[ measure  ] longest gap between reverse messages %.1f ms\n", ur_.robot->maxReverseGap() * 1e3);
+    EXPECT_EQ(ur_.robot->programProblem(), "");
+    EXPECT_EQ(ur_.robot->rtdeVersionAsked(), 2);
+    EXPECT_EQ(ur_.robot->rtdeOutputsAsked(), "timestamp,actual_q,actual_qd");
+    EXPECT_LT(maxAbsDifference(ur_.robot->q(), planned.points.back().q), 1e-6);
+  }
+  void expectGripperMovedOnTime(const DispatchStatus& st) {
+    // The gripper: Robotiq's activation (reset, then activate), then grasp and release as moves with
+    // speed and force, never before their times (1.39 s and 2.48 s after the start).
+    EXPECT_EQ(ur_.gripper->sets(), (std::vector<std::string>{"SET ACT 0", "SET ATR 0", "SET ACT 1",
+                                                             "SET POS 255 SPE 255 FOR 255 GTO 1",
+                                                             "SET POS 0 SPE 255 FOR 255 GTO 1"}));
+    std::vector<double> move_times;
+    for (const auto& c : ur_.gripper->commands()) {
+      if (c.line.rfind("SET POS", 0) == 0) move_times.push_back((c.received_us - st.start_time_us) * 1e-6);
+    }
+    ASSERT_EQ(move_times.size(), 2u);
+    EXPECT_GE(move_times[0], 1.39 - 0.002);
+    EXPECT_GE(move_times[1], 2.48 - 0.002);
+    std::printf("[ measure  ] grasp sent %.1f ms, release %.1f ms after their times\n", (move_times[0] - 1.39) * 1e3,
+                (move_times[1] - 2.48) * 1e3);
+    EXPECT_EQ(ur_.driver->gripperState(), "open");
+  }
+  void expectRecorded(const DispatchStatus& st) {
+    // The record: who, when, the result per arm.
+    const auto recorded = history(1, "succeeded")["dispatches"][0];
+    EXPECT_EQ(recorded["id"], st.id);
+    EXPECT_EQ(recorded["requested_by"], "alice");
+    EXPECT_EQ(recorded["client"], "127.0.0.1");
+    EXPECT_EQ(recorded["run_id"], "");
+    EXPECT_TRUE(recorded["started"].is_string() && recorded["ended"].is_string()) << recorded.dump();
+    EXPECT_LT(recorded["created"].get<std::string>(), recorded["ended"].get<std::string>());
+    EXPECT_TRUE(recorded["preflight"]["passed"].get<bool>());
+    ASSERT_EQ(recorded["arms"].size(), 3u);
+    for (const auto& arm : recorded["arms"]) {
+      EXPECT_EQ(arm["result"]["name"], "SUCCESSFUL") << arm.dump();
+      EXPECT_GT(arm["samples"].get<int>(), 50);
+    }
+    EXPECT_EQ(recorded["arms"][0]["driver"], "ur");
+    EXPECT_EQ(nlohmann::json::parse(httpGet(url(), "/api/dispatches/" + st.id).body)["state"], "succeeded");
+    EXPECT_EQ(httpGet(url(), "/api/dispatches/nope").status, 404);
+    EXPECT_EQ(httpGet(url(), "/api/dispatches?limit=x").status, 400);
+  }
+  void expectStreamedRunAndEnd(const std::vector<std::pair<std::string, std::string>>& streamed) {
+    int running_events = 0;
+    bool moving = false;
+    for (const auto& [name, data] : streamed) {
+      if (name != "dispatch") continue;
+      const auto e = nlohmann::json::parse(data);
+      if (e["state"] != "running") continue;
+      ++running_events;
+      const auto& arm = e["arms"][1];
+      moving = moving || (arm["t"].get<double>() > 0.5 && arm["actual"].size() == 6 && arm["planned"].size() == 6);
+    }
+    EXPECT_GT(running_events, 3) << "about 10 Hz over 3.4 s on an idle machine";
+    EXPECT_TRUE(moving);
+    const auto last = std::find_if(streamed.rbegin(), streamed.rend(), [](const auto& e) { return e.first == "dispatch"; });
+    ASSERT_NE(last, streamed.rend());
+    EXPECT_EQ(nlohmann::json::parse(last->second)["state"], "succeeded")
+        << streamed.size() << " events, the last: " << streamed.back().first << " " << streamed.back().second;
+    EXPECT_TRUE(std::any_of(streamed.begin(), streamed.end(), [](const auto& e) { return e.first == "controllers"; }));
+  }
+
   Scene scene_;
   Plan plan_;
   std::string db_path_;
@@ -177,92 +264,15 @@ TEST_F(Dispatch, ThreeArmPlanSucceedsAndTheUrRobotGetsThePlanPoints) {
                 arm.max_deviation);
   }
 
-  // The simulated UR robot received the plan's points (the first, where it stood, skipped), byte for byte.
-  const RobotTrajectory& planned = *plan_.findRobot("ur5e_0");
-  const auto received = ur_.robot->points();
-  ASSERT_EQ(received.size(), planned.points.size() - 1);
-  for (std::size_t i = 0; i < received.size(); ++i) {
-    const TrajectoryPoint& p = planned.points[i + 1];
-    for (int j = 0; j < 6; ++j) EXPECT_EQ(received[i].raw[static_cast<std::size_t>(j)], std::llround(p.q[j] * 1e6));
-    EXPECT_EQ(received[i].raw[18], std::llround((p.t - planned.points[i].t) * 1e6)) << "point " << i;
-    EXPECT_EQ(received[i].raw[19], 1);
-    EXPECT_EQ(received[i].raw[20], 51);
-  }
-  const auto commands = ur_.robot->commands();
-  ASSERT_EQ(commands.size(), 1u);
-  EXPECT_EQ(commands[0].message, (ur::ReverseMessage{test::kLoadProofReadTimeoutMs, 1, static_cast<std::int32_t>(received.size()), 0, 0, 0, 0, 3}));
-  // START at the common start time: never before it (how late depends on the machine's load).
-  const double start_late_ms = (commands[0].received_us - st->start_time_us) * 1e-3;
-  EXPECT_GE(start_late_ms, -2.0) << "START before the common start time (ms)";
-  std::printf("[ measure  ] START reached the UR robot %.1f ms after the common start time\n", start_late_ms);
-  EXPECT_EQ(ur_.robot->resultsSent(), std::vector<std::int32_t>{0});
-  EXPECT_FALSE(ur_.robot->halted()) << ur_.robot->haltReason();
-  EXPECT_GT(ur_.robot->keepalives(), 10);
-  EXPECT_LT(ur_.robot->maxReverseGap(), test::kLoadProofReadTimeoutMs * 1e-3);  // else it would have halted
-  std::printf("[ measure  ] longest gap between reverse messages %.1f ms\n", ur_.robot->maxReverseGap() * 1e3);
-  EXPECT_EQ(ur_.robot->programProblem(), "");
-  EXPECT_EQ(ur_.robot->rtdeVersionAsked(), 2);
-  EXPECT_EQ(ur_.robot->rtdeOutputsAsked(), "timestamp,actual_q,actual_qd");
-  EXPECT_LT(maxAbsDifference(ur_.robot->q(), planned.points.back().q), 1e-6);
-
-  // The gripper: Robotiq's activation (reset, then activate), then grasp and release as moves with
-  // speed and force, never before their times (1.39 s and 2.48 s after the start).
-  EXPECT_EQ(ur_.gripper->sets(), (std::vector<std::string>{"SET ACT 0", "SET ATR 0", "SET ACT 1",
-                                                           "SET POS 255 SPE 255 FOR 255 GTO 1",
-                                                           "SET POS 0 SPE 255 FOR 255 GTO 1"}));
-  std::vector<double> move_times;
-  for (const auto& c : ur_.gripper->commands()) {
-    if (c.line.rfind("SET POS", 0) == 0) move_times.push_back((c.received_us - st->start_time_us) * 1e-6);
-  }
-  ASSERT_EQ(move_times.size(), 2u);
-  EXPECT_GE(move_times[0], 1.39 - 0.002);
-  EXPECT_GE(move_times[1], 2.48 - 0.002);
-  std::printf("[ measure  ] grasp sent %.1f ms, release %.1f ms after their times\n", (move_times[0] - 1.39) * 1e3,
-              (move_times[1] - 2.48) * 1e3);
-  EXPECT_EQ(ur_.driver->gripperState(), "open");
-
+  ASSERT_NO_FATAL_FAILURE(expectUrRobotRanThePlan(*st));
+  ASSERT_NO_FATAL_FAILURE(expectGripperMovedOnTime(*st));
   for (const char* robot : {"ur5e_1", "ur5e_2"}) {
     const test::SimArm& arm = std::string(robot) == "ur5e_1" ? sim1_ : sim2_;
     EXPECT_LT(maxAbsDifference(arm.driver->state().q, home(robot)), 1e-3) << robot;
   }
-  // The record: who, when, the result per arm.
-  const auto recorded = history(1, "succeeded")["dispatches"][0];
-  EXPECT_EQ(recorded["id"], st->id);
-  EXPECT_EQ(recorded["requested_by"], "alice");
-  EXPECT_EQ(recorded["client"], "127.0.0.1");
-  EXPECT_EQ(recorded["run_id"], "");
-  EXPECT_TRUE(recorded["started"].is_string() && recorded["ended"].is_string()) << recorded.dump();
-  EXPECT_LT(recorded["created"].get<std::string>(), recorded["ended"].get<std::string>());
-  EXPECT_TRUE(recorded["preflight"]["passed"].get<bool>());
-  ASSERT_EQ(recorded["arms"].size(), 3u);
-  for (const auto& arm : recorded["arms"]) {
-    EXPECT_EQ(arm["result"]["name"], "SUCCESSFUL") << arm.dump();
-    EXPECT_GT(arm["samples"].get<int>(), 50);
-  }
-  EXPECT_EQ(recorded["arms"][0]["driver"], "ur");
-  EXPECT_EQ(nlohmann::json::parse(httpGet(url(), "/api/dispatches/" + st->id).body)["state"], "succeeded");
-  EXPECT_EQ(httpGet(url(), "/api/dispatches/nope").status, 404);
-  EXPECT_EQ(httpGet(url(), "/api/dispatches?limit=x").status, 400);
-
+  ASSERT_NO_FATAL_FAILURE(expectRecorded(*st));
   reader.join();
-  int running_events = 0;
-  bool moving = false;
-  for (const auto& [name, data] : streamed) {
-    if (name != "dispatch") continue;
-    const auto e = nlohmann::json::parse(data);
-    if (e["state"] != "running") continue;
-    ++running_events;
-    const auto& arm = e["arms"][1];
-    moving = moving || (arm["t"].get<double>() > 0.5 && arm["actual"].size() == 6 && arm["planned"].size() == 6);
-  }
-  EXPECT_GT(running_events, 3) << "about 10 Hz over 3.4 s on an idle machine";
-  EXPECT_TRUE(moving);
-  const auto last = std::find_if(streamed.rbegin(), streamed.rend(), [](const auto& e) { return e.first == "dispatch"; });
-  ASSERT_NE(last, streamed.rend());
-  EXPECT_EQ(nlohmann::json::parse(last->second)["state"], "succeeded")
-      << streamed.size() << " events, the last: " << streamed.back().first << " " << streamed.back().second;
-  EXPECT_TRUE(std::any_of(streamed.begin(), streamed.end(), [](const auto& e) { return e.first == "controllers"; }));
-
+  ASSERT_NO_FATAL_FAILURE(expectStreamedRunAndEnd(streamed));
   const auto done = nlohmann::json::parse(httpGet(url(), "/api/dispatch").body);
   EXPECT_EQ(done["state"], "succeeded");
   EXPECT_TRUE(done["final"].get<bool>());

@@ -81,38 +81,7 @@ void SimUrRobot::halt(const std::string& why) {
 }
 
 void SimUrRobot::programLoop() {
-  // 1. The URCap asks the script sender for the program.
-  script_ = connectRetry(options_.pc_host, options_.script_port, stopping_);
-  if (stopping_) return;
-  const std::string request = ur::kProgramRequest;
-  writeAll(script_.fd(), request.data(), request.size());
-  std::string text;
-  const std::string end = std::string(ur::kProgramEndMarker) + "\n";
-  const auto give_up = SteadyClock::now() + std::chrono::seconds(3);
-  while (text.find(end) == std::string::npos && SteadyClock::now() < give_up && !stopping_) {
-    if (!waitReadable(script_.fd(), 50)) continue;
-    char buffer[4096];
-    const ssize_t k = ::recv(script_.fd(), buffer, sizeof buffer, 0);
-    if (k <= 0) break;
-    text.append(buffer, static_cast<std::size_t>(k));
-  }
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    program_ = text;
-  }
-  if (text.find(end) == std::string::npos) {
-    halt("no complete program from the script sender");
-    return;
-  }
-  // 2. The program connects its sockets: trajectory, script command, reverse (External Control's order).
-  trajectory_ = connectRetry(options_.pc_host, options_.trajectory_port, stopping_);
-  command_ = connectRetry(options_.pc_host, options_.script_command_port, stopping_);
-  reverse_ = connectRetry(options_.pc_host, options_.reverse_port, stopping_);
-  if (stopping_) return;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    connected_ = true;
-  }
+  if (!fetchProgram() || !connectProgramSockets()) return;
   // 3. The control loop: one reverse message at a time, each one's timeout governs the next read.
   int read_timeout_ms = 0;  // the first read blocks
   auto control_mode = static_cast<std::int32_t>(-1);
@@ -120,15 +89,7 @@ void SimUrRobot::programLoop() {
   auto last = SteadyClock::now();
   while (!stopping_) {
     std::uint8_t buffer[4 * ur::kReverseMessageInts];
-    IoResult r;
-    if (read_timeout_ms == 0) {
-      while (!stopping_ && !waitReadable(reverse_.fd(), 50)) {
-      }
-      if (stopping_) break;
-      r = readExact(reverse_.fd(), buffer, sizeof buffer, 1000);
-    } else {
-      r = readExact(reverse_.fd(), buffer, sizeof buffer, read_timeout_ms);
-    }
+    const IoResult r = readReverse(buffer, sizeof buffer, read_timeout_ms);
     if (stopping_) break;
     if (r == IoResult::kTimeout) {
       halt("no reverse message within " + std::to_string(read_timeout_ms) + " ms");
@@ -147,43 +108,7 @@ void SimUrRobot::programLoop() {
     first = false;
     last = now;
     read_timeout_ms = m[0];
-    const std::int32_t mode = m[7];
-    if (mode == static_cast<std::int32_t>(ur::ControlMode::kStopped)) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        stopped_by_pc_us_ = steadyMicros();
-      }
-      if (trajectory_thread_.joinable()) cancelTrajectory(false);
-      break;  // the program leaves its control loop, stops the arm and closes its sockets
-    }
-    const auto forward = static_cast<std::int32_t>(ur::ControlMode::kForward);
-    if (control_mode == forward && mode != forward) cancelTrajectory(false);
-    control_mode = mode;
-    const auto action = static_cast<ur::TrajectoryAction>(m[1]);
-    if (mode == forward && action == ur::TrajectoryAction::kStart) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        commands_.push_back({m, steadyMicros()});
-      }
-      if (trajectory_thread_.joinable()) cancelTrajectory(false);
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        points_left_ = m[2];
-        trajectory_running_ = true;
-        q_stamp_us_ = steadyMicros();
-      }
-      trajectory_thread_ = std::thread([this, n = m[2], at = now] { trajectoryLoop(n, at); });
-    } else if (mode == forward && action == ur::TrajectoryAction::kCancel) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        commands_.push_back({m, steadyMicros()});
-        cancel_times_.push_back(steadyMicros());
-      }
-      cancelTrajectory(true);
-    } else {
-      std::lock_guard<std::mutex> lock(mutex_);
-      ++keepalives_;
-    }
+    if (!onReverseMessage(m, now, control_mode)) break;
   }
   cancel_ = true;
   if (trajectory_thread_.joinable()) trajectory_thread_.join();
@@ -191,6 +116,94 @@ void SimUrRobot::programLoop() {
   std::lock_guard<std::mutex> lock(mutex_);
   connected_ = false;
   qd_.setZero();
+}
+
+bool SimUrRobot::fetchProgram() {
+  // 1. The URCap asks the script sender for the program.
+  script_ = connectRetry(options_.pc_host, options_.script_port, stopping_);
+  if (stopping_) return false;
+  const std::string request = ur::kProgramRequest;
+  writeAll(script_.fd(), request.data(), request.size());
+  std::string text;
+  const std::string end = std::string(ur::kProgramEndMarker) + "\n";
+  const auto give_up = SteadyClock::now() + std::chrono::seconds(3);
+  while (text.find(end) == std::string::npos && SteadyClock::now() < give_up && !stopping_) {
+    if (!waitReadable(script_.fd(), 50)) continue;
+    char buffer[4096];
+    const ssize_t k = ::recv(script_.fd(), buffer, sizeof buffer, 0);
+    if (k <= 0) break;
+    text.append(buffer, static_cast<std::size_t>(k));
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    program_ = text;
+  }
+  if (text.find(end) == std::string::npos) {
+    halt("no complete program from the script sender");
+    return false;
+  }
+  return true;
+}
+
+bool SimUrRobot::connectProgramSockets() {
+  // 2. The program connects its sockets: trajectory, script command, reverse (External Control's order).
+  trajectory_ = connectRetry(options_.pc_host, options_.trajectory_port, stopping_);
+  command_ = connectRetry(options_.pc_host, options_.script_command_port, stopping_);
+  reverse_ = connectRetry(options_.pc_host, options_.reverse_port, stopping_);
+  if (stopping_) return false;
+  std::lock_guard<std::mutex> lock(mutex_);
+  connected_ = true;
+  return true;
+}
+
+IoResult SimUrRobot::readReverse(std::uint8_t* buffer, std::size_t size, int read_timeout_ms) {
+  if (read_timeout_ms != 0) return readExact(reverse_.fd(), buffer, size, read_timeout_ms);
+  while (!stopping_ && !waitReadable(reverse_.fd(), 50)) {
+  }
+  if (stopping_) return IoResult::kClosed;  // the caller sees stopping_ first
+  return readExact(reverse_.fd(), buffer, size, 1000);
+}
+
+bool SimUrRobot::onReverseMessage(const ur::ReverseMessage& m, SteadyClock::time_point now,
+                                  std::int32_t& control_mode) {
+  const std::int32_t mode = m[7];
+  if (mode == static_cast<std::int32_t>(ur::ControlMode::kStopped)) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stopped_by_pc_us_ = steadyMicros();
+    }
+    if (trajectory_thread_.joinable()) cancelTrajectory(false);
+    return false;  // the program leaves its control loop, stops the arm and closes its sockets
+  }
+  const auto forward = static_cast<std::int32_t>(ur::ControlMode::kForward);
+  if (control_mode == forward && mode != forward) cancelTrajectory(false);
+  control_mode = mode;
+  const auto action = static_cast<ur::TrajectoryAction>(m[1]);
+  if (mode == forward && action == ur::TrajectoryAction::kStart) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      commands_.push_back({m, steadyMicros()});
+    }
+    if (trajectory_thread_.joinable()) cancelTrajectory(false);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      points_left_ = m[2];
+      trajectory_running_ = true;
+      q_stamp_us_ = steadyMicros();
+    }
+    trajectory_thread_ = std::thread([this, n = m[2], at = now] { trajectoryLoop(n, at); });
+  } else if (mode == forward && action == ur::TrajectoryAction::kCancel) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      commands_.push_back({m, steadyMicros()});
+      cancel_times_.push_back(steadyMicros());
+    }
+    cancelTrajectory(true);
+  } else {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++keepalives_;
+  }
+  return true;
 }
 
 void SimUrRobot::cancelTrajectory(bool always_answer) {
@@ -521,157 +534,6 @@ int SimUrRobot::rtdeVersionAsked() const {
 std::string SimUrRobot::rtdeOutputsAsked() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return rtde_outputs_;
-}
-
-// ---------------------------------------------------------------- gripper
-
-namespace {
-
-/// "SET A 1 B 2" -> {(A, 1), (B, 2)}; empty if malformed.
-std::vector<std::pair<std::string, int>> setVars(const std::string& line) {
-  std::vector<std::pair<std::string, int>> vars;
-  std::istringstream in(line.substr(4));
-  std::string name, value;
-  while (in >> name) {
-    if (!(in >> value) || value.empty() || value.size() > 3 ||
-        !std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; })) {
-      return {};
-    }
-    vars.emplace_back(name, std::stoi(value));
-  }
-  return vars;
-}
-
-}  // namespace
-
-SimGripper::SimGripper(SimGripperOptions options) : options_(options) {
-  listener_ = listenTcp("127.0.0.1", 0);
-  port_ = boundPort(listener_);
-  thread_ = std::thread([this] { loop(); });
-}
-
-SimGripper::~SimGripper() {
-  stopping_ = true;
-  if (thread_.joinable()) thread_.join();
-}
-
-std::vector<SimGripper::Command> SimGripper::commands() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return commands_;
-}
-
-std::vector<std::string> SimGripper::sets() const {
-  std::vector<std::string> out;
-  for (const Command& c : commands()) {
-    if (c.line.rfind("SET ", 0) == 0) out.push_back(c.line);
-  }
-  return out;
-}
-
-bool SimGripper::activated() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return act_ == 1 && steadyMicros() - act_us_ >= static_cast<std::int64_t>(options_.activation_delay * 1e6);
-}
-
-void SimGripper::setObjectPresent(bool present) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  options_.object = present;
-}
-
-void SimGripper::kill() { dead_ = true; }
-
-int SimGripper::positionLocked(std::int64_t now_us, int* obj) const {
-  if (!moved_) {
-    if (obj != nullptr) *obj = 0;
-    return from_;
-  }
-  const bool closing = requested_ > from_;
-  int end = requested_;
-  bool blocked = false;
-  if (closing && options_.object && options_.object_position > from_ && options_.object_position < requested_) {
-    end = options_.object_position;
-    blocked = true;
-  }
-  const double needed = options_.stroke_time * std::abs(end - from_) / 255.0;
-  const double elapsed = (now_us - move_us_) * 1e-6;
-  if (elapsed >= needed) {
-    if (obj != nullptr) *obj = blocked ? 2 : 3;
-    return end;
-  }
-  if (obj != nullptr) *obj = 0;
-  return from_ + static_cast<int>(std::lround((end - from_) * elapsed / std::max(needed, 1e-9)));
-}
-
-std::string SimGripper::answerLocked(const std::string& line, std::int64_t now_us) {
-  const bool active = act_ == 1 && now_us - act_us_ >= static_cast<std::int64_t>(options_.activation_delay * 1e6);
-  if (line.rfind("SET ", 0) == 0) {
-    const auto vars = setVars(line);
-    if (vars.empty()) return "?";
-    const int now_at = positionLocked(now_us, nullptr);  // before POS changes the move in progress
-    bool go = false;
-    for (const auto& [name, value] : vars) {
-      if (name == "ACT") {
-        if (value == 1 && act_ != 1) act_us_ = now_us;
-        act_ = value == 1 ? 1 : 0;
-      } else if (name == "POS") {
-        requested_ = std::clamp(value, 0, 255);
-      } else if (name == "GTO") {
-        go = value == 1;
-      } else if (name != "SPE" && name != "FOR" && name != "ATR") {
-        return "?";
-      }
-    }
-    if (go && active) {  // a move starts from where the fingers are now
-      from_ = now_at;
-      move_us_ = now_us;
-      moved_ = true;
-    }
-    return "ack";
-  }
-  if (line.rfind("GET ", 0) != 0) return "?";
-  const std::string var = line.substr(4);
-  int obj = 0;
-  const int position = positionLocked(now_us, &obj);
-  int value = 0;
-  if (var == "STA") {
-    value = act_ == 0 ? 0 : active ? 3 : 1;
-  } else if (var == "ACT") {
-    value = act_;
-  } else if (var == "PRE") {
-    value = moved_ ? requested_ : 0;
-  } else if (var == "POS") {
-    value = position;
-  } else if (var == "OBJ") {
-    value = obj;
-  } else if (var == "GTO") {
-    value = moved_ ? 1 : 0;
-  } else {
-    return "?";
-  }
-  return var + " " + std::to_string(value);
-}
-
-void SimGripper::loop() {
-  while (!stopping_ && !dead_) {
-    Socket client = acceptTcp(listener_, 50);
-    if (!client.valid()) continue;
-    while (!stopping_ && !dead_) {
-      std::string line;
-      const IoResult r = readLine(client.fd(), line, 50);
-      if (r == IoResult::kTimeout) continue;
-      if (r == IoResult::kClosed) break;
-      std::string answer;
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        const std::int64_t now = steadyMicros();
-        answer = answerLocked(line, now);
-        commands_.push_back({line, answer, now});
-      }
-      // As the URCap: no newline after "ack" or after a GET's value.
-      if (!writeAll(client.fd(), answer.data(), answer.size())) break;
-    }
-  }
-  listener_.reset();  // dead: nothing listens any more
 }
 
 }  // namespace dash::dispatch::test

@@ -8,6 +8,7 @@
 // can read the joint state (and can stall it, as a real stream can stop while the socket stays open),
 // and stops its program on MODE_STOPPED. Everything it received is recorded for the tests.
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <cstdint>
@@ -19,6 +20,7 @@
 #include "engine/robots/joint_vector.h"
 #include "server/dispatch/tcp_socket.h"
 #include "server/dispatch/ur_protocol.h"
+#include "sim_gripper.h"
 
 namespace dash::dispatch::test {
 
@@ -88,6 +90,13 @@ class SimUrRobot {
 
  private:
   void programLoop();
+  // programLoop's steps: false when the program stops there.
+  bool fetchProgram();
+  bool connectProgramSockets();
+  /// The next reverse message (the first read waits for as long as it takes, or until stop()).
+  IoResult readReverse(std::uint8_t* buffer, std::size_t size, int read_timeout_ms);
+  bool onReverseMessage(const ur::ReverseMessage& m, std::chrono::steady_clock::time_point now,
+                        std::int32_t& control_mode);
   void rtdeLoop();
   void trajectoryLoop(int points, std::chrono::steady_clock::time_point started);
   void cancelTrajectory(bool always_answer);
@@ -131,56 +140,6 @@ class SimUrRobot {
   int rtde_version_ = 0;
   std::string rtde_outputs_;
   std::thread program_thread_, rtde_thread_, trajectory_thread_;
-};
-
-struct SimGripperOptions {
-  double activation_delay = 0.3;  ///< s from SET ACT 1 to STA 3 (a real Hand-E: a few seconds)
-  double stroke_time = 0.2;       ///< s for a full stroke (0 .. 255)
-  bool object = true;             ///< a part between the fingers: closing stops on it (OBJ 2), else OBJ 3
-  int object_position = 200;      ///< where closing fingers meet the part
-};
-
-/// A simulated Robotiq gripper URCap socket, answering as the real one: a SET with the 3 bytes "ack"
-/// (no newline), a GET with "VAR value" (no newline). STA goes 0 -> 1 -> 3 activation_delay after
-/// SET ACT 1; moves (POS/SPE/FOR with GTO 1, ignored before activation) take time, PRE echoes the
-/// requested position, OBJ is 0 while moving and 2 or 3 at the end.
-class SimGripper {
- public:
-  explicit SimGripper(SimGripperOptions options = {});  ///< binds 127.0.0.1 on a free port
-  ~SimGripper();
-  int port() const { return port_; }
-  struct Command {
-    std::string line;
-    std::string answer;
-    std::int64_t received_us = 0;
-  };
-  std::vector<Command> commands() const;
-  /// Only the SET lines, in order.
-  std::vector<std::string> sets() const;
-  bool activated() const;
-  void setObjectPresent(bool present);
-  /// The URCap dies: its connection closes and it takes no new one.
-  void kill();
-
- private:
-  void loop();
-  std::string answerLocked(const std::string& line, std::int64_t now_us);
-  int positionLocked(std::int64_t now_us, int* obj) const;
-
-  SimGripperOptions options_;
-  Socket listener_;
-  int port_ = 0;
-  mutable std::mutex mutex_;
-  std::vector<Command> commands_;
-  int act_ = 0;
-  std::int64_t act_us_ = 0;        ///< when SET ACT 1 came
-  int requested_ = 0;              ///< PRE
-  int from_ = 0;                   ///< position when the move began
-  std::int64_t move_us_ = 0;       ///< when the move began (0: none yet)
-  bool moved_ = false;
-  std::atomic<bool> stopping_{false};
-  std::atomic<bool> dead_{false};
-  std::thread thread_;
 };
 
 }  // namespace dash::dispatch::test

@@ -84,6 +84,62 @@ class SortingDispatch : public ::testing::Test {
     return ratio;
   }
 
+  // RealTwoRobotPlanRunsFasterToSuccessAndTheUrRobotGetsEveryPoint's steps.
+  void expectTooFastIsRefused(double min_scale) {
+    // Faster than the limits allow: refused by the pre-flight speed check, nothing moves.
+    const std::string body_too_fast = test::dispatchBody(*plan_, *scene_, optionsJson(min_scale * 0.8));
+    const test::HttpReply checked = test::httpPost(server_->url(), "/api/dispatch/preflight", body_too_fast);
+    ASSERT_EQ(checked.status, 200) << checked.body;
+    const auto too_fast = nlohmann::json::parse(checked.body);
+    EXPECT_FALSE(too_fast["passed"].get<bool>());
+    const nlohmann::json* speed = failedCheck(too_fast, "speed_limits");
+    ASSERT_NE(speed, nullptr) << checked.body;
+    EXPECT_NE((*speed)["message"].get<std::string>().find("time_scale >= "), std::string::npos) << speed->dump();
+    EXPECT_EQ(failedCheck(too_fast, "plan_valid"), nullptr) << "only the speeds fail";
+    const test::HttpReply refused = test::httpPost(server_->url(), "/api/dispatch", body_too_fast);
+    EXPECT_EQ(refused.status, 422) << refused.body;
+    EXPECT_TRUE(ur_.robot->commands().empty());
+    EXPECT_TRUE(ur_.robot->points().empty());
+  }
+  void expectUrRobotGotEveryPoint(double scale) {
+    // What the simulated UR robot decoded from the wire (int32 big-endian / 1e6) is the plan's points for
+    // ur5e_0, each segment's duration scaled. The first point is where the arm stood (the pre-flight's
+    // start_state check), so the driver does not send it.
+    const RobotTrajectory& planned = *plan_->findRobot(kUrRobot);
+    const auto received = ur_.robot->points();
+    ASSERT_EQ(received.size(), planned.points.size() - 1);
+    for (std::size_t i = 0; i < received.size(); ++i) {
+      const TrajectoryPoint& p = planned.points[i + 1];
+      for (int j = 0; j < 6; ++j) {
+        const double decoded = received[i].raw[static_cast<std::size_t>(j)] / 1e6;
+        EXPECT_NEAR(decoded, p.q[j], 1e-6) << "point " << i + 1 << " joint " << j;
+      }
+      EXPECT_NEAR(received[i].duration, (p.t - planned.points[i].t) * scale, 1e-6) << "point " << i + 1;
+    }
+    EXPECT_LT(maxAbsDifference(ur_.robot->q(), planned.points.back().q), 1e-6);
+    EXPECT_EQ(ur_.robot->resultsSent(), std::vector<std::int32_t>{0});
+    EXPECT_FALSE(ur_.robot->halted()) << ur_.robot->haltReason();
+    EXPECT_EQ(ur_.robot->programProblem(), "");
+  }
+  void expectGripperInPlanOrder() {
+    // ur5e_0's grasps and releases reached its gripper, in the plan's order.
+    std::vector<std::string> expected_gripper;
+    std::vector<const PlanEvent*> ur_events;
+    for (const PlanEvent& e : plan_->events) {
+      if (e.robot == kUrRobot && e.type != PlanEvent::Type::kInspect) ur_events.push_back(&e);
+    }
+    std::stable_sort(ur_events.begin(), ur_events.end(),
+                     [](const PlanEvent* a, const PlanEvent* b) { return a->t < b->t; });
+    for (const PlanEvent* e : ur_events)
+      expected_gripper.push_back(e->type == PlanEvent::Type::kGrasp ? "SET POS 255 SPE 255 FOR 255 GTO 1"
+                                                                    : "SET POS 0 SPE 255 FOR 255 GTO 1");
+    std::vector<std::string> gripper;
+    for (const auto& c : ur_.gripper->commands()) {
+      if (c.line.rfind("SET POS", 0) == 0) gripper.push_back(c.line);
+    }
+    EXPECT_EQ(gripper, expected_gripper);
+  }
+
   static Scene* scene_;
   static Plan* plan_;
   std::string db_path_;
@@ -122,20 +178,7 @@ TEST_F(SortingDispatch, RealTwoRobotPlanRunsFasterToSuccessAndTheUrRobotGetsEver
   std::printf("[ measure  ] makespan %.2f s, peak speed %.1f%% of the limit: time_scale %.3f (%.2f s)\n",
               plan_->makespan, min_scale * 100.0, scale, plan_->makespan * scale);
 
-  // Faster than the limits allow: refused by the pre-flight speed check, nothing moves.
-  const std::string body_too_fast = test::dispatchBody(*plan_, *scene_, optionsJson(min_scale * 0.8));
-  const test::HttpReply checked = test::httpPost(server_->url(), "/api/dispatch/preflight", body_too_fast);
-  ASSERT_EQ(checked.status, 200) << checked.body;
-  const auto too_fast = nlohmann::json::parse(checked.body);
-  EXPECT_FALSE(too_fast["passed"].get<bool>());
-  const nlohmann::json* speed = failedCheck(too_fast, "speed_limits");
-  ASSERT_NE(speed, nullptr) << checked.body;
-  EXPECT_NE((*speed)["message"].get<std::string>().find("time_scale >= "), std::string::npos) << speed->dump();
-  EXPECT_EQ(failedCheck(too_fast, "plan_valid"), nullptr) << "only the speeds fail";
-  const test::HttpReply refused = test::httpPost(server_->url(), "/api/dispatch", body_too_fast);
-  EXPECT_EQ(refused.status, 422) << refused.body;
-  EXPECT_TRUE(ur_.robot->commands().empty());
-  EXPECT_TRUE(ur_.robot->points().empty());
+  ASSERT_NO_FATAL_FAILURE(expectTooFastIsRefused(min_scale));
 
   // The smallest scale the limits allow: every check passes, and the plan runs to success.
   const test::HttpReply reply =
@@ -155,41 +198,8 @@ TEST_F(SortingDispatch, RealTwoRobotPlanRunsFasterToSuccessAndTheUrRobotGetsEver
                 arm.max_deviation);
   }
 
-  // What the simulated UR robot decoded from the wire (int32 big-endian / 1e6) is the plan's points for
-  // ur5e_0, each segment's duration scaled. The first point is where the arm stood (the pre-flight's
-  // start_state check), so the driver does not send it.
-  const RobotTrajectory& planned = *plan_->findRobot(kUrRobot);
-  const auto received = ur_.robot->points();
-  ASSERT_EQ(received.size(), planned.points.size() - 1);
-  for (std::size_t i = 0; i < received.size(); ++i) {
-    const TrajectoryPoint& p = planned.points[i + 1];
-    for (int j = 0; j < 6; ++j) {
-      const double decoded = received[i].raw[static_cast<std::size_t>(j)] / 1e6;
-      EXPECT_NEAR(decoded, p.q[j], 1e-6) << "point " << i + 1 << " joint " << j;
-    }
-    EXPECT_NEAR(received[i].duration, (p.t - planned.points[i].t) * scale, 1e-6) << "point " << i + 1;
-  }
-  EXPECT_LT(maxAbsDifference(ur_.robot->q(), planned.points.back().q), 1e-6);
-  EXPECT_EQ(ur_.robot->resultsSent(), std::vector<std::int32_t>{0});
-  EXPECT_FALSE(ur_.robot->halted()) << ur_.robot->haltReason();
-  EXPECT_EQ(ur_.robot->programProblem(), "");
-
-  // ur5e_0's grasps and releases reached its gripper, in the plan's order.
-  std::vector<std::string> expected_gripper;
-  std::vector<const PlanEvent*> ur_events;
-  for (const PlanEvent& e : plan_->events) {
-    if (e.robot == kUrRobot && e.type != PlanEvent::Type::kInspect) ur_events.push_back(&e);
-  }
-  std::stable_sort(ur_events.begin(), ur_events.end(),
-                   [](const PlanEvent* a, const PlanEvent* b) { return a->t < b->t; });
-  for (const PlanEvent* e : ur_events)
-    expected_gripper.push_back(e->type == PlanEvent::Type::kGrasp ? "SET POS 255 SPE 255 FOR 255 GTO 1"
-                                                                  : "SET POS 0 SPE 255 FOR 255 GTO 1");
-  std::vector<std::string> gripper;
-  for (const auto& c : ur_.gripper->commands()) {
-    if (c.line.rfind("SET POS", 0) == 0) gripper.push_back(c.line);
-  }
-  EXPECT_EQ(gripper, expected_gripper);
+  ASSERT_NO_FATAL_FAILURE(expectUrRobotGotEveryPoint(scale));
+  ASSERT_NO_FATAL_FAILURE(expectGripperInPlanOrder());
 
   // The simulated arm ended at its plan's last point.
   for (const ControllerInfo& c : server_->service().controllers()) {

@@ -78,6 +78,67 @@ class TpgDispatch : public ::testing::Test {
                               nlohmann::json{{"time_scale", kTimeScale}, {"execution", execution}}.dump());
   }
 
+  // ByDependenciesTheSlowedArmCompletesHandoversInPlaceAndTheExecutionIsValid's checks, given the
+  // executed segments per robot, per graph node.
+  int expectHandoversInPlace(std::map<std::string, std::map<int, SegmentRecord>>& records) {
+    int handovers = 0;
+    // Handovers: the receiver grasps at its handover configuration, the giver stands still at its own
+    // until then, and releases only after the grasp is done (the gripper closed).
+    for (const tpg::Edge& e : graph_->edges) {
+      if (e.why != tpg::Edge::Why::kHandover) continue;
+      const tpg::Node& to = graph_->nodes[static_cast<std::size_t>(e.to)];
+      if (to.kind != tpg::Node::Kind::kEvent || plan_->events[static_cast<std::size_t>(to.event)].type != PlanEvent::Type::kGrasp) {
+        continue;
+      }
+      const PlanEvent& grasp = plan_->events[static_cast<std::size_t>(to.event)];
+      const std::string giver = graph_->robots[static_cast<std::size_t>(graph_->nodes[static_cast<std::size_t>(e.from)].robot)];
+      ++handovers;
+      const SegmentRecord& g = records[grasp.robot][e.to];
+      EXPECT_LT(maxAbsDifference(g.q_start, plan_->findRobot(grasp.robot)->positionAt(grasp.t)), 0.01) << grasp.object;
+      EXPECT_LT(maxAbsDifference(g.q_end, plan_->findRobot(grasp.robot)->positionAt(grasp.t)), 0.01) << grasp.object;
+      const SegmentRecord& arrived = records[giver][e.from];
+      EXPECT_LE(arrived.end, g.start + 1e-9);
+      EXPECT_LT(maxAbsDifference(arrived.q_end, plan_->findRobot(giver)->positionAt(grasp.t)), 0.01) << grasp.object;
+      for (const auto& [node, r] : records[giver]) {  // no motion of the giver while the receiver grasps
+        if (r.kind != "motion") continue;
+        EXPECT_TRUE(r.end <= g.start + 1e-9 || r.start >= g.end - 1e-9) << giver << " moved during the grasp of " << grasp.object;
+      }
+      for (const auto& [node, r] : records[giver]) {
+        const tpg::Node& n = graph_->nodes[static_cast<std::size_t>(node)];
+        if (n.kind != tpg::Node::Kind::kEvent) continue;
+        const PlanEvent& ev = plan_->events[static_cast<std::size_t>(n.event)];
+        if (ev.type == PlanEvent::Type::kRelease && ev.object == grasp.object && ev.t >= grasp.t - 1e-6) {
+          EXPECT_GE(r.start, g.end - 1e-9) << giver << " released " << ev.object << " before the grasp was done";
+        }
+      }
+    }
+    return handovers;
+  }
+  void expectRecordedSegments(const DispatchStatus& st) {
+    // The results database keeps how it ran and every step's planned and executed times.
+    ASSERT_NE(server_->recorder(), nullptr);
+    // The record is written as the dispatch starts and again just after its end: wait for the end's.
+    ASSERT_TRUE(waitFor(
+        [&] {
+          const std::string json = server_->recorder()->recordJson(st.id);
+          return !json.empty() && nlohmann::json::parse(json).value("state", "") != "running";
+        },
+        10.0));
+    const auto record = nlohmann::json::parse(server_->recorder()->recordJson(st.id));
+    EXPECT_EQ(record["execution"], "tpg");
+    EXPECT_EQ(record["state"], "succeeded");
+    for (const auto& arm : record["arms"]) {
+      ASSERT_TRUE(arm["segments"].is_array()) << arm.dump();
+      const ArmDispatchStatus* live = test::armStatus(st, arm["robot"].get<std::string>());
+      ASSERT_NE(live, nullptr);
+      ASSERT_EQ(arm["segments"].size(), live->segments.size());
+      for (std::size_t k = 0; k < live->segments.size(); ++k) {
+        EXPECT_NEAR(arm["segments"][k]["executed"][1].get<double>(), live->segments[k].end, 1e-9);
+        EXPECT_NEAR(arm["segments"][k]["planned"][1].get<double>(), live->segments[k].planned_end, 1e-9);
+      }
+    }
+  }
+
   static Scene* scene_;
   static Plan* plan_;
   static tpg::Graph* graph_;
@@ -156,61 +217,9 @@ TEST_F(TpgDispatch, ByDependenciesTheSlowedArmCompletesHandoversInPlaceAndTheExe
   }
   for (std::size_t i = 0; i < start.size(); ++i) ASSERT_GE(start[i], 0.0) << "node " << i << " never ran";
 
-  // Handovers: the receiver grasps at its handover configuration, the giver stands still at its own
-  // until then, and releases only after the grasp is done (the gripper closed).
-  int handovers = 0;
-  for (const tpg::Edge& e : graph_->edges) {
-    if (e.why != tpg::Edge::Why::kHandover) continue;
-    const tpg::Node& to = graph_->nodes[static_cast<std::size_t>(e.to)];
-    if (to.kind != tpg::Node::Kind::kEvent || plan_->events[static_cast<std::size_t>(to.event)].type != PlanEvent::Type::kGrasp) {
-      continue;
-    }
-    const PlanEvent& grasp = plan_->events[static_cast<std::size_t>(to.event)];
-    const std::string giver = graph_->robots[static_cast<std::size_t>(graph_->nodes[static_cast<std::size_t>(e.from)].robot)];
-    ++handovers;
-    const SegmentRecord& g = records[grasp.robot][e.to];
-    EXPECT_LT(maxAbsDifference(g.q_start, plan_->findRobot(grasp.robot)->positionAt(grasp.t)), 0.01) << grasp.object;
-    EXPECT_LT(maxAbsDifference(g.q_end, plan_->findRobot(grasp.robot)->positionAt(grasp.t)), 0.01) << grasp.object;
-    const SegmentRecord& arrived = records[giver][e.from];
-    EXPECT_LE(arrived.end, g.start + 1e-9);
-    EXPECT_LT(maxAbsDifference(arrived.q_end, plan_->findRobot(giver)->positionAt(grasp.t)), 0.01) << grasp.object;
-    for (const auto& [node, r] : records[giver]) {  // no motion of the giver while the receiver grasps
-      if (r.kind != "motion") continue;
-      EXPECT_TRUE(r.end <= g.start + 1e-9 || r.start >= g.end - 1e-9) << giver << " moved during the grasp of " << grasp.object;
-    }
-    for (const auto& [node, r] : records[giver]) {
-      const tpg::Node& n = graph_->nodes[static_cast<std::size_t>(node)];
-      if (n.kind != tpg::Node::Kind::kEvent) continue;
-      const PlanEvent& ev = plan_->events[static_cast<std::size_t>(n.event)];
-      if (ev.type == PlanEvent::Type::kRelease && ev.object == grasp.object && ev.t >= grasp.t - 1e-6) {
-        EXPECT_GE(r.start, g.end - 1e-9) << giver << " released " << ev.object << " before the grasp was done";
-      }
-    }
-  }
-  EXPECT_GT(handovers, 0);
+  EXPECT_GT(expectHandoversInPlace(records), 0);
 
-  // The results database keeps how it ran and every step's planned and executed times.
-  ASSERT_NE(server_->recorder(), nullptr);
-  // The record is written as the dispatch starts and again just after its end: wait for the end's.
-  ASSERT_TRUE(waitFor(
-      [&] {
-        const std::string json = server_->recorder()->recordJson(st->id);
-        return !json.empty() && nlohmann::json::parse(json).value("state", "") != "running";
-      },
-      10.0));
-  const auto record = nlohmann::json::parse(server_->recorder()->recordJson(st->id));
-  EXPECT_EQ(record["execution"], "tpg");
-  EXPECT_EQ(record["state"], "succeeded");
-  for (const auto& arm : record["arms"]) {
-    ASSERT_TRUE(arm["segments"].is_array()) << arm.dump();
-    const ArmDispatchStatus* live = test::armStatus(*st, arm["robot"].get<std::string>());
-    ASSERT_NE(live, nullptr);
-    ASSERT_EQ(arm["segments"].size(), live->segments.size());
-    for (std::size_t k = 0; k < live->segments.size(); ++k) {
-      EXPECT_NEAR(arm["segments"][k]["executed"][1].get<double>(), live->segments[k].end, 1e-9);
-      EXPECT_NEAR(arm["segments"][k]["planned"][1].get<double>(), live->segments[k].planned_end, 1e-9);
-    }
-  }
+  ASSERT_NO_FATAL_FAILURE(expectRecordedSegments(*st));
 
   // The executed timetable of the graph's nodes, replayed on the plan's paths: certified valid.
   tpg::Timing timing{start, end};

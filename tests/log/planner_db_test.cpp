@@ -44,12 +44,9 @@ std::int64_t integer(const SqlValue& v) {
 
 class PlannerDatabase : public ::testing::TestWithParam<Case> {};
 
-TEST_P(PlannerDatabase, EventCountsEqualTheReportedRepresentationSizes) {
-  const Case& c = GetParam();
-  testing::TempDir dir;
-  const std::string path = dir.file("results.db");
+/// Plans case `c` (seed 1) with a recorder of a new run in the database at `path`; the result and the run's uuid.
+std::pair<PlanResult, std::string> planAndRecord(const Case& c, const std::string& path) {
   const Scene scene = generateScenario(c.family, c.params, 1, RobotLibrary::loadDefault());
-
   std::string params_json = "{";
   for (const auto& [k, v] : c.params) params_json += (params_json.size() > 1 ? "," : "") + ("\"" + k + "\":" + v);
   params_json += "}";
@@ -59,21 +56,43 @@ TEST_P(PlannerDatabase, EventCountsEqualTheReportedRepresentationSizes) {
 
   PlanResult result;
   std::string uuid;
+  ResultsDb db(path);
+  uuid = db.beginRun(RunMetadata{.family = c.family,
+                                 .params_json = params_json,
+                                 .seed = 1,
+                                 .planner = c.planner,
+                                 .time_limit = settings.time_limit});
   {
-    ResultsDb db(path);
-    uuid = db.beginRun(RunMetadata{.family = c.family,
-                                   .params_json = params_json,
-                                   .seed = 1,
-                                   .planner = c.planner,
-                                   .time_limit = settings.time_limit});
-    {
-      auto recorder = db.recorder(uuid);
-      result = makePlanner(c.planner)->solve(scene, settings, Deadline(settings.time_limit), recorder.get());
-    }
-    // Sizes left unset: finishRun derives them from the stored events.
-    db.finishRun(uuid, RunSummary{.status = result.outcome == PlanOutcome::kSolved ? RunStatus::Solved
-                                                                                  : RunStatus::Timeout});
+    auto recorder = db.recorder(uuid);
+    result = makePlanner(c.planner)->solve(scene, settings, Deadline(settings.time_limit), recorder.get());
   }
+  // Sizes left unset: finishRun derives them from the stored events.
+  db.finishRun(uuid, RunSummary{.status = result.outcome == PlanOutcome::kSolved ? RunStatus::Solved
+                                                                                : RunStatus::Timeout});
+  return {std::move(result), uuid};
+}
+
+/// Conflict resolution's progress: its snapshots count steps of one plan's total, and the last build
+/// (the solved plan's) ended with every step scheduled.
+void expectConflictResolutionProgress(const ResultsDb& db, std::int64_t run_id) {
+  const SqlRows work = db.select("SELECT progress_done, progress_total, progress_current FROM dash_progress WHERE "
+                                 "run_id = ? AND progress_phase = 'conflict_resolution' ORDER BY t",
+                                 {run_id});
+  ASSERT_FALSE(work.rows.empty());
+  for (const auto& row : work.rows) {
+    EXPECT_GT(integer(row[1]), 0);
+    EXPECT_GE(integer(row[0]), 0);
+    EXPECT_LE(integer(row[0]), integer(row[1]));
+  }
+  EXPECT_EQ(integer(work.rows.back()[0]), integer(work.rows.back()[1]));
+  EXPECT_EQ(work.rows.back()[2], SqlValue());
+}
+
+TEST_P(PlannerDatabase, EventCountsEqualTheReportedRepresentationSizes) {
+  const Case& c = GetParam();
+  testing::TempDir dir;
+  const std::string path = dir.file("results.db");
+  const auto [result, uuid] = planAndRecord(c, path);
   // Small scenes both planners solve quickly (tests/dash): a run that stops early is a failure here.
   ASSERT_EQ(result.outcome, PlanOutcome::kSolved) << c.planner << ": " << result.message;
   const auto reported = reportedSizes(result.stats.sizes);
@@ -118,19 +137,7 @@ TEST_P(PlannerDatabase, EventCountsEqualTheReportedRepresentationSizes) {
   EXPECT_EQ(integer(arena.rows[0][2]), reported[2].first);
   EXPECT_EQ(integer(arena.rows[0][3]), reported[2].second);
 
-  // Conflict resolution's progress: its snapshots count steps of one plan's total, and the last build
-  // (the solved plan's) ended with every step scheduled.
-  const SqlRows work = db.select("SELECT progress_done, progress_total, progress_current FROM dash_progress WHERE "
-                                 "run_id = ? AND progress_phase = 'conflict_resolution' ORDER BY t",
-                                 {run->id});
-  ASSERT_FALSE(work.rows.empty());
-  for (const auto& row : work.rows) {
-    EXPECT_GT(integer(row[1]), 0);
-    EXPECT_GE(integer(row[0]), 0);
-    EXPECT_LE(integer(row[0]), integer(row[1]));
-  }
-  EXPECT_EQ(integer(work.rows.back()[0]), integer(work.rows.back()[1]));
-  EXPECT_EQ(work.rows.back()[2], SqlValue());
+  ASSERT_NO_FATAL_FAILURE(expectConflictResolutionProgress(db, run->id));
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -101,62 +101,19 @@ bool SlurmCluster::start(double timeout, std::string& error) {
     return false;
   }
   for (const char* sub : {"munge", "spool", "state"}) fs::create_directories(dir_ + "/" + sub);
-  fs::permissions(dir_ + "/munge", fs::perms::owner_all, fs::perm_options::replace);
-  // munged's key: 1 KiB of random bytes, readable by its owner only.
-  {
-    std::ofstream key(dir_ + "/munge/munge.key", std::ios::binary);
-    std::random_device rd;
-    for (int i = 0; i < 1024; ++i) key.put(static_cast<char>(rd() & 0xff));
-  }
-  fs::permissions(dir_ + "/munge/munge.key", fs::perms::owner_read | fs::perms::owner_write, fs::perm_options::replace);
   const std::string socket = dir_ + "/munge/munge.socket";
-  if (spawnDaemon({"/usr/sbin/munged", "-F", "-f", "-S", socket, "--key-file", dir_ + "/munge/munge.key", "--pid-file",
-                   dir_ + "/munge/munged.pid", "--log-file", dir_ + "/munge/munged.log", "--seed-file",
-                   dir_ + "/munge/munged.seed"},
-                  dir_ + "/munged.out") < 0) {
+  if (!startMunge(socket)) {
     error = "cannot start munged";
     return false;
   }
-
   // The node's line from slurmd itself (CPUs, sockets, memory as it will report them), so that the
-  // controller never drains the node for a mismatch; the short host name is the node's name.
+  // controller never drains the node for a mismatch.
   const CommandResult node = runCommand({"/usr/sbin/slurmd", "-C"});
   if (node.exit_code != 0 || node.out.rfind("NodeName=", 0) != 0) {
     error = "slurmd -C failed: " + node.out + node.err;
     return false;
   }
-  char host[256] = {};
-  gethostname(host, sizeof host - 1);
-  std::string short_host = host;
-  short_host = short_host.substr(0, short_host.find('.'));
-  const int ctld_port = freePort();
-  int slurmd_port = freePort();
-  while (slurmd_port == ctld_port) slurmd_port = freePort();
-  const std::string conf = dir_ + "/slurm.conf";
-  {
-    std::ofstream c(conf);
-    c << "ClusterName=dashtest\n"
-      << "SlurmctldHost=" << short_host << "(127.0.0.1)\n"
-      << "SlurmctldPort=" << ctld_port << "\n"
-      << "SlurmdPort=" << slurmd_port << "\n"
-      << "SlurmUser=root\nSlurmdUser=root\n"
-      << "AuthType=auth/munge\nCredType=cred/munge\n"
-      << "AuthInfo=socket=" << socket << "\n"
-      << "StateSaveLocation=" << dir_ << "/state\n"
-      << "SlurmdSpoolDir=" << dir_ << "/spool\n"
-      << "SlurmctldPidFile=" << dir_ << "/slurmctld.pid\n"
-      << "SlurmdPidFile=" << dir_ << "/slurmd.pid\n"
-      << "SlurmctldLogFile=" << dir_ << "/slurmctld.log\n"
-      << "SlurmdLogFile=" << dir_ << "/slurmd.log\n"
-      << "ProctrackType=proctrack/linuxproc\nTaskPlugin=task/none\n"
-      << "SelectType=select/cons_tres\nSelectTypeParameters=CR_CPU\n"
-      << "SchedulerType=sched/builtin\n"
-      << "JobAcctGatherType=jobacct_gather/none\nAccountingStorageType=accounting_storage/none\n"
-      << "JobCompType=jobcomp/none\nMpiDefault=none\n"
-      << "ReturnToService=2\nKillWait=5\nMinJobAge=300\nInactiveLimit=0\n"
-      << firstLine(node.out) << " NodeAddr=127.0.0.1 State=UNKNOWN\n"
-      << "PartitionName=debug Nodes=ALL Default=YES MaxTime=INFINITE State=UP\n";
-  }
+  const std::string conf = writeConf(socket, firstLine(node.out));
   setenv("SLURM_CONF", conf.c_str(), 1);
 
   // munged needs a moment to create its socket before the daemons authenticate.
@@ -176,6 +133,56 @@ bool SlurmCluster::start(double timeout, std::string& error) {
   }
   error = "the node did not become idle within " + std::to_string(timeout) + " s\n" + logs();
   return false;
+}
+
+bool SlurmCluster::startMunge(const std::string& socket) {
+  fs::permissions(dir_ + "/munge", fs::perms::owner_all, fs::perm_options::replace);
+  // munged's key: 1 KiB of random bytes, readable by its owner only.
+  {
+    std::ofstream key(dir_ + "/munge/munge.key", std::ios::binary);
+    std::random_device rd;
+    for (int i = 0; i < 1024; ++i) key.put(static_cast<char>(rd() & 0xff));
+  }
+  fs::permissions(dir_ + "/munge/munge.key", fs::perms::owner_read | fs::perms::owner_write, fs::perm_options::replace);
+  return spawnDaemon({"/usr/sbin/munged", "-F", "-f", "-S", socket, "--key-file", dir_ + "/munge/munge.key",
+                      "--pid-file", dir_ + "/munge/munged.pid", "--log-file", dir_ + "/munge/munged.log",
+                      "--seed-file", dir_ + "/munge/munged.seed"},
+                     dir_ + "/munged.out") >= 0;
+}
+
+std::string SlurmCluster::writeConf(const std::string& socket, const std::string& node_line) {
+  // The short host name is the node's name.
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  std::string short_host = host;
+  short_host = short_host.substr(0, short_host.find('.'));
+  const int ctld_port = freePort();
+  int slurmd_port = freePort();
+  while (slurmd_port == ctld_port) slurmd_port = freePort();
+  const std::string conf = dir_ + "/slurm.conf";
+  std::ofstream c(conf);
+  c << "ClusterName=dashtest\n"
+    << "SlurmctldHost=" << short_host << "(127.0.0.1)\n"
+    << "SlurmctldPort=" << ctld_port << "\n"
+    << "SlurmdPort=" << slurmd_port << "\n"
+    << "SlurmUser=root\nSlurmdUser=root\n"
+    << "AuthType=auth/munge\nCredType=cred/munge\n"
+    << "AuthInfo=socket=" << socket << "\n"
+    << "StateSaveLocation=" << dir_ << "/state\n"
+    << "SlurmdSpoolDir=" << dir_ << "/spool\n"
+    << "SlurmctldPidFile=" << dir_ << "/slurmctld.pid\n"
+    << "SlurmdPidFile=" << dir_ << "/slurmd.pid\n"
+    << "SlurmctldLogFile=" << dir_ << "/slurmctld.log\n"
+    << "SlurmdLogFile=" << dir_ << "/slurmd.log\n"
+    << "ProctrackType=proctrack/linuxproc\nTaskPlugin=task/none\n"
+    << "SelectType=select/cons_tres\nSelectTypeParameters=CR_CPU\n"
+    << "SchedulerType=sched/builtin\n"
+    << "JobAcctGatherType=jobacct_gather/none\nAccountingStorageType=accounting_storage/none\n"
+    << "JobCompType=jobcomp/none\nMpiDefault=none\n"
+    << "ReturnToService=2\nKillWait=5\nMinJobAge=300\nInactiveLimit=0\n"
+    << node_line << " NodeAddr=127.0.0.1 State=UNKNOWN\n"
+    << "PartitionName=debug Nodes=ALL Default=YES MaxTime=INFINITE State=UP\n";
+  return conf;
 }
 
 bool SlurmCluster::stop() {

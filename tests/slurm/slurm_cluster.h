@@ -31,6 +31,9 @@ class SlurmCluster {
  private:
   pid_t spawnDaemon(const std::vector<std::string>& argv, const std::string& log);
   std::string logs() const;
+  // start()'s steps: munged on `socket`, and slurm.conf (its path) for that socket and slurmd's node line.
+  bool startMunge(const std::string& socket);
+  std::string writeConf(const std::string& socket, const std::string& node_line);
 
   std::string dir_;
   std::vector<pid_t> daemons_;
