@@ -20,7 +20,7 @@ double horizonOf(const std::vector<RobotTimeline>& timelines) {
 }  // namespace
 
 ScheduleChecker::ScheduleChecker(const CollisionWorld& world, CollisionContext& context)
-    : world_(&world), context_(&context), none_(ObjectLayout::empty(world.scene())) {
+    : world_(&world), context_(&context), none_(ObjectLayout::empty(world.scene())), boxes_(world, context) {
   const int n = world.robotCount();
   interact_.assign(static_cast<std::size_t>(n), std::vector<bool>(static_cast<std::size_t>(n), false));
   for (int a = 0; a < n; ++a)
@@ -87,6 +87,8 @@ std::optional<ScheduleConflict> ScheduleChecker::check(const RobotTimeline& time
       continue;
     }
     const RobotTimeline& o = *next->other;
+    if (piecesApart(timeline, o, u, v)) continue;
+    ++pieces_checked_;
     if ((self.q - self_end).cwiseAbs().maxCoeff() <= 1e-12 && standingFreeOfSegment(self, o, u, v)) continue;
     const RobotMotion motions[2] = {{self, self_end}, {{o.robot(), o.at(u), o.heldAt(mid)}, o.at(v)}};
     // Robot against robot only: each robot's own motion against what never moves was checked when it
@@ -94,6 +96,15 @@ std::optional<ScheduleConflict> ScheduleChecker::check(const RobotTimeline& time
     if (motionsInCollision(*world_, *context_, motions, none_, nullptr, {CheckScope::kRobotsOnly}))
       return ScheduleConflict{u, o.robot(), -1, r};
   }
+}
+
+bool ScheduleChecker::piecesApart(const RobotTimeline& timeline, const RobotTimeline& other, double u, double v) {
+  const std::optional<Aabb> mine = boxes_.pieceBox(timeline, u, v);
+  if (!mine) return false;
+  const std::optional<Aabb> theirs = boxes_.pieceBox(other, u, v);
+  if (!theirs || mine->intersects(*theirs)) return false;
+  ++pieces_apart_;
+  return true;
 }
 
 std::size_t ScheduleChecker::StillKeyHash::operator()(const StillKey& key) const {

@@ -5,11 +5,13 @@
 // against the resting objects is cut where its timeline or the object layout changes, the robot against
 // another robot where either timeline has a breakpoint; inside each piece the pair moves linearly (and
 // the resting objects are fixed), and the piece is checked at the collision checker's segment resolution.
+#include <cstdint>
 #include <optional>
 #include <unordered_map>
 #include <vector>
 
 #include "engine/collision/collision_context.h"
+#include "engine/conflict/segment_boxes.h"
 #include "engine/conflict/timeline.h"
 
 namespace dash {
@@ -35,6 +37,10 @@ class ScheduleChecker {
   /// From now on every check also cuts time at t, so the robots' configurations at exactly t are checked
   /// (a contact the plan validator found there, between the instants this checker sampled).
   void alsoCheckAt(double t);
+  /// Robot-pair pieces skipped so far because their swept boxes are apart (SegmentBoxes), and those
+  /// handed to the exact check.
+  std::uint64_t piecesApart() const { return pieces_apart_; }
+  std::uint64_t piecesChecked() const { return pieces_checked_; }
 
  private:
   bool mayInteract(int a, int b) const { return interact_[a][b]; }
@@ -71,6 +77,11 @@ class ScheduleChecker {
   /// remembered). False: check the piece itself.
   bool standingFreeOfSegment(const RobotState& self, const RobotTimeline& other, double u, double v);
   std::unordered_map<StillKey, bool, StillKeyHash> still_;
+  /// Whether robot `timeline` over [u, v] and `other` over [u, v] have swept boxes that are apart.
+  bool piecesApart(const RobotTimeline& timeline, const RobotTimeline& other, double u, double v);
+  SegmentBoxes boxes_;
+  std::uint64_t pieces_apart_ = 0;
+  std::uint64_t pieces_checked_ = 0;
 };
 
 }  // namespace dash
