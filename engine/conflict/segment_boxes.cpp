@@ -9,15 +9,18 @@ namespace dash {
 SegmentBoxes::SegmentBoxes(const CollisionWorld& world, CollisionContext& context)
     : world_(&world), context_(&context), entries_(static_cast<std::size_t>(world.robotCount())) {}
 
+void appendHeldKey(std::vector<double>& key, const HeldObject& held) {
+  key.push_back(held.object);
+  key.push_back(held.in_transit ? 1.0 : 0.0);
+  if (!held.holding()) return;
+  const double* m = held.X_TO.matrix().data();
+  key.insert(key.end(), m, m + 12);  // the rotation and translation columns
+}
+
 void SegmentBoxes::holdsKey(const RobotTimeline& timeline, double ta, double tb, std::vector<double>& key) {
   key.clear();
-  for (const HoldInterval& h : timeline.holds()) {
-    if (h.from > tb || h.to < ta) continue;  // closed on both sides: more than heldAt can give inside
-    key.push_back(h.held.object);
-    key.push_back(h.held.in_transit ? 1.0 : 0.0);
-    const double* m = h.held.X_TO.matrix().data();
-    key.insert(key.end(), m, m + 12);  // the rotation and translation columns
-  }
+  for (const HoldInterval& h : timeline.holds())
+    if (h.from <= tb && h.to >= ta) appendHeldKey(key, h.held);  // closed: more than heldAt gives inside
 }
 
 Aabb SegmentBoxes::segmentBox(const RobotTimeline& timeline, const JointVector& qa, const JointVector& qb, double ta,

@@ -24,6 +24,10 @@ namespace dash {
 /// ends (RobotTimeline::at) and of forward kinematics, many orders of magnitude below it.
 inline constexpr double kBoxSlack = 1e-7;
 
+/// What a robot holds, appended to an exact key: the object, the transit flag and (when holding) the
+/// grasp pose's rotation and translation columns.
+void appendHeldKey(std::vector<double>& key, const HeldObject& held);
+
 class SegmentBoxes {
  public:
   SegmentBoxes(const CollisionWorld& world, CollisionContext& context);
