@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <stdexcept>
+#include <thread>
 
 #include "engine/conflict/check_pool.h"
 #include "engine/conflict/schedule_checker.h"
@@ -70,7 +72,18 @@ TEST(ScheduleCheckerLanes, TwoLanesGiveTheSameConflictsAndCountersAsOne) {
 TEST(CheckPool, EveryLaneRunsOncePerRunAndItsExceptionReachesTheCaller) {
   CheckPool pool(2);
   std::atomic<int> runs[2] = {0, 0};
-  for (int i = 0; i < 5000; ++i) pool.run([&](std::size_t lane) { ++runs[lane]; });
+  std::atomic<int> on_worker = 0;
+  const std::thread::id caller = std::this_thread::get_id();
+  // Lane 0 slow: the worker takes lane 1 (at least sometimes, even on a busy machine).
+  for (int i = 0; i < 200; ++i)
+    pool.run([&](std::size_t lane) {
+      if (lane == 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      ++runs[lane];
+      if (std::this_thread::get_id() != caller) ++on_worker;
+    });
+  EXPECT_GT(on_worker.load(), 0) << "the worker never took its share";
+  // Lane 0 fast: the caller mostly takes lane 1 itself.
+  for (int i = 0; i < 4800; ++i) pool.run([&](std::size_t lane) { ++runs[lane]; });
   EXPECT_EQ(runs[0].load(), 5000);
   EXPECT_EQ(runs[1].load(), 5000);
   EXPECT_THROW(pool.run([](std::size_t lane) {
