@@ -10,7 +10,10 @@ namespace dash {
 
 namespace {
 constexpr double kHeldObjectMargin = 0.15;  // a held object can stick out of a robot's reach box
-constexpr std::size_t kMaxStill = 1u << 20;  // standing-still verdicts kept (then forgotten, all)
+constexpr std::size_t kMaxStill = 1u << 20;  // standing-still verdicts kept per lane (then forgotten, all)
+// Robot-pair pieces a check must have before its pairs go to the lanes: below that, waking a thread
+// costs more than it saves.
+constexpr std::size_t kMinPiecesForLanes = 4;
 
 double horizonOf(const std::vector<RobotTimeline>& timelines) {
   double h = 0.0;
@@ -19,8 +22,15 @@ double horizonOf(const std::vector<RobotTimeline>& timelines) {
 }
 }  // namespace
 
-ScheduleChecker::ScheduleChecker(const CollisionWorld& world, CollisionContext& context)
-    : world_(&world), context_(&context), none_(ObjectLayout::empty(world.scene())) {
+ScheduleChecker::Lane::Lane(const CollisionWorld& world, CollisionContext* shared)
+    : own(shared ? nullptr : std::make_unique<CollisionContext>(world)),
+      context(shared ? shared : own.get()),
+      boxes(world, *context) {}
+
+ScheduleChecker::ScheduleChecker(const CollisionWorld& world, CollisionContext& context, int threads)
+    : world_(&world), context_(&context), none_(ObjectLayout::empty(world.scene())), pool_(checkLanes(threads)) {
+  for (std::size_t lane = 0; lane < pool_.lanes(); ++lane)
+    lanes_.push_back(std::make_unique<Lane>(world, lane == 0 ? &context : nullptr));
   const int n = world.robotCount();
   interact_.assign(static_cast<std::size_t>(n), std::vector<bool>(static_cast<std::size_t>(n), false));
   for (int a = 0; a < n; ++a)
@@ -54,6 +64,11 @@ void ScheduleChecker::cutsOf(const RobotTimeline& timeline, const RobotTimeline*
 // motion in smaller pieces. Pieces are checked in the order of their start times over all pairs (at
 // equal times the objects first, then the robots in index order), so the first conflict found is the
 // earliest and the check stops there.
+//
+// With several lanes, each lane first checks its own pairs (scanLane), each pair from its first piece
+// up to its first conflict. Then the walk below goes through the pieces in that one order and takes
+// each verdict a lane already has, checking itself any piece no lane reached: the first conflict of
+// the walk is the one-lane answer, whatever the lanes did.
 std::optional<ScheduleConflict> ScheduleChecker::check(const RobotTimeline& timeline, double from, double until,
                                                        const std::vector<RobotTimeline>& others,
                                                        const ObjectTimeline& objects) {
@@ -63,37 +78,124 @@ std::optional<ScheduleConflict> ScheduleChecker::check(const RobotTimeline& time
   pairs_.clear();
   pairs_.push_back({nullptr, {}, 0});
   cutsOf(timeline, nullptr, &objects, from, until, pairs_.back().cuts);
+  std::size_t robot_pieces = 0;
   for (const RobotTimeline& o : others) {
     if (o.robot() == r || !mayInteract(r, o.robot())) continue;
     pairs_.push_back({&o, {}, 0});
     cutsOf(timeline, &o, nullptr, from, until, pairs_.back().cuts);
+    robot_pieces += pairs_.back().cuts.size() - 1;
   }
+  const std::size_t lanes = std::min(pool_.lanes(), pairs_.size());
+  if (lanes > 1 && robot_pieces >= kMinPiecesForLanes) {
+    earliest_.store(kForever, std::memory_order_relaxed);
+    pool_.run([&](std::size_t lane) {
+      if (lane < lanes) scanLane(lane, lanes, timeline, objects);
+    });
+  }
+  PieceRecord own;
   for (;;) {
     PairPieces* next = nullptr;
     for (PairPieces& p : pairs_)
       if (p.next + 1 < p.cuts.size() && (!next || p.cuts[p.next] < next->cuts[next->next] - 1e-12)) next = &p;
     if (!next) return std::nullopt;
-    const double u = next->cuts[next->next], v = next->cuts[next->next + 1], mid = 0.5 * (u + v);
-    ++next->next;
-    const RobotState self{r, timeline.at(u), timeline.heldAt(mid)};
-    const JointVector self_end = timeline.at(v);
-    if (!next->other) {
-      CollisionReport report;
-      if (segmentInCollision(*world_, *context_, self, self_end, objects.layoutAt(mid), &report,
-                             {CheckScope::kObjectsOnly})) {
-        const int j = report.b.kind == CollisionElement::Kind::kObject ? report.b.index : -1;
-        return ScheduleConflict{u, -1, j, r};
-      }
-      continue;
+    const std::size_t j = next->next++;
+    const PieceRecord* record = &own;
+    if (j < next->checked) {
+      record = &next->records[j];
+    } else {
+      own = {};
+      checkPiece(*lanes_[0], timeline, *next, j, objects, own);
     }
-    const RobotTimeline& o = *next->other;
-    if ((self.q - self_end).cwiseAbs().maxCoeff() <= 1e-12 && standingFreeOfSegment(self, o, u, v)) continue;
+    commit(*record);
+    if (record->conflict) return record->conflict;
+  }
+}
+
+void ScheduleChecker::scanLane(std::size_t lane, std::size_t lanes, const RobotTimeline& timeline,
+                               const ObjectTimeline& objects) {
+  for (;;) {
+    PairPieces* next = nullptr;
+    for (std::size_t k = lane; k < pairs_.size(); k += lanes) {
+      PairPieces& p = pairs_[k];
+      const bool stopped = !p.records.empty() && p.records.back().conflict;
+      if (!stopped && p.checked + 1 < p.cuts.size() &&
+          (!next || p.cuts[p.checked] < next->cuts[next->checked] - 1e-12))
+        next = &p;
+    }
+    if (!next) return;
+    const double u = next->cuts[next->checked];
+    double earliest = earliest_.load(std::memory_order_relaxed);
+    if (u > earliest + 1e-9) return;  // after a conflict found: check's walk stops before it
+    checkPiece(*lanes_[lane], timeline, *next, next->checked, objects, next->records.emplace_back());
+    ++next->checked;
+    if (!next->records.back().conflict) continue;
+    while (u < earliest && !earliest_.compare_exchange_weak(earliest, u, std::memory_order_relaxed)) {
+    }
+  }
+}
+
+namespace {
+void add(CollisionCounters& to, const CollisionCounters& c, int sign) {
+  const auto apply = [sign](std::uint64_t& x, std::uint64_t y) { x = sign > 0 ? x + y : x - y; };
+  apply(to.configuration_checks, c.configuration_checks);
+  apply(to.segment_checks, c.segment_checks);
+  apply(to.narrowphase_calls, c.narrowphase_calls);
+  apply(to.distance_queries, c.distance_queries);
+  apply(to.cover_cleared, c.cover_cleared);
+}
+}  // namespace
+
+void ScheduleChecker::commit(const PieceRecord& record) {
+  add(context_->counters(), record.cost, +1);
+  pieces_apart_ += record.apart;
+  pieces_checked_ += record.exact;
+  if (!record.standing_computed) return;
+  if (still_.contains(record.standing_key)) {
+    add(context_->counters(), record.standing_cost, -1);  // one lane would have found it
+    return;
+  }
+  if (still_.size() >= kMaxStill) still_.clear();
+  still_.emplace(record.standing_key, record.standing_free);
+}
+
+void ScheduleChecker::checkPiece(Lane& lane, const RobotTimeline& timeline, const PairPieces& pair, std::size_t j,
+                                 const ObjectTimeline& objects, PieceRecord& record) {
+  const CollisionCounters before = lane.context->counters();
+  const int r = timeline.robot();
+  const double u = pair.cuts[j], v = pair.cuts[j + 1], mid = 0.5 * (u + v);
+  const RobotState self{r, timeline.at(u), timeline.heldAt(mid)};
+  const JointVector self_end = timeline.at(v);
+  if (!pair.other) {
+    CollisionReport report;
+    if (segmentInCollision(*world_, *lane.context, self, self_end, objects.layoutAt(mid), &report,
+                           {CheckScope::kObjectsOnly})) {
+      const int object = report.b.kind == CollisionElement::Kind::kObject ? report.b.index : -1;
+      record.conflict = ScheduleConflict{u, -1, object, r};
+    }
+  } else if (piecesApart(lane, timeline, *pair.other, u, v)) {
+    record.apart = true;
+  } else {
+    record.exact = true;
+    const RobotTimeline& o = *pair.other;
+    const bool standing = (self.q - self_end).cwiseAbs().maxCoeff() <= 1e-12;
     const RobotMotion motions[2] = {{self, self_end}, {{o.robot(), o.at(u), o.heldAt(mid)}, o.at(v)}};
     // Robot against robot only: each robot's own motion against what never moves was checked when it
     // was planned (roadmaps, replans, composite paths, transitions).
-    if (motionsInCollision(*world_, *context_, motions, none_, nullptr, {CheckScope::kRobotsOnly}))
-      return ScheduleConflict{u, o.robot(), -1, r};
+    if (!(standing && standingFreeOfSegment(lane, self, o, u, v, record)) &&
+        motionsInCollision(*world_, *lane.context, motions, none_, nullptr, {CheckScope::kRobotsOnly}))
+      record.conflict = ScheduleConflict{u, o.robot(), -1, r};
   }
+  record.cost = lane.context->counters();
+  add(record.cost, before, -1);
+  lane.context->counters() = before;
+}
+
+bool ScheduleChecker::piecesApart(Lane& lane, const RobotTimeline& timeline, const RobotTimeline& other, double u,
+                                  double v) {
+  const std::optional<Aabb> mine = lane.boxes.pieceBox(timeline, u, v);
+  if (!mine) return false;
+  const std::optional<Aabb> theirs = lane.boxes.pieceBox(other, u, v);
+  return theirs && !mine->intersects(*theirs);
 }
 
 std::size_t ScheduleChecker::StillKeyHash::operator()(const StillKey& key) const {
@@ -106,17 +208,8 @@ std::size_t ScheduleChecker::StillKeyHash::operator()(const StillKey& key) const
   return h;
 }
 
-namespace {
-void appendHeld(std::vector<double>& key, const HeldObject& held) {
-  key.push_back(held.object);
-  key.push_back(held.in_transit ? 1.0 : 0.0);
-  if (!held.holding()) return;
-  const double* m = held.X_TO.matrix().data();
-  key.insert(key.end(), m, m + 12);  // the rotation and translation columns
-}
-}  // namespace
-
-bool ScheduleChecker::standingFreeOfSegment(const RobotState& self, const RobotTimeline& other, double u, double v) {
+bool ScheduleChecker::standingFreeOfSegment(Lane& lane, const RobotState& self, const RobotTimeline& other, double u,
+                                            double v, PieceRecord& record) const {
   // The other robot's straight segment [ta, tb] holding [u, v] (past its end it stands at its last point).
   const auto& pts = other.points();
   auto it = std::upper_bound(pts.begin(), pts.end(), u + 1e-12, [](double t, const TimedPoint& p) { return t < p.t; });
@@ -134,8 +227,9 @@ bool ScheduleChecker::standingFreeOfSegment(const RobotState& self, const RobotT
   const HeldObject held = other.heldAt(0.5 * (u + v));
   for (const HoldInterval& h : other.holds())
     if ((h.from > ta + 1e-12 && h.from < tb - 1e-12) || (h.to > ta + 1e-12 && h.to < tb - 1e-12)) return false;
-  StillKey k;
+  StillKey& k = record.standing_key;
   std::vector<double>& key = k.values;
+  key.clear();
   key.push_back(self.robot);
   key.push_back(other.robot());
   key.push_back(ta);
@@ -143,14 +237,16 @@ bool ScheduleChecker::standingFreeOfSegment(const RobotState& self, const RobotT
   key.insert(key.end(), self.q.data(), self.q.data() + self.q.size());
   key.insert(key.end(), a.q.data(), a.q.data() + a.q.size());
   key.insert(key.end(), qb.data(), qb.data() + qb.size());
-  appendHeld(key, self.held);
-  appendHeld(key, held);
+  appendHeldKey(key, self.held);
+  appendHeldKey(key, held);
   if (const auto found = still_.find(k); found != still_.end()) return found->second;
+  const CollisionCounters before = lane.context->counters();
   const RobotMotion whole[2] = {{self, self.q}, {{other.robot(), a.q, held}, qb}};
-  const bool free = !motionsInCollision(*world_, *context_, whole, none_, nullptr, {CheckScope::kRobotsOnly});
-  if (still_.size() >= kMaxStill) still_.clear();
-  still_.emplace(std::move(k), free);
-  return free;
+  record.standing_free = !motionsInCollision(*world_, *lane.context, whole, none_, nullptr, {CheckScope::kRobotsOnly});
+  record.standing_computed = true;
+  record.standing_cost = lane.context->counters();
+  add(record.standing_cost, before, -1);
+  return record.standing_free;
 }
 
 void ScheduleChecker::alsoCheckAt(double t) { extra_cuts_.insert(std::upper_bound(extra_cuts_.begin(), extra_cuts_.end(), t), t); }

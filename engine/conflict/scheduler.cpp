@@ -77,10 +77,11 @@ void applySchedulerParameters(SchedulerParams& params, const ParamValues& values
                                                  {"conflict_replanning", &params.conflict_replanning}};
   for (const auto& [name, field] : flags)
     if (values.contains(name)) *field = paramBool(values, name);
+  if (values.contains("validation_threads")) params.threads = paramInt(values, "validation_threads");
 }
 
 Scheduler::Scheduler(const CollisionWorld& world, CollisionContext& context, SchedulerParams params)
-    : world_(&world), context_(&context), params_(params), checker_(world, context) {}
+    : world_(&world), context_(&context), params_(params), checker_(world, context, params.threads) {}
 
 double Scheduler::duration(int robot, const JointVector& a, const JointVector& b) const {
   const JointVector& vmax = world_->scene().robots[robot].model->limits.velocity_max;

@@ -49,6 +49,9 @@ struct SchedulerParams {
   /// The repairs that replan motions (around the partner or a standing robot, sending an idle robot
   /// home, ARC's composite subproblem); off: conflict resolution only retimes (an ablation).
   bool conflict_replanning = true;
+  /// Threads of conflict resolution's checks (ScheduleChecker's lanes; 0: the hardware's, at most 2).
+  /// Named `validation_threads` with the validator's: the schedule is the same for any number.
+  int threads = 0;
 };
 
 /// The scheduler's named parameters (staggered_arrivals, idle_arms_home, parking, schedule_memo) from

@@ -42,7 +42,8 @@ std::vector<ParamInfo> schedulerParameters() {
        "metres every check of the planner keeps between parts not in contact by design (0: touching allowed)",
        "beyond the paper (no value given; the validator checks at 0)"},
       {"validation_threads", ParamType::kInt, "0", "", 0, kMaxValidationThreads,
-       "threads of the plan validator run on each schedule (0: the hardware's); the plan is the same for any number",
+       "threads of the plan validator run on each schedule (0: the hardware's) and of conflict resolution's checks "
+       "(0: the hardware's, up to 2; 8 at most); the plan is the same for any number",
        "beyond the paper (changes no result)"},
       flag("conflict_replanning", true, true, arc,
            "conflict resolution replans motions (around robots in the way, ARC's composite subproblem); false: it "

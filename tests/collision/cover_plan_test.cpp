@@ -1,7 +1,8 @@
 // The same seed gives the same plan with the covers' fast reject on and off (issue 38): the fast path
 // only skips exact checks whose answer it knows (cover_check.h), so Lazy-DaSH must take the same
 // decisions, constraints and plan on a small scene of every family; and with two validator threads
-// (the fast path's scratch is per thread) the same again. Each run is forked from one state
+// (the fast path's scratch is per thread), which are also two lanes of conflict resolution's checks
+// (engine/conflict/check_pool.h), the same again. Each run is forked from one state
 // (OMPL's process-wide generator, see tests/planners/validation_threads_plan_test.cpp) and the switch
 // set in the child.
 #include <gtest/gtest.h>

@@ -1,7 +1,9 @@
 // The same seed gives the same plan with one validator thread or two (issue 23): both planners run the
 // plan validator on every schedule and feed its first problem back, so its report must not depend on
 // its threads (tests/plan/validation_threads_test.cpp); here the whole run is compared, and the
-// `validation_threads` parameter (`dashbench plan --threads N`) is checked.
+// `validation_threads` parameter (`dashbench plan --threads N`) is checked. The same parameter sets the
+// lanes of conflict resolution's checks (issue 38; engine/conflict/check_pool.h), so one run here uses one
+// lane and the other two: the plan, the constraints and the collision checks must still agree.
 #include <gtest/gtest.h>
 #include <ompl/util/RandomNumbers.h>
 
@@ -196,6 +198,9 @@ TEST(ValidationThreadsPlan, BothPlannersNameTheParameterWithTheirDefault) {
     EXPECT_FALSE(it->extension()) << "--profile paper must leave it alone";
     EXPECT_EQ(paramInt(resolveParameters(planner, {}), "validation_threads"), 0) << planner;
   }
+  SchedulerParams scheduler;
+  applySchedulerParameters(scheduler, {{"validation_threads", "2"}});
+  EXPECT_EQ(scheduler.threads, 2) << "conflict resolution's lanes follow validation_threads";
   EXPECT_EQ(LazyDashParams{}.validation_threads, 0);
   EXPECT_EQ(DashParams{}.validation_threads, 0);
   LazyDashParams p;
