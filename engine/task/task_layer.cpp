@@ -2,9 +2,6 @@
 
 #include <algorithm>
 
-#include "engine/collision/collision_queries.h"
-#include "engine/placement/placement_region.h"
-
 namespace dash {
 
 namespace {
