@@ -74,27 +74,32 @@ bool sameBoxes(const std::vector<Aabb>& a, const std::vector<Aabb>& b) {
 
 bool MotionConstraintSet::contains(const MotionConstraint& c) const {
   if (c.histories.empty()) return false;
-  for (std::size_t i = lifted_; i < constraints_.size(); ++i)
-    if (const MotionConstraint& known = constraints_[i]; !known.histories.empty() && known.histories.front().robot == c.histories.front().robot &&
+  for (std::size_t i = 0; i < constraints_.size(); ++i)
+    if (const MotionConstraint& known = constraints_[i]; in_force_[i] && !known.histories.empty() &&
+        known.histories.front().robot == c.histories.front().robot &&
         known.histories.front().arcs == c.histories.front().arcs && sameBoxes(known.region, c.region))
       return true;
   return false;
 }
 
-std::pair<std::size_t, std::size_t> MotionConstraintSet::liftAll() {
-  const std::size_t first = lifted_;
-  lifted_ = constraints_.size();
-  return {first, lifted_};
+std::vector<std::size_t> MotionConstraintSet::liftAll() {
+  std::vector<std::size_t> lifted;
+  for (std::size_t i = 0; i < constraints_.size(); ++i)
+    if (in_force_[i]) {
+      in_force_[i] = false;
+      lifted.push_back(i);
+    }
+  return lifted;
 }
 
-std::vector<Aabb> MotionConstraintSet::regionsFor(const TaskPlan& plan, int robot, int step,
-                                                  const JointVector& q) const {
-  std::vector<Aabb> out;
+std::vector<std::size_t> MotionConstraintSet::regionIndicesFor(const TaskPlan& plan, int robot, int step,
+                                                               const JointVector& q) const {
+  std::vector<std::size_t> out;
   std::vector<std::uint32_t> arcs;
   bool computed = false;
-  for (std::size_t i = lifted_; i < constraints_.size(); ++i) {
+  for (std::size_t i = 0; i < constraints_.size(); ++i) {
     const MotionConstraint& c = constraints_[i];
-    if (c.region.empty() || c.histories.empty()) continue;
+    if (!in_force_[i] || c.region.empty() || c.histories.empty()) continue;
     const MotionConstraint::History& h = c.histories.front();
     if (h.robot != robot) continue;
     if (h.q.size() > 0 && (h.q.size() != q.size() || (h.q - q).cwiseAbs().maxCoeff() > 1e-9)) continue;
@@ -102,9 +107,24 @@ std::vector<Aabb> MotionConstraintSet::regionsFor(const TaskPlan& plan, int robo
       arcs = historyOf(plan, robot, step).arcs;
       computed = true;
     }
-    if (h.arcs == arcs) out.insert(out.end(), c.region.begin(), c.region.end());
+    if (h.arcs == arcs) out.push_back(i);
   }
   return out;
+}
+
+std::vector<Aabb> MotionConstraintSet::regionsFor(const TaskPlan& plan, int robot, int step,
+                                                  const JointVector& q) const {
+  std::vector<Aabb> out;
+  for (std::size_t i : regionIndicesFor(plan, robot, step, q))
+    out.insert(out.end(), constraints_[i].region.begin(), constraints_[i].region.end());
+  return out;
+}
+
+std::vector<std::size_t> MotionConstraintSet::liftRegionsFor(const TaskPlan& plan, int robot, int step,
+                                                             const JointVector& q) {
+  std::vector<std::size_t> lifted = regionIndicesFor(plan, robot, step, q);
+  for (std::size_t i : lifted) in_force_[i] = false;
+  return lifted;
 }
 
 }  // namespace dash::lazy

@@ -56,25 +56,33 @@ MotionConstraint::History historyOf(const TaskPlan& plan, int robot, int step);
 /// The motion constraints of a run, in the order they were learned.
 class MotionConstraintSet {
  public:
-  /// Adds c; returns its index (the constraint event's id).
+  /// Adds c, in force; returns its index (the constraint event's id).
   std::uint32_t add(MotionConstraint c) {
     constraints_.push_back(std::move(c));
+    in_force_.push_back(true);
     return static_cast<std::uint32_t>(constraints_.size() - 1);
   }
   const std::vector<MotionConstraint>& all() const { return constraints_; }
   std::size_t size() const { return constraints_.size(); }
-  /// Whether a constraint with the same constrained history (Pi_1) and the same region boxes is known.
+  bool inForce(std::size_t id) const { return in_force_[id]; }
+  /// Whether a constraint in force with the same constrained history (Pi_1) and the same region boxes is known.
   bool contains(const MotionConstraint& c) const;
-  /// The region boxes of every constraint whose constrained history (Pi_1) is robot `robot`'s history
-  /// up to step `step` of `plan`, ending at transition configuration q: what its move into that step
-  /// keeps out of.
+  /// The region boxes of every constraint in force whose constrained history (Pi_1) is robot `robot`'s
+  /// history up to step `step` of `plan`, ending at transition configuration q: what its move into
+  /// that step keeps out of.
   std::vector<Aabb> regionsFor(const TaskPlan& plan, int robot, int step, const JointVector& q) const;
-  /// Lifts every constraint in force (a restart: new samples); returns their indices [first, last).
-  std::pair<std::size_t, std::size_t> liftAll();
+  /// Lifts the constraints whose regions regionsFor() returns (the move found no way around them);
+  /// returns their indices.
+  std::vector<std::size_t> liftRegionsFor(const TaskPlan& plan, int robot, int step, const JointVector& q);
+  /// Lifts every constraint in force (a restart: new samples); returns their indices.
+  std::vector<std::size_t> liftAll();
 
  private:
-  std::vector<MotionConstraint> constraints_;
-  std::size_t lifted_ = 0;  ///< constraints_[0, lifted_) were lifted (kept for the record)
+  /// The indices of the constraints in force with a region that regionsFor() matches.
+  std::vector<std::size_t> regionIndicesFor(const TaskPlan& plan, int robot, int step, const JointVector& q) const;
+
+  std::vector<MotionConstraint> constraints_;  ///< every one learned, lifted ones kept for the record
+  std::vector<bool> in_force_;                 ///< per constraint
 };
 
 }  // namespace dash::lazy

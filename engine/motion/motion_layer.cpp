@@ -37,6 +37,16 @@ std::string MotionLayer::endInRegion(int robot, const JointVector& from, const J
   return {};
 }
 
+bool MotionLayer::fixedEndsEnter(const MotionLayerResult& motions, int robot, int step,
+                                 const std::vector<Aabb>& region) const {
+  if (robot < 0 || robot >= static_cast<int>(motions.robots.size())) return false;
+  const auto& visits = motions.robots[static_cast<std::size_t>(robot)].visits;
+  const auto visit = std::find_if(visits.begin(), visits.end(), [&](const StepVisit& v) { return v.step == step; });
+  if (visit == visits.end() || visit->transit.empty()) return false;
+  return robotEntersRegions(*world_, *context_, RobotState{robot, visit->transit.front(), visit->held_before}, region) ||
+         robotEntersRegions(*world_, *context_, RobotState{robot, visit->q_pre, visit->held_before}, region);
+}
+
 /// For people reading a failure: whether an end of the missing path is itself in collision.
 std::string MotionLayer::whyNoPath(const std::string& colliding_end) {
   return colliding_end.empty() ? ": the roadmap found no way between valid ends" : ": the " + colliding_end;

@@ -119,6 +119,12 @@ class MotionLayer {
   /// Over every motion query of the run: moves expanded and found invalid.
   std::int64_t queryFailedMoves() const { return query_failed_moves_; }
 
+  /// Whether robot `robot`'s move into task step `step` (its visit in `motions`) starts or ends inside
+  /// `region`: the start of its transit (the previous retreat's end) or its approach start (the
+  /// transition's back-off). Both are fixed, so no replanned move can keep out of such a region. False
+  /// when `motions` has no such visit.
+  bool fixedEndsEnter(const MotionLayerResult& motions, int robot, int step, const std::vector<Aabb>& region) const;
+
   /// A path from -> to in `context`: the straight segment if it is free, else a roadmap query.
   std::optional<std::vector<JointVector>> connect(int robot, const JointVector& from, const JointVector& to,
                                                   const MotionContext& context, const Deadline& deadline);

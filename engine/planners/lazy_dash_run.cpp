@@ -145,7 +145,7 @@ std::optional<LazyDashRun::Inner> LazyDashRun::motionLoop(TaskLayerResult& layer
 MotionRound LazyDashRun::motionRound(TaskLayerResult& layer, std::optional<MotionLayerResult>& motions) {
   if (auto ended = motionQuery(layer, motions)) return std::move(*ended);
   ScheduleResult schedule = resolveConflicts(layer, *motions);
-  if (!schedule.ok) return conflictFailure(layer, schedule);
+  if (!schedule.ok) return conflictFailure(layer, *motions, schedule);
   return validate(layer, schedule);
 }
 
@@ -178,7 +178,8 @@ ScheduleResult LazyDashRun::resolveConflicts(const TaskLayerResult& layer, const
   return schedule;
 }
 
-MotionRound LazyDashRun::conflictFailure(const TaskLayerResult& layer, const ScheduleResult& schedule) {
+MotionRound LazyDashRun::conflictFailure(const TaskLayerResult& layer, const MotionLayerResult& motions,
+                                         const ScheduleResult& schedule) {
   if (deadline_.expired()) return stopped(timeoutOutcome(deadline_), "conflict resolution: timeout");
   if (schedule.failed_step < 0) return stopped(PlanOutcome::kInfeasible, "conflict resolution: " + schedule.reason);
   MotionFailure f;
@@ -194,7 +195,11 @@ MotionRound LazyDashRun::conflictFailure(const TaskLayerResult& layer, const Sch
     f.constraint.configurations.push_back({a.robot2, tc.q2});
     f.resampleable = true;  // another handover configuration (pose, IK branches), when the region does not do
   }
-  if (const auto& region = schedule.region) {  // C_M = (Pi_1, Pi_2, p): a region to replan around
+  // C_M = (Pi_1, Pi_2, p): a region to replan around, unless the constrained move starts or ends inside
+  // it (the two partners of a handover meeting near their transition): no replanned move could keep
+  // out, so the handover is resampled instead (above), as the paper's transitions are.
+  const auto& region = schedule.region;
+  if (region && !motion_.fixedEndsEnter(motions, region->robot, region->step, region->boxes)) {
     f.constraint.histories = {lazy::historyOf(layer.plan, region->robot, region->step)};
     f.constraint.histories.front().q = region->q;  // lifted when another transition sample is drawn
     if (region->other >= 0) f.constraint.histories.push_back(lazy::historyOf(layer.plan, region->other, region->other_step));
@@ -244,6 +249,12 @@ void LazyDashRun::learn(const lazy::MotionConstraint& c) {
   emitter_.constraint(log::ConstraintKind::Motion, log::ConstraintAction::Created, id, c.describe(scene_), {}, c.cause);
 }
 
+void LazyDashRun::liftMotionConstraints(const std::vector<std::size_t>& ids, const std::string& why) {
+  for (std::size_t id : ids)
+    emitter_.constraint(log::ConstraintKind::Motion, log::ConstraintAction::Lifted, static_cast<std::uint32_t>(id),
+                        motion_constraints_.all()[id].describe(scene_), {}, why);
+}
+
 // The one feedback function (Algorithm 1, lines 10-15). While the task plan's motion budget lasts, a
 // failure becomes a motion constraint and the motion loop goes on with the same task plan (true): a
 // region of the workspace makes the motion query and conflict resolution replan that history's move
@@ -259,6 +270,12 @@ std::optional<bool> LazyDashRun::feedback(const MotionFailure& f, TaskLayerResul
     motion_.scaleBudget(kBudgetGrowth);
     return true;
   }
+  // The motion query found no way around the regions of the failed history: they did not help, and
+  // kept in force they would fail that history again whenever a later task plan returns to it.
+  if (f.where == MotionFailure::Where::kMotionQuery && !f.constraint.configurations.empty())
+    liftMotionConstraints(motion_constraints_.liftRegionsFor(layer.plan, f.constraint.configurations.front().first,
+                                                             f.step, f.constraint.configurations.front().second),
+                          "the motion query found no way around it");
   const bool budget_left = motion_round + 1 < params_.motion_budget;
   // A region already learned for this history did not help: the next feedback applies.
   if (budget_left && !f.constraint.region.empty() && !motion_constraints_.contains(f.constraint)) {
@@ -316,10 +333,7 @@ bool LazyDashRun::restart(const std::string& why) {
   task_.restart("restart after: " + why);
   // New samples lift the motion constraints too (paper, "Theoretical Properties").
   // Each lifted event names the constraint it lifts, as the task constraints' do.
-  const auto [first, last] = motion_constraints_.liftAll();
-  for (std::size_t id = first; id < last; ++id)
-    emitter_.constraint(log::ConstraintKind::Motion, log::ConstraintAction::Lifted, static_cast<std::uint32_t>(id),
-                        motion_constraints_.all()[id].describe(scene_), {}, "restart after: " + why);
+  liftMotionConstraints(motion_constraints_.liftAll(), "restart after: " + why);
   last_restart_ = why;
   emitter_.counter("restarts", task_.restarts());
   if (params_.budget_growth && task_.restarts() <= kMaxRestartGrowths) motion_.scaleBudget(kBudgetGrowth);

@@ -68,7 +68,10 @@ class LazyDashRun {
   std::optional<MotionRound> motionQuery(const TaskLayerResult& layer, std::optional<MotionLayerResult>& motions);
   /// Line 17, Algorithm 3.
   ScheduleResult resolveConflicts(const TaskLayerResult& layer, const MotionLayerResult& motions);
-  MotionRound conflictFailure(const TaskLayerResult& layer, const ScheduleResult& schedule);
+  /// Conflict resolution failed: C_M with the conflict's region when the constrained move can keep out
+  /// of it (MotionLayer::fixedEndsEnter), else the failed step's transition configurations.
+  MotionRound conflictFailure(const TaskLayerResult& layer, const MotionLayerResult& motions,
+                              const ScheduleResult& schedule);
   MotionRound validate(const TaskLayerResult& layer, ScheduleResult& schedule);
   /// true: stay on the task plan (a motion constraint learned); false: a task constraint was added;
   /// nullopt: nothing more can be done on this attempt.
@@ -76,6 +79,8 @@ class LazyDashRun {
                                int motion_round);
   std::optional<bool> validationFeedback(const MotionFailure& f, TaskLayerResult& layer);
   void learn(const lazy::MotionConstraint& c);
+  /// Logs the motion constraints `ids` (just lifted) as lifted, because of `why`.
+  void liftMotionConstraints(const std::vector<std::size_t>& ids, const std::string& why);
   bool restart(const std::string& why);
   PlanResult finish(PlanOutcome outcome, std::string message);
   PlanResult giveUp(std::string why);

@@ -90,6 +90,33 @@ TEST(MotionConstraintRegion, TheConstrainedHistorysMoveIsReplannedOutOfTheRegion
     EXPECT_EQ(after.robots[other].visits[i].transit.size(), before.robots[other].visits[i].transit.size());
 }
 
+/// A 6 cm cube around the TCP at q.
+Aabb boxAtTcp(const FirstTaskPlan& run, int robot, const JointVector& q) {
+  const SceneRobot& r = run.scene.robots[robot];
+  const Vec3 c = forwardKinematics(*r.model, r.X_WB, q).X_WT.translation();
+  return Aabb(c - Vec3::Constant(0.03), c + Vec3::Constant(0.03));
+}
+
+TEST(MotionConstraintRegion, ARegionTheMovesStartOrApproachStartIsInCannotBeKeptOutOf) {
+  const OmplSeedScope ompl_seeds(1);
+  FirstTaskPlan run("sorting", {{"robots", "2"}, {"objects", "4"}});
+  ASSERT_EQ(run.layer.status, TaskLayerStatus::kFeasible) << run.layer.reason;
+  const MotionLayerResult motions = run.motion.plan(run.layer.plan, run.layer.transitions, run.task.space(), Deadline(120));
+  ASSERT_EQ(motions.status, MotionStatus::kOk) << motions.reason;
+  bool checked = false;
+  for (int r = 0; r < static_cast<int>(motions.robots.size()) && !checked; ++r)
+    for (const StepVisit& v : motions.robots[r].visits) {
+      const std::optional<Aabb> in_the_way = boxInTheWay(run, r, v);
+      if (!in_the_way) continue;
+      EXPECT_FALSE(run.motion.fixedEndsEnter(motions, r, v.step, {*in_the_way}));
+      EXPECT_TRUE(run.motion.fixedEndsEnter(motions, r, v.step, {boxAtTcp(run, r, v.q_pre)}));
+      EXPECT_TRUE(run.motion.fixedEndsEnter(motions, r, v.step, {*in_the_way, boxAtTcp(run, r, v.transit.front())}));
+      checked = true;
+      break;
+    }
+  EXPECT_TRUE(checked) << "no straight transit with room for a region";
+}
+
 TEST(MotionConstraintRegion, AHistoryIsMatchedByTheRobotsOwnTransitionsNotByTheStepNumber) {
   TaskPlan plan;
   for (int k = 0; k < 3; ++k) {
@@ -123,9 +150,43 @@ TEST(MotionConstraintRegion, AHistoryIsMatchedByTheRobotsOwnTransitionsNotByTheS
   EXPECT_EQ(scoped.regionsFor(plan, 0, 2, JointVector::Constant(6, 0.5)).size(), 1u);
   EXPECT_TRUE(scoped.regionsFor(plan, 0, 2, q).empty());
   // A restart lifts them all.
-  EXPECT_EQ(scoped.liftAll(), (std::pair<std::size_t, std::size_t>{0, 1}));
+  EXPECT_EQ(scoped.liftAll(), std::vector<std::size_t>{0});
   EXPECT_TRUE(scoped.regionsFor(plan, 0, 2, JointVector::Constant(6, 0.5)).empty());
   EXPECT_EQ(scoped.size(), 1u);  // kept for the record
+}
+
+TEST(MotionConstraintRegion, TheRegionsAMoveFoundNoWayAroundAreLiftedForThatHistoryAlone) {
+  TaskPlan plan;
+  for (int k = 0; k < 3; ++k) {
+    TaskStep s;
+    s.arc = HyperarcId(static_cast<std::uint32_t>(10 + k));
+    s.action.robot = k == 1 ? 1 : 0;
+    plan.steps.push_back(s);
+  }
+  const JointVector q = JointVector::Zero(6);
+  MotionConstraint first, second, other_robot;
+  first.histories = {historyOf(plan, 0, 2)};
+  first.region = {Aabb(Vec3::Zero(), Vec3::Ones())};
+  second = first;
+  second.region = {Aabb(Vec3::Ones(), 2 * Vec3::Ones())};
+  other_robot.histories = {historyOf(plan, 1, 1)};
+  other_robot.region = first.region;
+  MotionConstraintSet set;
+  set.add(first);
+  set.add(other_robot);
+  set.add(second);
+  set.add(MotionConstraint{.histories = {historyOf(plan, 0, 0)}, .region = first.region});  // an earlier history
+  EXPECT_EQ(set.regionsFor(plan, 0, 2, q).size(), 2u);
+  EXPECT_EQ(set.liftRegionsFor(plan, 0, 2, q), (std::vector<std::size_t>{0, 2}));
+  EXPECT_TRUE(set.regionsFor(plan, 0, 2, q).empty());
+  EXPECT_FALSE(set.contains(first));  // learned again, it would be in force again
+  EXPECT_FALSE(set.inForce(0));
+  EXPECT_TRUE(set.inForce(1));
+  EXPECT_EQ(set.regionsFor(plan, 1, 1, q).size(), 1u);
+  EXPECT_EQ(set.regionsFor(plan, 0, 0, q).size(), 1u);
+  EXPECT_TRUE(set.liftRegionsFor(plan, 0, 2, q).empty());  // nothing left to lift there
+  EXPECT_EQ(set.liftAll(), (std::vector<std::size_t>{1, 3}));
+  EXPECT_EQ(set.size(), 4u);  // kept for the record
 }
 
 }  // namespace
