@@ -113,13 +113,16 @@ CandidateView fullCandidates(const CollisionWorld& world, CollisionContext& cont
   return view;
 }
 
-bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int r, const CandidateView& candidates,
-                     CollisionReport* report) {
+namespace {
+
+using PosedRobot = CollisionContext::PosedRobot;
+
+/// Posed robot r's bodies against the candidate obstacles, each behind the whole-robot box, then each
+/// body's box.
+bool bodiesHitObstacles(const CollisionWorld& world, CollisionContext& context, int r, const PosedRobot& posed,
+                        const CandidateView& candidates, CollisionReport* report) {
   const RobotGeometry& rg = world.robot(r);
-  auto& s = context.scratch();
-  const auto& posed = s.robots[at(r)];
   const int bodies = static_cast<int>(rg.bodies.size());
-  // Obstacles first (the likeliest hits), each behind the whole-robot box, then each body's box.
   for (const int i : candidates.obstacles) {
     const ObstacleGeometry& obstacle = world.obstacles()[at(i)];
     if (!posed.aabb.intersects(obstacle.aabb)) continue;
@@ -133,6 +136,13 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
       }
     }
   }
+  return false;
+}
+
+/// Posed robot r's candidate self-collision pairs.
+bool bodiesHitEachOther(const CollisionWorld& world, CollisionContext& context, int r, const PosedRobot& posed,
+                        const CandidateView& candidates, CollisionReport* report) {
+  const RobotGeometry& rg = world.robot(r);
   for (const auto& [b1, b2] : candidates.self_pairs) {
     if (!posed.body_aabb[at(b1)].intersects(posed.body_aabb[at(b2)])) continue;
     if (bodiesApart(world, context, r, b1, r, b2)) continue;
@@ -142,6 +152,17 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
       return true;
     }
   }
+  return false;
+}
+
+/// Posed robot r's bodies against the candidate resting objects. A gripper may touch the resting object
+/// it grasps or has just let go (the one nearest its TCP); every other resting object keeps the
+/// clearance from it.
+bool bodiesHitObjects(const CollisionWorld& world, CollisionContext& context, int r, const PosedRobot& posed,
+                      const CandidateView& candidates, CollisionReport* report) {
+  const RobotGeometry& rg = world.robot(r);
+  auto& s = context.scratch();
+  const int bodies = static_cast<int>(rg.bodies.size());
   constexpr int kUnknown = -2;
   int grasped = kUnknown;  // the resting object the gripper may touch, found when first needed
   for (const int j : candidates.objects) {
@@ -150,8 +171,6 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
     for (int b = 0; b < bodies; ++b) {
       if (!posed.body_aabb[at(b)].intersects(object_box)) continue;
       if (bodyBoxApart(world, context, r, b, s.object_pose[at(j)], world.object(j).half_extents)) continue;
-      // A gripper may touch the resting object it grasps or has just let go: the one nearest its TCP.
-      // Every other resting object keeps the clearance from it.
       const BodyGeometry& body = rg.bodies[at(b)];
       const ObjectGeometry& object = world.object(j);
       // A hand that holds an object grasps no resting one: its gripper keeps the clearance from all of
@@ -170,10 +189,14 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
       }
     }
   }
-  for (const int p : candidates.robots) {
-    if (checkPosedRobotPair(world, context, r, p, report)) return true;
-  }
-  if (posed.held_object < 0) return false;
+  return false;
+}
+
+/// What posed robot r holds against the candidate obstacles, r's own bodies and the resting objects.
+bool heldObjectHits(const CollisionWorld& world, CollisionContext& context, int r, const PosedRobot& posed,
+                    const CandidateView& candidates, CollisionReport* report) {
+  const RobotGeometry& rg = world.robot(r);
+  auto& s = context.scratch();
   const int held = posed.held_object;
   const auto& held_shape = *world.object(held).held_vs_robot;
   const PosedShape held_static = posed.held_in_transit
@@ -207,6 +230,22 @@ bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int
     }
   }
   return false;
+}
+
+}  // namespace
+
+// Obstacles first (the likeliest hits), then self pairs, resting objects, other robots, and what the
+// robot holds.
+bool checkPosedRobot(const CollisionWorld& world, CollisionContext& context, int r, const CandidateView& candidates,
+                     CollisionReport* report) {
+  const PosedRobot& posed = context.scratch().robots[at(r)];
+  if (bodiesHitObstacles(world, context, r, posed, candidates, report)) return true;
+  if (bodiesHitEachOther(world, context, r, posed, candidates, report)) return true;
+  if (bodiesHitObjects(world, context, r, posed, candidates, report)) return true;
+  for (const int p : candidates.robots) {
+    if (checkPosedRobotPair(world, context, r, p, report)) return true;
+  }
+  return posed.held_object >= 0 && heldObjectHits(world, context, r, posed, candidates, report);
 }
 
 namespace {

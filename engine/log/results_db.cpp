@@ -21,6 +21,7 @@
 
 // DASHBENCH_CODE_VERSION: git describe of the source tree at build time (code_version.cmake).
 #include "dash_code_version.h"
+#include "engine/core/host_info.h"
 
 namespace dash::log {
 namespace {
@@ -28,31 +29,6 @@ namespace {
 constexpr std::array<const char*, 6> kStatusNames = {"running", "solved", "timeout", "infeasible", "crashed",
                                                      "cancelled"};
 
-
-std::string newUuid() {
-  std::random_device device;
-  std::array<unsigned char, 16> bytes{};
-  for (std::size_t i = 0; i < bytes.size(); i += 4) {
-    const std::uint32_t r = device();
-    for (std::size_t k = 0; k < 4; ++k) bytes[i + k] = static_cast<unsigned char>(r >> (8 * k));
-  }
-  bytes[6] = static_cast<unsigned char>((bytes[6] & 0x0f) | 0x40);  // version 4
-  bytes[8] = static_cast<unsigned char>((bytes[8] & 0x3f) | 0x80);  // RFC 4122 variant
-  std::string out;
-  char hex[3];
-  for (std::size_t i = 0; i < bytes.size(); ++i) {
-    if (i == 4 || i == 6 || i == 8 || i == 10) out += '-';
-    std::snprintf(hex, sizeof(hex), "%02x", bytes[i]);
-    out += hex;
-  }
-  return out;
-}
-
-std::string hostName() {
-  char name[256] = {};
-  if (gethostname(name, sizeof(name) - 1) != 0) return "unknown";
-  return name;
-}
 
 std::string cpuInfo() {
   std::ifstream in("/proc/cpuinfo");

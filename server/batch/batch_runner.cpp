@@ -22,6 +22,7 @@
 #include "server/batch/run_child.h"
 #include "server/batch/run_process.h"
 #include "server/batch/run_protocol.h"
+#include "engine/core/host_info.h"
 
 namespace dash::batch {
 namespace {
@@ -56,29 +57,6 @@ std::string randomHex(int digits) {
   std::string s;
   for (int i = 0; i < digits; ++i) s.push_back(kHex[rng() & 15u]);
   return s;
-}
-
-/// A random (version 4) UUID.
-std::string newUuid() {
-  std::string h = randomHex(32);
-  h[12] = '4';
-  h[16] = "89ab"[std::stoi(h.substr(16, 1), nullptr, 16) & 3];
-  return h.substr(0, 8) + "-" + h.substr(8, 4) + "-" + h.substr(12, 4) + "-" + h.substr(16, 4) + "-" + h.substr(20);
-}
-
-std::string utcNow(const char* format) {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[64];
-  std::strftime(buf, sizeof buf, format, &tm);
-  return buf;
-}
-
-std::string hostName() {
-  char buf[256] = {};
-  if (gethostname(buf, sizeof buf - 1) != 0) return "unknown";
-  return buf;
 }
 
 std::string formatSeconds(double s) {

@@ -16,6 +16,7 @@
 #include "server/batch/slurm_script.h"
 #include "server/batch/slurm_store.h"
 #include "server/batch/slurm_task.h"
+#include "engine/core/host_info.h"
 
 namespace dash::batch {
 
@@ -24,15 +25,6 @@ namespace sql = log::sql;
 using Json = nlohmann::json;
 
 namespace {
-
-std::string utcNow() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
 
 std::string readSmallFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -428,96 +428,76 @@ struct FingertipCase {
   double at_samples = 0.0;  ///< the fingers' distance at the sampler's instants either side
 };
 
-inline FingertipCase urFingertipClip(double overlap) {
-  HandoverCase base = urHandover(0.0);  // its scene: plate at c, ur5e_0 holding it at home
-  Scene scene = base.scene;
-  scene.name = "ur-fingertip-clip";
-  const Vec3 c(0.5, 0.0, 0.3);
-  Eigen::Matrix3d R_b;  // tool z along -x, fingers along z
-  R_b.col(0) = Vec3::UnitZ();
-  R_b.col(1) = Vec3::UnitY();
-  R_b.col(2) = -Vec3::UnitX();
-  const JointVector q_a = scene.robots[0].home;
-  const JointVector seed = scene.robots[1].home;
-  // ur5e_0's +y finger spans x in [0.488, 0.538], y in [0.025, 0.036]; ur5e_1's upper finger spans
-  // x in [T.x - 0.008, T.x + 0.042], y within 0.0105 of T.y, z in [T.z + 0.025, T.z + 0.036]. With
-  // T = kTouch its tip's -y edge lies on the other's outer tip edge.
-  const Vec3 kTouch(0.546, 0.0465, 0.2695);
-  const Vec3 in = Vec3(-1.0, 1.0, 0.0).normalized();      // the way it travels: in along -x, out along +y
-  const Vec3 deeper = Vec3(-1.0, -1.0, 0.0).normalized();  // into the corner
-  const CollisionWorld world(scene);
-  CollisionContext context(world);
-  const RobotGeometry& g0 = world.robot(0);
-  const RobotGeometry& g1 = world.robot(1);
-  std::vector<Pose> f0(g0.bodies.size());
-  std::vector<Pose> f1(g1.bodies.size());
-  bodyFrames(*g0.model, scene.robots[0].X_WB, q_a, f0);
-  auto fingers = [&](const JointVector& q) {  // the smallest signed distance of the four finger pairs
-    bodyFrames(*g1.model, scene.robots[1].X_WB, q, f1);
+/// urFingertipClip's geometry: ur5e_0 still at q_a, ur5e_1's tool posed along the corner's lines.
+class FingertipPair {
+ public:
+  FingertipPair(const Scene& scene, const JointVector& q_a) : scene_(scene), world_(scene), context_(world_) {
+    f0_.resize(world_.robot(0).bodies.size());
+    f1_.resize(world_.robot(1).bodies.size());
+    bodyFrames(*world_.robot(0).model, scene.robots[0].X_WB, q_a, f0_);
+    R_b_.col(0) = Vec3::UnitZ();  // tool z along -x, fingers along z
+    R_b_.col(1) = Vec3::UnitY();
+    R_b_.col(2) = -Vec3::UnitX();
+  }
+  const CollisionWorld& world() const { return world_; }
+
+  /// The smallest signed distance of the four finger pairs with ur5e_1 at q.
+  double fingers(const JointVector& q) {
+    const RobotGeometry& g0 = world_.robot(0);
+    const RobotGeometry& g1 = world_.robot(1);
+    bodyFrames(*g1.model, scene_.robots[1].X_WB, q, f1_);
     double best = 1e9;
     for (std::size_t i = 0; i < g0.bodies.size(); ++i) {
       if (g0.model->bodies[i].name.rfind("finger", 0) != 0) continue;
       for (std::size_t k = 0; k < g1.bodies.size(); ++k) {
         if (g1.model->bodies[k].name.rfind("finger", 0) != 0) continue;
-        best = std::min(best, signedDistance(context, *g0.bodies[i].shape, f0[i] * g0.bodies[i].X_FG, *g1.bodies[k].shape,
-                                             f1[k] * g1.bodies[k].X_FG));
+        best = std::min(best, signedDistance(context_, *g0.bodies[i].shape, f0_[i] * g0.bodies[i].X_FG,
+                                             *g1.bodies[k].shape, f1_[k] * g1.bodies[k].X_FG));
       }
     }
     return best;
-  };
-  auto at = [&](double s, double e) { return nearestIk(scene, 1, makePose(kTouch + s * in + e * deeper, Quat(R_b)), seed); };
-  // The segment runs from s = -before to s = +after (2 cm in all); `split` puts the corner halfway
-  // between two sampler instants.
-  double split = 0.5;
-  double e = overlap * std::sqrt(2.0);
-  FingertipCase out;
-  for (int round = 0; round < 4; ++round) {
-    const double before = 0.02 * split;
-    const double after = 0.02 - before;
-    auto deepest = [&](double offset, double& u_min) {  // ternary search: the cut is one tent
-      const JointVector q0 = at(-before, offset);
-      const JointVector q1 = at(after, offset);
-      double lo = 0.0;
-      double hi = 1.0;
-      for (int i = 0; i < 60; ++i) {
-        const double m1 = lo + (hi - lo) / 3.0;
-        const double m2 = hi - (hi - lo) / 3.0;
-        if (fingers(q0 + m1 * (q1 - q0)) < fingers(q0 + m2 * (q1 - q0))) {
-          hi = m2;
-        } else {
-          lo = m1;
-        }
-      }
-      u_min = 0.5 * (lo + hi);
-      return fingers(q0 + u_min * (q1 - q0));
-    };
-    // Bisection on the offset: the cut deepens as the path moves into the corner.
-    double lo = e - 0.002;
-    double hi = e + 0.002;
-    double u_min = 0.5;
-    for (int i = 0; i < 40; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      (deepest(mid, u_min) > -overlap ? lo : hi) = mid;
-    }
-    e = hi;
-    out.reached = deepest(e, u_min);
-    out.u_deepest = u_min;
-    const JointVector q0 = at(-before, e);
-    const JointVector q1 = at(after, e);
-    out.sampler_steps = segmentSteps(world, 1, q0, q1, HeldObject{});
-    const int n = out.sampler_steps;
-    const double target = (std::floor(u_min * n) + 0.5) / n;  // halfway between two samples
-    out.at_samples = std::min(fingers(q0 + std::floor(u_min * n) / n * (q1 - q0)),
-                              fingers(q0 + std::ceil(u_min * n) / n * (q1 - q0)));
-    if (std::abs(u_min - target) < 0.02 / n) break;
-    split = std::clamp(split + (target - u_min), 0.1, 0.9);
   }
-  const double before = 0.02 * split;
-  const JointVector q0 = at(-before, e);
-  const JointVector q1 = at(0.02 - before, e);
-  scene.robots[1].home = q0;
-  out.scene = scene;
-  Plan& plan = out.plan;
+  /// ur5e_1 with its tool s along the way in and e into the corner from the touching pose.
+  JointVector at(double s, double e) const {
+    // ur5e_0's +y finger spans x in [0.488, 0.538], y in [0.025, 0.036]; ur5e_1's upper finger spans
+    // x in [T.x - 0.008, T.x + 0.042], y within 0.0105 of T.y, z in [T.z + 0.025, T.z + 0.036]. With
+    // T = kTouch its tip's -y edge lies on the other's outer tip edge.
+    const Vec3 kTouch(0.546, 0.0465, 0.2695);
+    const Vec3 in = Vec3(-1.0, 1.0, 0.0).normalized();      // the way it travels: in along -x, out along +y
+    const Vec3 deeper = Vec3(-1.0, -1.0, 0.0).normalized();  // into the corner
+    return nearestIk(scene_, 1, makePose(kTouch + s * in + e * deeper, Quat(R_b_)), scene_.robots[1].home);
+  }
+  /// The deepest cut along the segment s = -before .. after at `offset` into the corner, and where it is
+  /// (u_min, a fraction of the segment): a ternary search, the cut being one tent.
+  double deepest(double before, double after, double offset, double& u_min) {
+    const JointVector q0 = at(-before, offset);
+    const JointVector q1 = at(after, offset);
+    double lo = 0.0;
+    double hi = 1.0;
+    for (int i = 0; i < 60; ++i) {
+      const double m1 = lo + (hi - lo) / 3.0;
+      const double m2 = hi - (hi - lo) / 3.0;
+      if (fingers(q0 + m1 * (q1 - q0)) < fingers(q0 + m2 * (q1 - q0))) {
+        hi = m2;
+      } else {
+        lo = m1;
+      }
+    }
+    u_min = 0.5 * (lo + hi);
+    return fingers(q0 + u_min * (q1 - q0));
+  }
+
+ private:
+  const Scene& scene_;
+  CollisionWorld world_;
+  CollisionContext context_;
+  Eigen::Matrix3d R_b_;
+  std::vector<Pose> f0_, f1_;
+};
+
+/// urFingertipClip's plan: ur5e_0 holds the plate at q_a, ur5e_1 goes q0 -> q1 over [1, 2] s.
+inline Plan fingertipPlan(const Scene& scene, const JointVector& q_a, const JointVector& q0, const JointVector& q1) {
+  Plan plan;
   plan.scene = scene.name;
   plan.planner = "test";
   const auto& names = scene.robots[0].model->joint_names;
@@ -529,6 +509,50 @@ inline FingertipCase urFingertipClip(double overlap) {
                          Pose(forwardKinematics(*r0.model, r0.X_WB, q_a).X_WT.inverse() * plate.X_WO_start), -1});
   plan.events.push_back({PlanEvent::Type::kRelease, 3.0, "ur5e_0", plate.id, Pose::Identity(), -1});
   plan.makespan = 3.0;
+  return plan;
+}
+
+inline FingertipCase urFingertipClip(double overlap) {
+  HandoverCase base = urHandover(0.0);  // its scene: plate at c, ur5e_0 holding it at home
+  Scene scene = base.scene;
+  scene.name = "ur-fingertip-clip";
+  const JointVector q_a = scene.robots[0].home;
+  FingertipPair pair(scene, q_a);
+  // The segment runs from s = -before to s = +after (2 cm in all); `split` puts the corner halfway
+  // between two sampler instants.
+  double split = 0.5;
+  double e = overlap * std::sqrt(2.0);
+  FingertipCase out;
+  for (int round = 0; round < 4; ++round) {
+    const double before = 0.02 * split;
+    const double after = 0.02 - before;
+    // Bisection on the offset: the cut deepens as the path moves into the corner.
+    double lo = e - 0.002;
+    double hi = e + 0.002;
+    double u_min = 0.5;
+    for (int i = 0; i < 40; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (pair.deepest(before, after, mid, u_min) > -overlap ? lo : hi) = mid;
+    }
+    e = hi;
+    out.reached = pair.deepest(before, after, e, u_min);
+    out.u_deepest = u_min;
+    const JointVector q0 = pair.at(-before, e);
+    const JointVector q1 = pair.at(after, e);
+    out.sampler_steps = segmentSteps(pair.world(), 1, q0, q1, HeldObject{});
+    const int n = out.sampler_steps;
+    const double target = (std::floor(u_min * n) + 0.5) / n;  // halfway between two samples
+    out.at_samples = std::min(pair.fingers(q0 + std::floor(u_min * n) / n * (q1 - q0)),
+                              pair.fingers(q0 + std::ceil(u_min * n) / n * (q1 - q0)));
+    if (std::abs(u_min - target) < 0.02 / n) break;
+    split = std::clamp(split + (target - u_min), 0.1, 0.9);
+  }
+  const double before = 0.02 * split;
+  const JointVector q0 = pair.at(-before, e);
+  const JointVector q1 = pair.at(0.02 - before, e);
+  scene.robots[1].home = q0;
+  out.scene = scene;
+  out.plan = fingertipPlan(scene, q_a, q0, q1);
   return out;
 }
 
