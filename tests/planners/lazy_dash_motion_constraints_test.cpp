@@ -10,6 +10,15 @@
 // replanned around by the motion query (tests/motion/motion_constraint_region_test.cpp); no generated
 // scene of seeds 1-4 at small sizes met one (wall 8/2/16 seeds 1-12 resolve every conflict by retiming).
 // The instance: stocking 2 layers / 4 objects, seed 2 (a handover ur5e_1 -> ur5e_0 at step 4).
+//
+// The second test is the region's own loop. Conflict resolution's repairs that replan motions (around a
+// standing robot, ARC's composite subproblem) resolve every conflict a region could help with, so it is
+// run with retiming alone (conflict_replanning off, the ablation), as the issue's scene asks: "two arms'
+// optimistic moves cross and retiming alone cannot separate them". On shelf-wall 2 robots / 6 objects,
+// seed 2, conflict resolution then fails at step 2 (ur5e_0 against ur5e_1, at step 1), a C_M with a
+// region of world boxes and a time window is learned, the motion query replans ur5e_0's move into step
+// 2 on the same task plan, and conflict resolution gets past step 2; so four times, and the run solves
+// on that task plan with no task constraint (motion_budget 10 gives the loop room for the four).
 #include <gtest/gtest.h>
 
 #include <variant>
@@ -64,6 +73,66 @@ TEST(LazyDashMotionConstraints, AHandoverItsTwoArmsCannotBeScheduledAtIsResample
   }
   EXPECT_TRUE(motion_query) << "the motion query did not run again after the C_M";
   EXPECT_TRUE(conflict_resolution) << "conflict resolution did not run after the new motion query";
+}
+
+/// "ur5e_0 at step 2 (...": the step of a motion constraint's constrained history, or -1.
+int constrainedStep(const std::string& content) {
+  const std::size_t at = content.find(" at step ");
+  return at == std::string::npos ? -1 : std::stoi(content.substr(at + 9));
+}
+
+/// "could not schedule step 8 (...": the step conflict resolution failed at, or -1.
+int failedStep(const std::string& conflict) {
+  const std::size_t at = conflict.find("could not schedule step ");
+  return at == std::string::npos ? -1 : std::stoi(conflict.substr(at + 24));
+}
+
+TEST(LazyDashMotionConstraints, WithRetimingAloneEachUnresolvedConflictIsReplannedAroundItsRegionOnTheSameTaskPlan) {
+  const Scene scene = generateScenario("shelf-wall", {{"robots", "2"}, {"objects", "6"}}, 2, RobotLibrary::loadDefault());
+  log::MemorySink sink;
+  PlannerSettings settings;
+  settings.seed = 2;
+  settings.time_limit = 120;  // it solves in about 10 s
+  settings.params["conflict_replanning"] = "false";
+  settings.params["motion_budget"] = "10";
+  const PlanResult r = LazyDash().solve(scene, settings, Deadline(settings.time_limit), &sink);
+  ASSERT_EQ(r.outcome, PlanOutcome::kSolved) << r.message;
+  // Every C_M with a region, in order; between two of them, the motion query and conflict resolution
+  // ran again on the same task plan, and conflict resolution got past the constrained step.
+  const auto& events = sink.events();
+  std::vector<int> steps;
+  bool motion_query = false, conflict_resolution = false;
+  for (const auto& event : events) {
+    if (const auto* c = std::get_if<log::ConstraintEvent>(&event.payload)) {
+      if (c->kind != log::ConstraintKind::Motion || c->action != log::ConstraintAction::Created) {
+        EXPECT_TRUE(steps.empty() || !(isTaskConstraint(c->kind) && c->action == log::ConstraintAction::Created))
+            << "a task constraint followed a C_M: " << c->content;
+        continue;
+      }
+      ASSERT_NE(c->content.find(" boxes in ["), std::string::npos) << "a C_M without a region: " << c->content;
+      EXPECT_NE(c->content.find("t in ["), std::string::npos) << c->content;  // its time window
+      const int step = constrainedStep(c->content);
+      ASSERT_GE(step, 0) << c->content;
+      if (!steps.empty()) {
+        EXPECT_TRUE(motion_query && conflict_resolution) << "no new motion query and conflict resolution before "
+                                                         << c->content;
+        EXPECT_GT(failedStep(c->conflict), steps.back()) << "conflict resolution failed again at or before step "
+                                                         << steps.back() << ": " << c->conflict;
+      }
+      steps.push_back(step);
+      motion_query = conflict_resolution = false;
+    }
+    if (const auto* p = std::get_if<log::PhaseEvent>(&event.payload); p && p->boundary == log::PhaseBoundary::Start) {
+      if (!steps.empty()) {
+        EXPECT_NE(p->phase, log::Phase::TaskQuery);  // the same task plan
+      }
+      motion_query = motion_query || p->phase == log::Phase::MotionQuery;
+      conflict_resolution = conflict_resolution || (motion_query && p->phase == log::Phase::ConflictResolution);
+    }
+  }
+  EXPECT_GE(steps.size(), 2u) << "fewer than two regions learned: the instance no longer shows the loop";
+  EXPECT_TRUE(motion_query && conflict_resolution) << "the run did not replan after its last C_M";
+  EXPECT_GE(sink.counter("region_replans"), static_cast<std::int64_t>(steps.size()));
 }
 
 }  // namespace
