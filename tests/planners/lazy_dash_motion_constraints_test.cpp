@@ -8,7 +8,7 @@
 // history failed at its approach start, and the region stayed in force when later task plans came back
 // to the history (stocking 3/18 seed 2 ran to its deadline). A region the move can keep out of is
 // replanned around by the motion query (tests/motion/motion_constraint_region_test.cpp); no generated
-// scene of seeds 1-4 at small sizes met one (wall 8/2/16 seeds 1-12 resolve every conflict by retiming).
+// scene of seeds 1-4 at small sizes met one by default (conflict resolution's repairs resolve those).
 // The instance: stocking 2 layers / 4 objects, seed 2 (a handover ur5e_1 -> ur5e_0 at step 4).
 //
 // The second test is the region's own loop. Conflict resolution's repairs that replan motions (around a
