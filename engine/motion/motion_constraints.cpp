@@ -48,7 +48,16 @@ std::string MotionConstraint::describe(const Scene& scene) const {
     std::snprintf(buffer, sizeof buffer, "t in [%.3f, %.3f] s", t_begin, t_end);
     parts += (parts.empty() ? "" : "; ") + std::string(buffer);
   }
-  return out + (parts.empty() ? "none" : parts);
+  // Last, every box of the region (what the motion query keeps out of), for the results database and
+  // whoever checks a path against it: "; boxes: [x0 y0 z0 x1 y1 z1] [...]", metres, 0.1 mm.
+  std::string boxes;
+  for (const Aabb& b : region) {
+    char buffer[128];
+    std::snprintf(buffer, sizeof buffer, " [%.4f %.4f %.4f %.4f %.4f %.4f]", b.min().x(), b.min().y(), b.min().z(),
+                  b.max().x(), b.max().y(), b.max().z());
+    boxes += buffer;
+  }
+  return out + (parts.empty() ? "none" : parts) + (boxes.empty() ? "" : "; boxes:" + boxes);
 }
 
 MotionConstraint::History historyOf(const TaskPlan& plan, int robot, int step) {

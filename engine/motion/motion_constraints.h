@@ -45,7 +45,8 @@ struct MotionConstraint {
 
   bool hasTimeRegion() const { return t_begin >= 0.0; }
   /// "ur5e_0 at step 3 (ur5e_1 at step 2); region: 9 boxes in [x0, x1] x [y0, y1] x [z0, z1] m; t in
-  /// [1.250, 1.500] s" (the constraint event's content).
+  /// [1.250, 1.500] s; boxes: [x0 y0 z0 x1 y1 z1] ..." (the constraint event's content; the boxes last,
+  /// each min and max corner in metres, 0.1 mm).
   std::string describe(const Scene& scene) const;
 };
 

@@ -21,11 +21,16 @@
 // on that task plan with no task constraint (motion_budget 10 gives the loop room for the four).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <variant>
 
+#include "engine/collision/region_queries.h"
 #include "engine/events/memory_sink.h"
 #include "engine/planners/lazy_dash.h"
+#include "engine/robots/kinematics.h"
 #include "engine/scenarios/scenario_registry.h"
+#include "engine/task/task_layer.h"
 
 namespace dash {
 namespace {
@@ -87,6 +92,72 @@ int failedStep(const std::string& conflict) {
   return at == std::string::npos ? -1 : std::stoi(conflict.substr(at + 24));
 }
 
+/// A motion constraint event's region: the boxes after "; boxes:", each "[x0 y0 z0 x1 y1 z1]".
+std::vector<Aabb> regionBoxes(const std::string& content) {
+  std::vector<Aabb> out;
+  std::size_t at = content.find("; boxes:");
+  while (at != std::string::npos && (at = content.find('[', at)) != std::string::npos) {
+    double v[6];
+    if (std::sscanf(content.c_str() + at, "[%lf %lf %lf %lf %lf %lf]", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5]) != 6) break;
+    out.emplace_back(Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5]));
+    ++at;
+  }
+  return out;
+}
+
+/// The times of robot `robot`'s plan events (one per task step it takes part in), in order.
+std::vector<double> eventTimes(const Plan& plan, const std::string& robot) {
+  std::vector<double> out;
+  for (const PlanEvent& e : plan.events)
+    if (e.robot == robot) out.push_back(e.t);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// Expects robot `robot_id`'s move into task step `step` of the solved plan to keep its bodies out of
+/// `region`: the stretch of its trajectory between its plan events for its steps before `step` and at
+/// `step` (its e-th event is its e-th step of `task_plan`), every segment.
+void expectMoveOutOf(const Scene& scene, const CollisionWorld& world, CollisionContext& context, const Plan& plan,
+                     const TaskPlan& task_plan, const std::string& robot_id, int step, const std::vector<Aabb>& region) {
+  const int robot = scene.robotIndex(robot_id);
+  ASSERT_GE(robot, 0) << robot_id;
+  ASSERT_LT(step, static_cast<int>(task_plan.steps.size()));
+  std::size_t index = 0;  // the robot's steps before `step`
+  for (int k = 0; k < step; ++k)
+    index += task_plan.steps[k].action.robot == robot || task_plan.steps[k].action.robot2 == robot ? 1 : 0;
+  const std::vector<double> times = eventTimes(plan, robot_id);
+  ASSERT_LT(index, times.size());
+  const double from = index == 0 ? 0.0 : times[index - 1];
+  const double to = times[index];
+  const auto& trajectory = plan.robots[static_cast<std::size_t>(robot)];
+  const auto& points = trajectory.points;
+  // The retreat from the previous transition and the approach into this one are fixed straight TCP lines
+  // (6 cm back, 1.5 cm up), not the replanned move: segments with an end that near either transition are
+  // left out (the back-offs' far ends were checked out of the region before it was learned).
+  const SceneRobot& r = scene.robots[static_cast<std::size_t>(robot)];
+  auto tcp = [&](const JointVector& q) {
+    const Pose X_WT = forwardKinematics(*r.model, r.X_WB, q).X_WT;
+    return Vec3(X_WT.translation());
+  };
+  const Vec3 tcp_from = tcp(trajectory.positionAt(from));
+  const Vec3 tcp_to = tcp(trajectory.positionAt(to));
+  auto backingOff = [&](const JointVector& q) {
+    const Vec3 p = tcp(q);
+    return (p - tcp_from).norm() < 0.07 || (p - tcp_to).norm() < 0.07;
+  };
+  int checked = 0;
+  for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+    if (points[i].t < from || points[i + 1].t > to) continue;
+    if (backingOff(points[i].q) || backingOff(points[i + 1].q)) continue;
+    ++checked;
+    EXPECT_FALSE(segmentEntersRegions(world, context, RobotState{robot, points[i].q, HeldObject{}}, points[i + 1].q,
+                                      region))
+        << robot_id << " between t = " << points[i].t << " and " << points[i + 1].t << " s, in its move into step "
+        << step << " ([" << from << ", " << to << "] s), enters the region";
+  }
+  EXPECT_GT(checked, 0) << robot_id << " has no segment in [" << from << ", " << to << "] s";
+}
+
 TEST(LazyDashMotionConstraints, WithRetimingAloneEachUnresolvedConflictIsReplannedAroundItsRegionOnTheSameTaskPlan) {
   const Scene scene = generateScenario("shelf-wall", {{"robots", "2"}, {"objects", "6"}}, 2, RobotLibrary::loadDefault());
   log::MemorySink sink;
@@ -131,6 +202,25 @@ TEST(LazyDashMotionConstraints, WithRetimingAloneEachUnresolvedConflictIsReplann
     }
   }
   EXPECT_GE(steps.size(), 2u) << "fewer than two regions learned: the instance no longer shows the loop";
+  // On the path. The run's one task plan is its task layer's first (no task query after the first C_M;
+  // the same seed and parameters give the same plan); each constrained move keeps out of its region.
+  ASSERT_TRUE(r.plan.has_value());
+  const LazyDashParams params;
+  const CollisionWorld world(scene, {.clearance = params.clearance});
+  CollisionContext context(world);
+  log::MemorySink task_sink;
+  log::EventEmitter task_emitter(&task_sink);
+  TaskLayer task(scene, world, context, task_emitter, settings.seed, params.task);
+  const TaskPlan task_plan = task.plan(Deadline(120)).plan;
+  for (const auto& event : events) {
+    const auto* c = std::get_if<log::ConstraintEvent>(&event.payload);
+    if (c == nullptr || c->kind != log::ConstraintKind::Motion || c->action != log::ConstraintAction::Created) continue;
+    const std::vector<Aabb> region = regionBoxes(c->content);
+    ASSERT_FALSE(region.empty()) << c->content;
+    SCOPED_TRACE(c->content);
+    expectMoveOutOf(scene, world, context, *r.plan, task_plan, c->content.substr(0, c->content.find(' ')),
+                    constrainedStep(c->content), region);
+  }
   EXPECT_TRUE(motion_query && conflict_resolution) << "the run did not replan after its last C_M";
   EXPECT_GE(sink.counter("region_replans"), static_cast<std::int64_t>(steps.size()));
 }
