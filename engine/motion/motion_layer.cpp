@@ -43,8 +43,10 @@ bool MotionLayer::fixedEndsEnter(const MotionLayerResult& motions, int robot, in
   const auto& visits = motions.robots[static_cast<std::size_t>(robot)].visits;
   const auto visit = std::find_if(visits.begin(), visits.end(), [&](const StepVisit& v) { return v.step == step; });
   if (visit == visits.end() || visit->transit.empty()) return false;
-  return robotEntersRegions(*world_, *context_, RobotState{robot, visit->transit.front(), visit->held_before}, region) ||
-         robotEntersRegions(*world_, *context_, RobotState{robot, visit->q_pre, visit->held_before}, region);
+  MotionContext ends;
+  ends.held = visit->held_before;
+  ends.avoid = region;
+  return !endInRegion(robot, visit->transit.front(), visit->q_pre, ends).empty();
 }
 
 /// For people reading a failure: whether an end of the missing path is itself in collision.

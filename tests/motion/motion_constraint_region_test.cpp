@@ -33,13 +33,17 @@ bool pathEntersRegion(const CollisionWorld& world, CollisionContext& context, in
   return false;
 }
 
+/// A 6 cm cube around the TCP at q.
+Aabb boxAtTcp(const FirstTaskPlan& run, int robot, const JointVector& q) {
+  const SceneRobot& r = run.scene.robots[robot];
+  const Vec3 c = forwardKinematics(*r.model, r.X_WB, q).X_WT.translation();
+  return Aabb(c - Vec3::Constant(0.03), c + Vec3::Constant(0.03));
+}
+
 /// A 6 cm cube around the TCP halfway along a straight transit: in its way, away from both ends.
 std::optional<Aabb> boxInTheWay(const FirstTaskPlan& run, int robot, const StepVisit& visit) {
   if (visit.transit.size() != 2) return std::nullopt;
-  const SceneRobot& r = run.scene.robots[robot];
-  const JointVector mid = 0.5 * (visit.transit.front() + visit.transit.back());
-  const Vec3 c = forwardKinematics(*r.model, r.X_WB, mid).X_WT.translation();
-  const Aabb box(c - Vec3::Constant(0.03), c + Vec3::Constant(0.03));
+  const Aabb box = boxAtTcp(run, robot, 0.5 * (visit.transit.front() + visit.transit.back()));
   const std::vector<Aabb> region{box};
   CollisionContext context(run.world);
   for (const JointVector* q : {&visit.transit.front(), &visit.transit.back()})
@@ -90,13 +94,6 @@ TEST(MotionConstraintRegion, TheConstrainedHistorysMoveIsReplannedOutOfTheRegion
     EXPECT_EQ(after.robots[other].visits[i].transit.size(), before.robots[other].visits[i].transit.size());
 }
 
-/// A 6 cm cube around the TCP at q.
-Aabb boxAtTcp(const FirstTaskPlan& run, int robot, const JointVector& q) {
-  const SceneRobot& r = run.scene.robots[robot];
-  const Vec3 c = forwardKinematics(*r.model, r.X_WB, q).X_WT.translation();
-  return Aabb(c - Vec3::Constant(0.03), c + Vec3::Constant(0.03));
-}
-
 TEST(MotionConstraintRegion, ARegionTheMovesStartOrApproachStartIsInCannotBeKeptOutOf) {
   const OmplSeedScope ompl_seeds(1);
   FirstTaskPlan run("sorting", {{"robots", "2"}, {"objects", "4"}});
@@ -117,7 +114,8 @@ TEST(MotionConstraintRegion, ARegionTheMovesStartOrApproachStartIsInCannotBeKept
   EXPECT_TRUE(checked) << "no straight transit with room for a region";
 }
 
-TEST(MotionConstraintRegion, AHistoryIsMatchedByTheRobotsOwnTransitionsNotByTheStepNumber) {
+/// Three steps, hyperarcs 10, 11, 12: robot 0, robot 1, robot 0.
+TaskPlan threeSteps() {
   TaskPlan plan;
   for (int k = 0; k < 3; ++k) {
     TaskStep s;
@@ -125,6 +123,11 @@ TEST(MotionConstraintRegion, AHistoryIsMatchedByTheRobotsOwnTransitionsNotByTheS
     s.action.robot = k == 1 ? 1 : 0;
     plan.steps.push_back(s);
   }
+  return plan;
+}
+
+TEST(MotionConstraintRegion, AHistoryIsMatchedByTheRobotsOwnTransitionsNotByTheStepNumber) {
+  const TaskPlan plan = threeSteps();
   const MotionConstraint::History h = historyOf(plan, 0, 2);
   EXPECT_EQ(h.arcs, (std::vector<std::uint32_t>{10, 12}));
   MotionConstraintSet set;
@@ -156,13 +159,7 @@ TEST(MotionConstraintRegion, AHistoryIsMatchedByTheRobotsOwnTransitionsNotByTheS
 }
 
 TEST(MotionConstraintRegion, TheRegionsAMoveFoundNoWayAroundAreLiftedForThatHistoryAlone) {
-  TaskPlan plan;
-  for (int k = 0; k < 3; ++k) {
-    TaskStep s;
-    s.arc = HyperarcId(static_cast<std::uint32_t>(10 + k));
-    s.action.robot = k == 1 ? 1 : 0;
-    plan.steps.push_back(s);
-  }
+  const TaskPlan plan = threeSteps();
   const JointVector q = JointVector::Zero(6);
   MotionConstraint first, second, other_robot;
   first.histories = {historyOf(plan, 0, 2)};
