@@ -1,8 +1,12 @@
 // ResultsDb's read side: runs, batches, counts, and trusted SELECTs.
+#include <cctype>
+#include <nlohmann/json.hpp>
+
 #include "engine/core/text_split.h"
 #include "engine/log/results_db.h"
 #include "engine/log/results_db_impl.h"
 #include "engine/log/results_schema.h"
+#include "engine/log/series_name.h"
 #include "engine/log/run_columns.h"
 
 namespace dash::log {
@@ -89,6 +93,24 @@ DbInfo ResultsDb::info() const {
 SqlRows ResultsDb::select(const std::string& sql, const std::vector<SqlValue>& params) const {
   std::lock_guard lock(impl_->mutex);
   return sql::selectRows(impl_->db.get(), sql, params);
+}
+
+std::string seriesName(const std::string& config, const std::string& settings_json) {
+  const nlohmann::json settings = nlohmann::json::parse(settings_json, nullptr, false);
+  if (!settings.is_object() || !settings.contains("profile") || !settings["profile"].is_string()) return config;
+  const std::string profile = settings["profile"].get<std::string>();
+  if (profile.empty()) return config;
+  std::string word;
+  for (std::size_t i = 0; i <= config.size(); ++i) {
+    const char c = i < config.size() ? config[i] : ' ';
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '_') {
+      word += c;
+      continue;
+    }
+    if (word == profile) return config;
+    word.clear();
+  }
+  return config + " (" + profile + ")";
 }
 
 }  // namespace dash::log

@@ -279,12 +279,16 @@ PlannerEntry parsePlanner(const Checker& check, const Json& j, const std::string
       check.fail(SpecErrorKind::kBadValue, swhere + ".test_fault", "expected \"abort\" or \"ignore-deadline\"");
     }
   }
-  if (j.contains("profile")) applyProfile(check, j["profile"], where + ".profile", entry.name, settings);
   // Canonical settings text: keys sorted (std::map-backed json), compact.
+  const std::string given = nlohmann::json::parse(settings.dump()).dump();
+  if (j.contains("profile")) applyProfile(check, j["profile"], where + ".profile", entry.name, settings);
   entry.settings_json = nlohmann::json::parse(settings.dump()).dump();
-  entry.label = j.contains("label")
-                    ? check.string(j["label"], where + ".label")
-                    : (entry.settings_json == "{}" ? entry.name : entry.name + " " + entry.settings_json);
+  // Unlabelled: the planner, its profile ("dash (paper)", not the profile's expanded parameters), and
+  // the settings given.
+  std::string label = entry.name;
+  if (j.contains("profile") && j["profile"].is_string()) label += " (" + j["profile"].get<std::string>() + ")";
+  if (given != "{}") label += " " + given;
+  entry.label = j.contains("label") ? check.string(j["label"], where + ".label") : label;
   if (entry.label.empty()) check.fail(SpecErrorKind::kBadValue, where + ".label", "must not be empty");
   if (entry.label.size() > kMaxLabelBytes) {
     check.fail(SpecErrorKind::kBadValue, where + ".label",

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "engine/log/series_name.h"
 #include "engine/scenarios/scenario_registry.h"
 
 namespace dash::figures {
@@ -53,7 +54,7 @@ std::vector<Point> skippedRuns(const log::ResultsDb& db, const std::string& batc
     Point p;
     p.family = j["family"].get<std::string>();
     for (const auto& kv : j["params"]) p.params.emplace_back(kv.at(0).get<std::string>(), kv.at(1).get<int>());
-    p.planner = j["label"].get<std::string>();
+    p.planner = log::seriesName(j["label"].get<std::string>(), j.contains("settings") ? j["settings"].dump() : "{}");
     out.push_back(std::move(p));
   }
   return out;
@@ -72,7 +73,9 @@ FigureRuns collectFigureRuns(const log::ResultsDb& db, const std::string& batch_
   std::vector<Point> points;
   for (const log::RunRecord& r : out.runs)
     points.push_back({r.meta.family, paramsOf(r.meta.family, r.meta.params_json),
-                      r.meta.planner_config_name.empty() ? r.meta.planner : r.meta.planner_config_name, &r});
+                      log::seriesName(r.meta.planner_config_name.empty() ? r.meta.planner : r.meta.planner_config_name,
+                                      r.meta.planner_settings_json),
+                      &r});
   for (Point& p : skippedRuns(db, batch_id)) points.push_back(std::move(p));
 
   std::vector<std::string> order;

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "engine/log/results_db.h"
+#include "engine/log/series_name.h"
 #include "server/http/api_json.h"
 #include "server/http/api_util.h"
 #include "server/http/run_filter.h"
@@ -115,7 +116,8 @@ std::string SeriesQueries::seriesJson(const SeriesRequest& request) const {
   where.andWith("r.status NOT IN ('running', 'cancelled')");
   std::string sql = std::string("SELECT ") + (request.group_by == "config" ? "c.name" : "r.planner") + ", " +
                     RunTable::parameterExpression(request.x) + ", r.status, " +
-                    (request.split.empty() ? std::string("NULL") : RunTable::parameterExpression(request.split));
+                    (request.split.empty() ? std::string("NULL") : RunTable::parameterExpression(request.split)) +
+                    ", r.planner_settings";
   for (const Metric& m : metrics()) sql += std::string(", ") + m.sql;
   sql += std::string(" FROM ") + RunTable::fromClause() + " WHERE " + where.sql;
   const log::SqlRows rows = db.select(sql, where.params);
@@ -128,7 +130,8 @@ std::string SeriesQueries::seriesJson(const SeriesRequest& request) const {
   for (const auto& row : rows.rows) {
     const std::optional<double> x = number(row[1]);
     if (!x) continue;  // the run has no such parameter
-    std::string name = text(row[0]);
+    // Grouped by configuration, a configuration's two profiles are two series (log::seriesName).
+    std::string name = request.group_by == "config" ? log::seriesName(text(row[0]), text(row[4])) : text(row[0]);
     if (const auto s = number(row[3]); s && !request.split.empty()) {
       name += " · " + request.split + "=" + std::to_string(static_cast<long long>(*s));
     }
@@ -137,7 +140,7 @@ std::string SeriesQueries::seriesJson(const SeriesRequest& request) const {
     ++g.by_status[status];
     if (status != "solved" && !request.include_unsolved) continue;
     for (std::size_t m = 0; m < metrics().size(); ++m) {
-      if (const auto v = number(row[4 + m])) g.values[m].push_back(*v);
+      if (const auto v = number(row[5 + m])) g.values[m].push_back(*v);
     }
   }
   Json out_groups = Json::array();

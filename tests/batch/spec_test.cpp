@@ -191,6 +191,19 @@ TEST(BatchSpec, APlannerProfileExpandsIntoItsSettingsAndIsRecorded) {
   EXPECT_NE(msg.find("planners[1].profile"), std::string::npos) << msg;
 }
 
+// Unlabelled, a planner with a profile is labelled by its name, its profile and the settings given,
+// not by the profile's expanded parameters; so two profiles of one planner are two configurations.
+TEST(BatchSpec, AnUnlabelledPlannersLabelNamesItsProfileAndItsGivenSettings) {
+  const BatchSpec spec = parseBatchSpec(
+      edit(R"({"name": "lazy-dash"})",
+           R"({"name": "lazy-dash", "profile": "paper"}, {"name": "lazy-dash", "profile": "default", "settings": {"clearance": 0.005}})"),
+      "spec.json", kFast);
+  ASSERT_EQ(spec.planners.size(), 3u);
+  EXPECT_EQ(spec.planners[0].label, "lazy-task");
+  EXPECT_EQ(spec.planners[1].label, "lazy-dash (paper)");
+  EXPECT_EQ(spec.planners[2].label, "lazy-dash (default) {\"clearance\":0.005}");
+}
+
 TEST(BatchSpecErrors, MissingKeys) {
   const std::string msg = expectError(edit(R"("name": "tiny",)", ""), SpecErrorKind::kMissingKey);
   EXPECT_NE(msg.find("name"), std::string::npos) << msg;

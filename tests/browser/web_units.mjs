@@ -73,6 +73,25 @@ test('settings series are labelled by the parameters that differ within a config
   assert.deepEqual(data.flatSettings('{"task_only":true,"parameters":{"clearance":0.002}}'), { clearance: 0.002, task_only: true });
 });
 
+test('a configuration\'s series carries the profile its runs recorded unless its label names it', () => {
+  const prof = (profile) => JSON.stringify({ profile, parameters: { parking: profile === 'default' } });
+  const runs = [
+    run({ settings: prof('default') }),
+    run({ config: 'dash', planner: 'dash', settings: prof('default') }),
+    run({ config: 'lazy-dash-paper', settings: prof('paper') }),
+    run({ config: 'dash', planner: 'dash', settings: prof('paper'), seed: 2 }),
+    run({ config: 'old', settings: '{}' }),
+  ];
+  const g = data.groupRuns(runs, { x: 'objects', split: '', groupBy: 'config' });
+  assert.deepEqual(g.series, ['dash (default)', 'dash (paper)', 'lazy-dash (default)', 'lazy-dash-paper', 'old']);
+  // Grouped by settings, the profile is said once, in the name, not again as a differing setting.
+  data.labelSettings(runs);
+  assert.deepEqual(runs.map((r) => data.groupKey(r, 'settings')), ['lazy-dash (default)', 'dash (default) parking=true', 'lazy-dash-paper', 'dash (paper) parking=false', 'old']);
+  // A skipped run of a batch is on its configuration's series, profile included.
+  const skipped = data.skippedRuns([{ status: 'skipped', family: 'sorting', params: { robots: 2, objects: 8 }, seed: 1, planner: 'dash', config: 'dash', stop_axis: 'objects' }], 'sorting', [runs[1]], false);
+  assert.deepEqual(skipped.map((r) => data.groupKey(r, 'config')), ['dash (default)']);
+});
+
 test('the planner line prints settings as given, not the nested effective parameter set', () => {
   assert.equal(dom.paramsText({ task_only: true, parameters: { clearance: 0.002 } }), 'task_only=true');
   assert.equal(dom.paramsText({ parameters: { clearance: 0.002 } }), '');

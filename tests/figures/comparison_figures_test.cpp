@@ -20,10 +20,12 @@ using test::TempDir;
 
 /// One finished run: sizes and phase seconds scaled by `k`.
 void addRun(log::ResultsDb& db, const std::string& family, const std::string& params, std::uint64_t seed,
-            const std::string& planner, log::RunStatus status, double k) {
+            const std::string& planner, log::RunStatus status, double k, const std::string& label = "",
+            const std::string& settings = "{}") {
   const std::string uuid = db.beginRun(log::RunMetadata{.batch_id = "b1", .family = family, .params_json = params,
                                                         .seed = seed, .planner = planner,
-                                                        .planner_config_name = planner});
+                                                        .planner_settings_json = settings,
+                                                        .planner_config_name = label.empty() ? planner : label});
   log::RunSummary s;
   s.status = status;
   s.total_time = 6 * k;
@@ -201,6 +203,39 @@ TEST(FigureLines, GroupsFollowTheirParameterValuesAsNumbers) {
   EXPECT_EQ(count(">64</text>"), 4u);
 }
 
+
+// A series says the profile its runs ran under (`--profile`, in the run's settings) unless its label
+// names it, skipped runs included: one batch's two profiles of a planner are two named lines.
+TEST(FigureLines, EachSeriesNamesTheProfileItsRunsRanUnder) {
+  TempDir dir;
+  {
+    log::ResultsDb db(dir.file("r.db"));
+    db.putBatch(log::BatchRecord{.id = "b1", .name = "figs", .spec_json = "{}", .status = "finished"});
+    const std::string params = R"({"robots":4,"objects":2})";
+    addRun(db, "sorting", params, 1, "dash", log::RunStatus::Solved, 1, "dash", R"({"profile":"default"})");
+    addRun(db, "sorting", params, 1, "dash", log::RunStatus::Timeout, 1, "dash-paper", R"({"profile":"paper"})");
+    addRun(db, "sorting", params, 1, "lazy-dash", log::RunStatus::Solved, 1, "lazy-dash", R"({"profile":"paper"})");
+    addRun(db, "sorting", params, 1, "lazy-dash", log::RunStatus::Solved, 1, "old", "{}");
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(dir.file("r.db").c_str(), &raw), SQLITE_OK);
+    for (const char* sql :
+         {"CREATE TABLE IF NOT EXISTS dash_batch_runs (batch_id TEXT, run_key TEXT, ordinal INTEGER, spec TEXT, "
+          "run_uuid TEXT, attempts INTEGER)",
+          "CREATE TABLE IF NOT EXISTS dash_batch_skipped (batch_id TEXT, run_key TEXT, reason TEXT)",
+          "INSERT INTO dash_batch_runs VALUES ('b1', 'k', 9, '{\"family\":\"sorting\",\"params\":[[\"robots\",4],"
+          "[\"objects\",4]],\"label\":\"dash\",\"settings\":{\"profile\":\"default\"}}', NULL, 0)",
+          "INSERT INTO dash_batch_skipped VALUES ('b1', 'k', 'dash solved none of the runs at objects=2')"})
+      EXPECT_EQ(sqlite3_exec(raw, sql, nullptr, nullptr, nullptr), SQLITE_OK) << sql;
+    sqlite3_close(raw);
+  }
+  const log::ResultsDb db(dir.file("r.db"), log::OpenMode::ReadOnly);
+  const FigureRuns runs = collectFigureRuns(db, "b1");
+  ASSERT_EQ(runs.families.size(), 1u);
+  std::vector<std::string> names;
+  for (const Line& l : runs.families[0].lines) names.push_back(l.name());
+  EXPECT_EQ(names, (std::vector<std::string>{"dash (default)", "dash-paper", "lazy-dash (paper)", "old"}));
+  EXPECT_EQ(runs.families[0].lines[0].skipped.count(4), 1u);  // the skipped run is on dash (default)
+}
 
 TEST_F(Figures, CommandLineFiguresUseTheDashboardsPalette) {
   const log::ResultsDb db(dir.file("r.db"), log::OpenMode::ReadOnly);

@@ -1,5 +1,6 @@
 // The JSON API against the server on loopback, on a fixture database: catalog, runs (filter, sort,
 // page, CSV), one run (detail, events, timeline, plan, scene), tags and notes, series, SQL console.
+#include "engine/log/results_db.h"
 #include "tests/http/http_test_util.h"
 
 namespace dash::http::testing {
@@ -154,6 +155,30 @@ TEST_F(ApiTest, TagsAndNotesNeedTheToken) {
   EXPECT_EQ(http->get(base).json()["note"], "first try");
   EXPECT_EQ(http->put(base + "/note", Json{{"note", std::string(20000, 'x')}}.dump()).status, 400);
   EXPECT_EQ(http->put(base + "/note", R"({"note": 3})").status, 400);
+}
+
+// Grouped by configuration, a configuration's runs under two profiles are two series, each named
+// with its profile (log::seriesName), as on the Compare page and in `report --figures`.
+TEST_F(ApiTest, SeriesByConfigurationNameTheProfileTheirRunsRanUnder) {
+  {
+    dash::log::ResultsDb db(db_path);
+    for (const std::string profile : {"default", "paper"}) {
+      const std::string uuid = db.beginRun(dash::log::RunMetadata{.family = "wall", .params_json = R"({"objects":2})",
+                                                            .seed = 1, .planner = "dash",
+                                                            .planner_settings_json = R"({"profile":")" + profile + "\"}",
+                                                            .planner_config_name = "dash"});
+      dash::log::RunSummary s;
+      s.status = dash::log::RunStatus::Solved;
+      s.total_time = 1.0;
+      db.finishRun(uuid, s);
+    }
+  }
+  const Reply r = http->get("/api/series?family=wall&x=objects");
+  ASSERT_EQ(r.status, 200) << r.body;
+  std::vector<std::string> names;
+  const Json body = r.json();
+  for (const Json& g : body["groups"]) names.push_back(g["group"].get<std::string>());
+  EXPECT_EQ(names, (std::vector<std::string>{"dash (default)", "dash (paper)"}));
 }
 
 TEST_F(ApiTest, SeriesForTheComparePlots) {

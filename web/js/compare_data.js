@@ -53,11 +53,12 @@ export async function fetchRuns(family, filter, batch) {
 /// /api/runs's (family, parameters as columns, seed, planner, config; status 'skipped'), for `family`.
 /// Only those of a line the fetched runs show: the same configuration with the same parameters but
 /// the stop axis; with a filter, also a size some fetched run has (the filter cannot be applied to
-/// runs that never ran). Their series label is the one their configuration's runs have.
+/// runs that never ran). Their series label and settings (so their profile) are those of their
+/// configuration's runs.
 export function skippedRuns(batchRuns, family, fetched, filtered) {
   const paramsKey = (r, names, except) => names.filter((n) => n !== except).map((n) => `${n}=${r[n]}`).join(' ');
   // Per (parameter names, stop axis): the fetched runs' lines (configuration + the other parameters,
-  // to one run's settings label) and sizes, built once (batches of thousands of runs).
+  // to one of their runs) and sizes, built once (batches of thousands of runs).
   const indexes = new Map();
   const indexOf = (names, axis) => {
     const key = `${names.join(',')}|${axis}`;
@@ -66,7 +67,7 @@ export function skippedRuns(batchRuns, family, fetched, filtered) {
       const sizes = new Set();
       for (const r of fetched) {
         const line = `${r.config || r.planner}\u0000${paramsKey(r, names, axis)}`;
-        if (!lines.has(line)) lines.set(line, r.settings_label);
+        if (!lines.has(line)) lines.set(line, r);
         sizes.add(paramsKey(r, names, null));
       }
       indexes.set(key, { lines, sizes });
@@ -82,7 +83,8 @@ export function skippedRuns(batchRuns, family, fetched, filtered) {
     const line = `${b.config}\u0000${paramsKey(row, names, b.stop_axis)}`;
     if (!lines.has(line)) continue;
     if (filtered && !sizes.has(paramsKey(row, names, null))) continue;
-    row.settings_label = lines.get(line);
+    row.settings_label = lines.get(line).settings_label;
+    row.settings = lines.get(line).settings; // its profile, for its series name
     out.push(row);
   }
   return out;
@@ -117,7 +119,17 @@ export function groupKey(run, groupBy) {
     const given = settingsText(Object.fromEntries(Object.entries(parseSettings(run.settings)).filter(([k, v]) => k !== 'parameters' && (v === null || typeof v !== 'object'))));
     return given ? `${run.config} ${given}` : run.config;
   }
-  return run.config || run.planner;
+  return seriesName(run.config || run.planner, run.settings);
+}
+
+/// A configuration's series name: its label, followed by the profile its runs ran under (`--profile`,
+/// recorded in the run's settings) unless the label already names it: `lazy-dash (default)`,
+/// `dash-paper`. So the two profiles of one planner are two series, and each says which it is.
+/// `dashbench report --figures` names series by the same rule (server/figures/figure_data.cpp).
+export function seriesName(config, settings) {
+  const profile = parseSettings(settings).profile;
+  if (typeof profile !== 'string' || profile === '') return config;
+  return String(config).split(/[^A-Za-z0-9_]+/).includes(profile) ? config : `${config} (${profile})`;
 }
 
 function parseSettings(text) {
@@ -165,9 +177,10 @@ export function labelSettings(runs) {
     const keys = [...new Set(flats.flatMap((f) => Object.keys(f)))];
     const differing = keys.filter((k) => new Set(flats.map((f) => JSON.stringify(f[k]))).size > 1);
     for (const [raw, flat] of distinct) {
-      const shown = Object.fromEntries(differing.filter((k) => flat[k] !== undefined).map((k) => [k, flat[k]]));
+      const shown = Object.fromEntries(differing.filter((k) => k !== 'profile' && flat[k] !== undefined).map((k) => [k, flat[k]]));
       const text = settingsText(shown);
-      labels.set(`${config}\u0000${raw}`, text ? `${config} ${text}` : config);
+      const name = seriesName(config, raw);
+      labels.set(`${config}\u0000${raw}`, text ? `${name} ${text}` : name);
     }
   }
   for (const r of runs) {
