@@ -114,6 +114,29 @@ async function main() {
       expect((await page.locator('[data-testid=compare-x]').inputValue()) === 'objects', 'x=objects in the link was not kept');
     });
 
+    await step('One batch\u2019s two profiles of a planner are two series, each named with its profile, on the page and in the report', async () => {
+      // The same planner under --profile paper and --profile default, unlabelled (task-only: quick).
+      const planners = ['paper', 'default'].map((profile) => ({ name: 'lazy-dash', profile, settings: { task_only: true } }));
+      const spec = { name: 'two-profiles', time_limit: 60, memory_limit: 2048, scenarios: [{ family: 'sorting', params: { robots: 2, objects: [2, 3] } }], planners, seeds: [1] };
+      const res = await page.request.post(`${url}/api/batches`, { data: { spec, workers: 1 }, headers: { Authorization: `Bearer ${token}` } });
+      expect(res.ok(), `launch: ${res.status()} ${await res.text()}`);
+      const batch = (await res.json()).batch_id;
+      let status = '';
+      for (let i = 0; i < 1200 && (status = (await api(`/api/batches/${batch}`)).status) !== 'finished'; i++) await sleep(100);
+      expect(status === 'finished', `the batch ended ${status}`);
+      await page.goto('about:blank');
+      await page.goto(`${url}/#/compare?batch=${encodeURIComponent(batch)}`);
+      await page.waitForSelector('[data-testid=compare-info][data-runs="4"]');
+      await page.waitForFunction(() => Number(document.querySelector('[data-testid=chart-builder]')?.dataset.points) > 0);
+      const names = await page.evaluate(() => [...new Set(document.querySelector('[data-testid=chart-builder]')._chart.data.datasets.filter((d) => !d.band).map((d) => d.label))].sort());
+      const want = ['lazy-dash (default) {"task_only":true}', 'lazy-dash (paper) {"task_only":true}'];
+      expect(JSON.stringify(names) === JSON.stringify(want), `builder series: ${JSON.stringify(names)}`);
+      const dir = path.join(tmp, 'figures-profiles');
+      execFileSync(DASHBENCH, ['report', server.db, '--batch', batch, '--figures', dir, '--svg-only'], { stdio: 'pipe' });
+      const svg = fs.readFileSync(path.join(dir, 'sorting-success.svg'), 'utf8');
+      for (const profile of ['paper', 'default']) expect(svg.includes(`lazy-dash (${profile})`), `the report\u2019s figure has no series of the ${profile} profile`);
+    });
+
     await step('Paired statistics: the page\u2019s numbers agree with `dashbench report`, and reach the CSV', async () => {
       const report = execFileSync(DASHBENCH, ['report', server.db], { encoding: 'utf8' });
       const start = report.indexOf('== sorting');
