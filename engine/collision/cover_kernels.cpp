@@ -15,12 +15,18 @@ BoxFrame boxFrame(const Pose& X_WO, const Vec3& half) {
   return box;
 }
 
-DASH_SIMD_CLONES void setLaneBoxes(SegmentLanes& s, double r) {
+DASH_SIMD_CLONES void setLaneBoxes(SegmentLanes& s, double r, double (&lo)[3], double (&hi)[3]) {
+  static_assert(L == 8, "the reduction below is a tree over 8 lanes");
   for (int k = 0; k < 3; ++k) {
     for (int l = 0; l < L; ++l) {
       s.lo[k][l] = mind(s.a[k][l], s.b[k][l]) - r;
       s.hi[k][l] = maxd(s.a[k][l], s.b[k][l]) + r;
     }
+    // A tree, not a chain of eight (a min over doubles that may be NaN is no reduction g++ vectorises).
+    const double* x = s.lo[k];
+    const double* y = s.hi[k];
+    lo[k] = mind(mind(mind(x[0], x[4]), mind(x[1], x[5])), mind(mind(x[2], x[6]), mind(x[3], x[7])));
+    hi[k] = maxd(maxd(maxd(y[0], y[4]), maxd(y[1], y[5])), maxd(maxd(y[2], y[6]), maxd(y[3], y[7])));
   }
 }
 
