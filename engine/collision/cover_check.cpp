@@ -34,35 +34,28 @@ using cover::SegmentLanes;
 
 inline std::size_t at(int i) { return static_cast<std::size_t>(i); }
 
-/// Segment ends in the world, lane by lane: (R, p) * a and * b, (R, p) a batched frame.
+/// Segment ends in the world, lane by lane: (R, p) * a and * b, (R, p) a batched frame. Computed into
+/// locals and copied out: with the outputs possibly aliasing the frames, g++ left the loop scalar.
 DASH_SIMD_CLONES void placeSegment(const double (&R)[9][L], const double (&p)[3][L], const Vec3& a_F, const Vec3& b_F,
                                    SegmentLanes& s) {
   const double a0 = a_F[0], a1 = a_F[1], a2 = a_F[2], b0 = b_F[0], b1 = b_F[1], b2 = b_F[2];
+  alignas(64) double sa[3][L];
+  alignas(64) double sb[3][L];
   for (int k = 0; k < 3; ++k) {
-    const double* __restrict x = R[k];
-    const double* __restrict y = R[3 + k];
-    const double* __restrict z = R[6 + k];
-    const double* __restrict o = p[k];
-    double* __restrict sa = s.a[k];
-    double* __restrict sb = s.b[k];
     for (int l = 0; l < L; ++l) {
-      sa[l] = o[l] + (x[l] * a0 + y[l] * a1 + z[l] * a2);
-      sb[l] = o[l] + (x[l] * b0 + y[l] * b1 + z[l] * b2);
+      sa[k][l] = p[k][l] + (R[k][l] * a0 + R[3 + k][l] * a1 + R[6 + k][l] * a2);
+      sb[k][l] = p[k][l] + (R[k][l] * b0 + R[3 + k][l] * b1 + R[6 + k][l] * b2);
     }
   }
+  std::memcpy(s.a, sa, sizeof sa);
+  std::memcpy(s.b, sb, sizeof sb);
 }
 
 /// Each lane's box (at radius) and the box over every lane.
 Aabb laneBoxes(SegmentLanes& s, double radius) {
-  cover::setLaneBoxes(s, radius);
-  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-  for (int k = 0; k < 3; ++k) {
-    for (int l = 0; l < L; ++l) {
-      lo[k] = std::min(lo[k], s.lo[k][l]);
-      hi[k] = std::max(hi[k], s.hi[k][l]);
-    }
-  }
-  return Aabb(lo, hi);
+  double lo[3], hi[3];
+  cover::setLaneBoxes(s, radius, lo, hi);
+  return Aabb(Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2]));
 }
 
 /// The boxes over all lanes, once the segments are placed.

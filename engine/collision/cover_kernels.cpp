@@ -1,6 +1,8 @@
 // Lane loops of the cover tests (cover_kernels.h), cloned for AVX-512, AVX2 and SSE2.
 #include "engine/collision/cover_kernels.h"
 
+#include <cstring>
+
 #include "engine/core/simd_clones.h"
 
 namespace dash::cover {
@@ -15,12 +17,33 @@ BoxFrame boxFrame(const Pose& X_WO, const Vec3& half) {
   return box;
 }
 
-DASH_SIMD_CLONES void setLaneBoxes(SegmentLanes& s, double r) {
+DASH_SIMD_CLONES void setLaneBoxes(SegmentLanes& s, double r, double (&lo)[3], double (&hi)[3]) {
+  static_assert((L & (L - 1)) == 0, "the reduction below halves the lanes");
+  // Into locals first: with `lo` and `hi` possibly aliasing `s`, g++ checked at run time and kept
+  // to 128-bit vectors.
+  alignas(64) double x[3][L];
+  alignas(64) double y[3][L];
   for (int k = 0; k < 3; ++k) {
     for (int l = 0; l < L; ++l) {
-      s.lo[k][l] = mind(s.a[k][l], s.b[k][l]) - r;
-      s.hi[k][l] = maxd(s.a[k][l], s.b[k][l]) + r;
+      x[k][l] = mind(s.a[k][l], s.b[k][l]) - r;
+      y[k][l] = maxd(s.a[k][l], s.b[k][l]) + r;
     }
+  }
+  std::memcpy(s.lo, x, sizeof x);
+  std::memcpy(s.hi, y, sizeof y);
+  // Halving over the lanes, a tree rather than a chain of eight (a min over doubles that may be NaN is
+  // no reduction g++ vectorises by itself).
+  for (int half = L / 2; half >= 1; half /= 2) {
+    for (int k = 0; k < 3; ++k) {
+      for (int l = 0; l < half; ++l) {
+        x[k][l] = mind(x[k][l], x[k][l + half]);
+        y[k][l] = maxd(y[k][l], y[k][l + half]);
+      }
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = x[k][0];
+    hi[k] = y[k][0];
   }
 }
 
