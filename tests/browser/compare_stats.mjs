@@ -128,7 +128,7 @@ async function main() {
       await page.goto(`${url}/#/compare?batch=${encodeURIComponent(batch)}`);
       await page.waitForSelector('[data-testid=compare-info][data-runs="4"]');
       await page.waitForFunction(() => Number(document.querySelector('[data-testid=chart-builder]')?.dataset.points) > 0);
-      const names = await page.evaluate(() => [...new Set(document.querySelector('[data-testid=chart-builder]')._chart.data.datasets.filter((d) => !d.band).map((d) => d.label))].sort());
+      const names = await page.evaluate(() => [...new Set(document.querySelector('[data-testid=chart-builder]')._chart.data.datasets.filter((d) => !d.band).map((d) => d.label.split(' \u00b7 ')[0]))].sort()); // "SERIES · robots=2": the split
       const want = ['lazy-dash (default) {"task_only":true}', 'lazy-dash (paper) {"task_only":true}'];
       expect(JSON.stringify(names) === JSON.stringify(want), `builder series: ${JSON.stringify(names)}`);
       const dir = path.join(tmp, 'figures-profiles');
