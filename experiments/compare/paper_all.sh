@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The paper's comparison on all five families (paper-all.json: 420 runs, 3 seeds, 600 s per run, both
 # planners, the axis stop rule) and the RESULTS.md section that shows it: where each planner breaks,
-# per family, and the paper's figures (representation sizes, time breakdown, success rate).
+# per family, the paper's figures (representation sizes, time breakdown, success rate) and the table of
+# the paper's claims beside what the batch measured (verdict.py).
 #
 #   experiments/compare/paper_all.sh [--db DB] [--workers N]    # run the batch (or resume the last
 #                                                               # unfinished one of DB), then the section
@@ -86,3 +87,9 @@ for match in re.finditer(r"^== (\S+) \((.*?)\) ==\n(.*?)(?=^== |\Z)", report, re
         print(f"![{family} {caption}]({link_dir}/{family}-{kind}.svg)")
     print()
 EOF
+
+echo
+echo "**The paper's claims beside this batch**, by \`experiments/compare/verdict.py $(basename "$DB") $BATCH\` (its"
+echo "header states each rule: sizes solved on every seed, ratios DaSH / Lazy-DaSH of the medians per size):"
+echo
+python3 "$HERE/verdict.py" "$DB" "$BATCH"
