@@ -1,5 +1,7 @@
 #include "engine/motion/context_lazy_prm.h"
 
+#include "engine/motion/kd_neighbors.h"
+
 #include <ompl/base/OptimizationObjective.h>
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
@@ -18,6 +20,12 @@ namespace dash {
 ContextLazyPRM::ContextLazyPRM(const ob::SpaceInformationPtr& static_si) : LazyPRM(static_si, false) {
   // og::LazyPRM takes its edge-cost objective (path length) from the problem definition in setup().
   setProblemDefinition(std::make_shared<ob::ProblemDefinition>(si_));
+  // The k-d tree in place of the GNAT og::LazyPRM would make in setMaxNearestNeighbors (kd_neighbors.h),
+  // with the distance og::LazyPRM's connection strategy filters by.
+  nn_ = std::make_shared<KdNeighbors<Vertex>>(
+      si_->getStateDimension(),
+      [this](const Vertex& v) { return stateProperty_[v]->as<ob::RealVectorStateSpace::StateType>()->values; });
+  nn_->setDistanceFunction([this](const Vertex a, const Vertex b) { return distanceFunction(a, b); });
 }
 
 void ContextLazyPRM::forgetContext() {
