@@ -66,8 +66,8 @@ ContextLazyPRM::Vertex ContextLazyPRM::endMilestone(const ob::State* state) {
 }
 
 void ContextLazyPRM::addPath(const std::vector<const ob::State*>& states) {
-  // No state twice (RRT-Connect's trees may meet at one): equal states tie in GNAT's neighbour
-  // queries, which OMPL breaks by address. The last state is the query's goal and stays.
+  // No state twice (RRT-Connect's trees may meet at one): equal states tie in every neighbour query.
+  // The last state is the query's goal and stays.
   std::vector<const ob::State*> kept;
   for (std::size_t i = 0; i < states.size(); ++i) {
     if (!kept.empty() && si_->distance(kept.back(), states[i]) < 1e-9) {

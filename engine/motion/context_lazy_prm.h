@@ -70,8 +70,8 @@ class ContextLazyPRM : public ompl::geometric::LazyPRM {
 
   Vertex addNumberedMilestone(ompl::base::State* state);
   /// The vertex of a query end: the one added for the same configuration before, or a new one. Ends
-  /// recur (transition configurations, home); duplicates would tie in every nearest-neighbour query,
-  /// and OMPL breaks those ties by address, which differs from one process to the next.
+  /// recur (transition configurations, home); duplicates would tie in every nearest-neighbour query
+  /// (kd_neighbors.h orders ties by insertion; OMPL's GNAT, used before, by address).
   Vertex endMilestone(const ompl::base::State* state);
   std::size_t id(Vertex v) const { return indexProperty_[v]; }
   /// A* over the roadmap minus what the context rejected; the vertices start .. goal, or empty.
