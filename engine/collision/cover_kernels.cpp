@@ -17,7 +17,7 @@ BoxFrame boxFrame(const Pose& X_WO, const Vec3& half) {
   return box;
 }
 
-DASH_SIMD_CLONES void setLaneBoxes(SegmentLanes& s, double r, double (&lo)[3], double (&hi)[3]) {
+DASH_SIMD_CLONES void setLaneBoxes(SegmentLanes& s, double r, double* lo, double* hi) {
   static_assert((L & (L - 1)) == 0, "the reduction below halves the lanes");
   // Into locals first: with `lo` and `hi` possibly aliasing `s`, g++ checked at run time and kept
   // to 128-bit vectors.

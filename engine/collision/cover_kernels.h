@@ -101,9 +101,9 @@ struct SegmentLanes {
   alignas(64) double hi[3][L];
 };
 
-/// lo, hi: the box of each lane's capsule at radius r (the largest radius the lanes are tested at);
-/// `lo`, `hi`: the box over every lane.
-void setLaneBoxes(SegmentLanes& s, double r, double (&lo)[3], double (&hi)[3]);
+/// s.lo, s.hi: the box of each lane's capsule at radius r (the largest radius the lanes are tested at);
+/// `lo`, `hi` (3 values each): the box over every lane.
+void setLaneBoxes(SegmentLanes& s, double r, double* lo, double* hi);
 
 /// clear[l] = 0 where the capsule of lane l (radius r) may meet the box (whose world box is `aabb`):
 /// apart when the lane's box misses `aabb` or by capsuleBoxApart. False when no lane's box meets it
