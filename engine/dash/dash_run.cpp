@@ -224,8 +224,10 @@ DashRun::NodeOutcome DashRun::scheduleAndValidate(ExtractedPlan& extracted) {
     ValidationReport report;
     {
       log::PhaseTimer validation(emitter_, log::Phase::Validation);  // booked as Lazy-DaSH books it
-      report = validatePlan(scene_, plan, {.threads = params_.validation_threads});
+      report = validatePlan(scene_, plan,
+                            {.threads = params_.validation_threads, .stop = [this] { return deadline_.expired(); }});
     }
+    if (report.stopped) return outcome;  // the deadline passed: neither a plan nor a conflict
     if (report.valid()) {
       outcome.plan = std::move(plan);
       return outcome;

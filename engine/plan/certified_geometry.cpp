@@ -1,6 +1,7 @@
 #include "engine/plan/certified_geometry.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <tuple>
@@ -98,11 +99,16 @@ void checkGeometryCertified(const Plan& plan, const PlanMotion& motion, const Ti
     std::size_t evaluations = 0;
   };
   std::vector<Found> found(threads);
+  std::atomic<bool> stopped{false};
   auto work = [&](std::size_t w) {
     StretchChecker checker(world, motion, timeline, supports, options);
     Found& mine = found[w];
     // Interleaved, so that every thread gets its share of the busy parts of the plan.
     for (std::size_t i = w; i < stretches.size(); i += threads) {
+      if (stopped.load(std::memory_order_relaxed) || (options.stop && options.stop())) {
+        stopped.store(true, std::memory_order_relaxed);
+        return;
+      }
       checkHandovers(world, motion, timeline, options, stretches[i], mine.handovers);
       if (options.check_geometry) checker.check(stretches[i], mine.contacts, mine.minima);
       mine.contacts_end.push_back(mine.contacts.size());
@@ -111,6 +117,10 @@ void checkGeometryCertified(const Plan& plan, const PlanMotion& motion, const Ti
     mine.evaluations = checker.evaluations();
   };
   runWorkers(threads, work);
+  if (stopped.load()) {
+    report.stopped = true;  // the findings cover part of the plan: none is reported
+    return;
+  }
   // The report must not depend on the number of threads (a planner feeds its first problem back): the
   // findings go on in stretch order, exactly as one thread makes them; the minima and the count of
   // distance evaluations do not depend on the order (mergeMinima keeps a total order; every stretch

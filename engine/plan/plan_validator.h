@@ -31,6 +31,7 @@
 //  - goal poses compare rotations exactly (no symmetry of cubes is assumed);
 //  - an object left unsupported because the object beneath it was taken away is not reported: the
 //    contract only asks a release to leave the object resting stably.
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -116,7 +117,10 @@ struct ValidationReport {
   /// Certified geometry: per pair of parts whose swept boxes ever met, its smallest distance, closest first.
   std::vector<PairClearance> pairs;
 
-  bool valid() const { return problems.empty(); }
+  /// The geometric check was stopped (ValidationOptions::stop) before it covered the plan: not certified.
+  bool stopped = false;
+
+  bool valid() const { return problems.empty() && !stopped; }
   bool has(ProblemKind kind) const;
   int count(ProblemKind kind) const;
   /// One line per problem: "t=1.39 grasp_pose ur5e_0 obj_0: ...".
@@ -147,6 +151,9 @@ struct ValidationOptions {
   /// Threads of the geometric check; 0 = the hardware's. The report (problems, their order, counts,
   /// clearances) is the same for any number: planners feed its first problem back.
   int threads = 0;
+  /// Polled before each stretch of the certified check (from every worker thread): true stops it, and
+  /// the report says `stopped`. A planner passes its deadline, so that validation ends with the run.
+  std::function<bool()> stop;
 };
 
 /// Checks `plan` against `scene`. Never throws for a bad plan: every violation is a problem.

@@ -218,8 +218,10 @@ MotionRound LazyDashRun::validate(const TaskLayerResult& layer, ScheduleResult& 
   ValidationReport report;
   {
     log::PhaseTimer timer(emitter_, log::Phase::Validation);
-    report = validatePlan(scene_, round.plan, {.threads = params_.validation_threads});
+    report = validatePlan(scene_, round.plan,
+                          {.threads = params_.validation_threads, .stop = [this] { return deadline_.expired(); }});
   }
+  if (report.stopped) return stopped(timeoutOutcome(deadline_), "validation: timeout");
   if (report.valid()) {
     round.kind = MotionRound::Kind::kSolved;
     return round;

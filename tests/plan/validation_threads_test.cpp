@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <vector>
 
@@ -135,6 +136,28 @@ TEST(ValidationThreads, SampledReportIsTheSameWithOneThreadOrMore) {
   for (const int threads : {2, 3}) {
     options.threads = threads;
     expectSameReport(one, validatePlan(scene, plan, options), threads);
+  }
+}
+
+// A planner passes its deadline as `stop`: polled before each stretch, on every worker; once it says
+// stop, the report is `stopped` and not valid (it covers part of the plan, so it reports no problem),
+// whatever the number of threads. A stop that never fires changes nothing.
+TEST(ValidationThreads, AStopPolledBetweenStretchesEndsTheCertifiedCheckUncertified) {
+  const Scene scene = test::twoGantriesScene();
+  const Plan plan = densified(busyPlan(scene), kPieces);
+  const ValidationReport whole = validatePlan(scene, plan, {.threads = 1});
+  for (const int threads : {1, 2}) {
+    SCOPED_TRACE(testing::Message() << threads << " threads");
+    std::atomic<int> polls{0};
+    const ValidationReport cut =
+        validatePlan(scene, plan, {.threads = threads, .stop = [&polls] { return ++polls > 10; }});
+    EXPECT_TRUE(cut.stopped);
+    EXPECT_FALSE(cut.valid());
+    EXPECT_TRUE(cut.problems.empty()) << cut.summary();
+    EXPECT_LT(polls.load(), 40) << "the check went on after the stop";
+    const ValidationReport never = validatePlan(scene, plan, {.threads = threads, .stop = [] { return false; }});
+    EXPECT_FALSE(never.stopped);
+    expectSameReport(whole, never, threads);
   }
 }
 
