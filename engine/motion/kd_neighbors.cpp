@@ -25,8 +25,15 @@ KdTree::KdTree(unsigned int dimension) : dimension_(dimension) {
 }
 
 void KdTree::clear() {
-  nodes_.assign(1, Node{});
+  nodes_.assign(1, Node{});  // the root leaf grows as it fills: many roadmaps stay small
   size_ = 0;
+}
+
+KdTree::Node KdTree::newLeaf() const {
+  Node node;
+  node.q.reserve((kLeafSize + 1) * dimension_);
+  node.ids.reserve(2 * (kLeafSize + 1));
+  return node;
 }
 
 double KdTree::squared(const double* a, const double* b) const {
@@ -51,15 +58,15 @@ void KdTree::add(const double* q, std::uint64_t payload) {
   const int leaf = leafOf(q);
   Node& node = nodes_[static_cast<std::size_t>(leaf)];
   node.q.insert(node.q.end(), q, q + dimension_);
-  node.payload.push_back(payload);
-  node.seq.push_back(next_seq_++);
+  node.ids.push_back(payload);
+  node.ids.push_back(next_seq_++);
   ++size_;
-  if (node.payload.size() > kLeafSize) splitLeaf(leaf);
+  if (node.ids.size() > 2 * kLeafSize) splitLeaf(leaf);
 }
 
 void KdTree::splitLeaf(int leaf) {
   Node& node = nodes_[static_cast<std::size_t>(leaf)];
-  const std::size_t n = node.payload.size();
+  const std::size_t n = node.ids.size() / 2;
   // The widest coordinate; all points equal along it (duplicates): the leaf stays a leaf.
   int dim = -1;
   double widest = 0.0;
@@ -85,13 +92,13 @@ void KdTree::splitLeaf(int leaf) {
     for (const double v : values)
       if (v > values[n / 2]) split = std::min(split, v);
   }
-  Node left, right;
+  Node left = newLeaf(), right = newLeaf();
   for (std::size_t i = 0; i < n; ++i) {
     Node& side = node.q[i * dimension_ + static_cast<unsigned int>(dim)] < split ? left : right;
     side.q.insert(side.q.end(), node.q.begin() + static_cast<std::ptrdiff_t>(i * dimension_),
                   node.q.begin() + static_cast<std::ptrdiff_t>((i + 1) * dimension_));
-    side.payload.push_back(node.payload[i]);
-    side.seq.push_back(node.seq[i]);
+    side.ids.push_back(node.ids[2 * i]);
+    side.ids.push_back(node.ids[2 * i + 1]);
   }
   const int l = static_cast<int>(nodes_.size());
   nodes_.push_back(std::move(left));
@@ -102,22 +109,20 @@ void KdTree::splitLeaf(int leaf) {
   parent.left = l;
   parent.right = l + 1;
   parent.q = {};
-  parent.payload = {};
-  parent.seq = {};
+  parent.ids = {};
 }
 
 bool KdTree::remove(const double* q, std::uint64_t payload) {
   Node& node = nodes_[static_cast<std::size_t>(leafOf(q))];
-  for (std::size_t i = 0; i < node.payload.size(); ++i) {
-    if (node.payload[i] != payload) continue;
-    const std::size_t last = node.payload.size() - 1;
+  for (std::size_t i = 0; 2 * i < node.ids.size(); ++i) {
+    if (node.ids[2 * i] != payload) continue;
+    const std::size_t last = node.ids.size() / 2 - 1;
     std::copy_n(node.q.begin() + static_cast<std::ptrdiff_t>(last * dimension_), dimension_,
                 node.q.begin() + static_cast<std::ptrdiff_t>(i * dimension_));
     node.q.resize(last * dimension_);
-    node.payload[i] = node.payload[last];
-    node.payload.pop_back();
-    node.seq[i] = node.seq[last];
-    node.seq.pop_back();
+    node.ids[2 * i] = node.ids[2 * last];
+    node.ids[2 * i + 1] = node.ids[2 * last + 1];
+    node.ids.resize(2 * last);
     --size_;
     return true;
   }
@@ -127,8 +132,8 @@ bool KdTree::remove(const double* q, std::uint64_t payload) {
 void KdTree::searchK(int n, const double* q, std::size_t k, std::vector<Found>& heap) const {
   const Node& node = nodes_[static_cast<std::size_t>(n)];
   if (node.dim < 0) {
-    for (std::size_t i = 0; i < node.payload.size(); ++i) {
-      const Found f{squared(q, node.q.data() + i * dimension_), node.seq[i], node.payload[i]};
+    for (std::size_t i = 0; 2 * i < node.ids.size(); ++i) {
+      const Found f{squared(q, node.q.data() + i * dimension_), node.ids[2 * i + 1], node.ids[2 * i]};
       if (heap.size() < k) {
         heap.push_back(f);
         std::push_heap(heap.begin(), heap.end(), worse);
@@ -156,9 +161,9 @@ void KdTree::nearestK(const double* q, std::size_t k, std::vector<Found>& out) c
 void KdTree::searchR(int n, const double* q, double radius, std::vector<Found>& out) const {
   const Node& node = nodes_[static_cast<std::size_t>(n)];
   if (node.dim < 0) {
-    for (std::size_t i = 0; i < node.payload.size(); ++i) {
+    for (std::size_t i = 0; 2 * i < node.ids.size(); ++i) {
       const double s = squared(q, node.q.data() + i * dimension_);
-      if (std::sqrt(s) <= radius) out.push_back({s, node.seq[i], node.payload[i]});
+      if (std::sqrt(s) <= radius) out.push_back({s, node.ids[2 * i + 1], node.ids[2 * i]});
     }
     return;
   }
@@ -176,7 +181,8 @@ void KdTree::nearestR(const double* q, double radius, std::vector<Found>& out) c
 void KdTree::list(std::vector<std::uint64_t>& out) const {
   out.clear();
   for (const Node& node : nodes_)
-    if (node.dim < 0) out.insert(out.end(), node.payload.begin(), node.payload.end());
+    if (node.dim < 0)
+      for (std::size_t i = 0; i < node.ids.size(); i += 2) out.push_back(node.ids[i]);
 }
 
 }  // namespace dash

@@ -51,8 +51,12 @@ class KdTree {
     double split = 0.0;
     int left = -1, right = -1;
     std::vector<double> q;  ///< leaf: the points' coordinates, one after another
-    std::vector<std::uint64_t> payload, seq;
+    std::vector<std::uint64_t> ids;  ///< leaf: per point its payload, then its insertion number
   };
+  /// A leaf made by a split (half full or more), its storage reserved for the most points it holds
+  /// before it splits in turn (grown by doubling, the leaves took 80 of the 353 MB of sorting 16/64's
+  /// peak heap). Equal points beyond that, which no split separates, still fit: the vectors grow.
+  Node newLeaf() const;
   int leafOf(const double* q) const;
   void splitLeaf(int leaf);
   double squared(const double* a, const double* b) const;

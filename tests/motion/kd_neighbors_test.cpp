@@ -91,6 +91,28 @@ TEST(KdTree, KNearestAndRadiusAnswersEqualAnExactSearchThroughAdditionsRemovalsA
   EXPECT_FALSE(tree.remove(nowhere, 12345));
 }
 
+TEST(KdTree, MoreEqualPointsThanALeafHoldsStayExactAndRemovable) {
+  // No split separates equal points: their leaf grows past its reserved size and still answers exactly.
+  constexpr unsigned int kDim = 3;
+  KdTree tree(kDim);
+  std::vector<Point> points;
+  for (std::uint64_t i = 0; i < 60; ++i) {
+    Point p{i % 3 == 0 ? std::vector<double>{0.1 * static_cast<double>(i), 0.2, -0.3} : std::vector<double>{1, 2, 3}, i, i};
+    tree.add(p.q.data(), p.id);
+    points.push_back(p);
+  }
+  const double q[kDim] = {1, 2, 3.5};
+  std::vector<KdTree::Found> found;
+  tree.nearestK(q, 50, found);
+  EXPECT_EQ(ids(found), bruteK(points, q, 50));
+  for (std::size_t i = 0; i < points.size(); i += 2) ASSERT_TRUE(tree.remove(points[i].q.data(), points[i].id)) << i;
+  std::vector<Point> left;
+  for (std::size_t i = 1; i < points.size(); i += 2) left.push_back(points[i]);
+  tree.nearestK(q, 100, found);
+  EXPECT_EQ(ids(found), bruteK(left, q, 100));
+  EXPECT_EQ(tree.size(), left.size());
+}
+
 TEST(KdNeighbors, TakesOneSeedOfOmplsSequenceAsGnatDid) {
   // OMPL seeds each new generator with the next number of one process-wide sequence, and the roadmaps'
   // samplers are made after the neighbour structure: the generator made next must get the seed it got
