@@ -19,6 +19,9 @@
 #   paper-all  experiments/compare/paper_all.sh                              (7.6-35 hours: paper-all.json, 420
 #              runs of 600 s on 2 workers, resumable; PAPER_ALL_BATCH=ID PAPER_ALL_DB=DB: the section of a
 #              batch already run; writes the figures under experiments/compare/figures/)
+#   paper-vs-paper  the same for paper-vs-paper.json (both planners --profile paper: the paper's claims);
+#              PAPER_VS_PAPER_DB (default results-compare-paper-profile.db), PAPER_VS_PAPER_BATCH; figures
+#              under experiments/compare/figures-paper/
 #
 # DASHBENCH names the dashbench to use (default: the repository's ./dashbench, which builds first).
 # dispatch-load runs the dispatch tests DISPATCH_LOAD_RUNS times (default 20) while busy loops saturate
@@ -40,15 +43,16 @@ declare -A COMMANDS=(
   [validation]="experiments/validation/largest.sh${VALIDATION_PLANS:+ --plans $VALIDATION_PLANS}"
   [scaling]="experiments/scaling/run.sh"
   [paper-all]="experiments/compare/paper_all.sh${PAPER_ALL_BATCH:+ --batch $PAPER_ALL_BATCH}${PAPER_ALL_DB:+ --db $PAPER_ALL_DB}"
+  [paper-vs-paper]="experiments/compare/paper_all.sh --spec experiments/compare/paper-vs-paper.json --figures experiments/compare/figures-paper --db ${PAPER_VS_PAPER_DB:-results-compare-paper-profile.db}${PAPER_VS_PAPER_BATCH:+ --batch $PAPER_VS_PAPER_BATCH}"
 )
-ORDER=(small large task-layer ablation dispatch-load validation scaling paper-all)
+ORDER=(small large task-layer ablation dispatch-load validation scaling paper-all paper-vs-paper)
 
 if [ "${1:-}" = "--list" ]; then
   for s in "${ORDER[@]}"; do printf '%-13s %s\n' "$s" "${COMMANDS[$s]}"; done
   exit 0
 fi
 if [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then
-  sed -n '2,28p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+  sed -n '2,30p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
   exit 0
 fi
 SECTIONS=("$@")
