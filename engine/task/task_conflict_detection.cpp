@@ -1,6 +1,10 @@
 #include "engine/task/task_conflict_detection.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <unordered_map>
+#include <vector>
 
 #include "engine/collision/collision_queries.h"
 #include "engine/placement/placement_region.h"
@@ -70,6 +74,40 @@ class ChainSearch {
     return false;
   }
 
+  /// Whether a handover's giver and receiver collide at step k, remembered within this search: the
+  /// depth-first search meets the same pair again whenever earlier choices lead to the same grasp (each
+  /// grasp comes with several configurations), and the answer depends on nothing else (the step's
+  /// layout is fixed). The budget counts search nodes, not checks, so the search is the same.
+  bool handoverCollides(const RobotState (&states)[2], int k) {
+    std::vector<double>& key = key_;  // reused: most calls find their key
+    key.assign(1, static_cast<double>(k));
+    for (const RobotState& s : states) {
+      key.push_back(s.robot);
+      key.insert(key.end(), s.q.data(), s.q.data() + s.q.size());
+      key.push_back(s.held.object);
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 3; ++r) key.push_back(s.held.X_TO.matrix()(r, c));
+    }
+    if (const auto it = handover_verdicts_.find(key); it != handover_verdicts_.end()) return it->second;
+    const bool collides = robotsInCollision(sampler_.world(), sampler_.context(), states, layoutAt(k), nullptr,
+                                            use_objects_ ? CheckScope::kAll : CheckScope::kStaticOnly);
+    handover_verdicts_.emplace(key, collides);
+    return collides;
+  }
+
+  /// FNV-1a over the values' bits.
+  struct KeyHash {
+    std::size_t operator()(const std::vector<double>& key) const {
+      std::size_t h = 1469598103934665603ull;
+      for (const double x : key) {
+        std::uint64_t bits;
+        std::memcpy(&bits, &x, sizeof bits);
+        h = (h ^ bits) * 1099511628211ull;
+      }
+      return h;
+    }
+  };
+
   bool solve(std::size_t i, const Pose& X_TO) {
     if (i == steps_.size()) return true;
     deepest_ = std::max(deepest_, i);
@@ -113,9 +151,7 @@ class ChainSearch {
             for (const GraspConfig& gc2 : receivers) {
               if (rejected_.contains(a.robot, q1) || rejected_.contains(a.robot2, gc2.q)) continue;
               const RobotState states[2] = {{a.robot, q1, HeldObject{o, X_TO}}, {a.robot2, gc2.q, HeldObject{}}};
-              if (robotsInCollision(sampler_.world(), sampler_.context(), states, layoutAt(k), nullptr,
-                                    use_objects_ ? CheckScope::kAll : CheckScope::kStaticOnly))
-                continue;
+              if (handoverCollides(states, k)) continue;
               if (!placeableNext(i, gc2.X_TO)) continue;
               assignment_[i] = {true, q1, gc2.q, X_WO, X_TO, gc2.X_TO};
               if (solve(i + 1, gc2.X_TO)) return true;
@@ -144,6 +180,8 @@ class ChainSearch {
   std::size_t deepest_ = 0;
   int budget_ = params_.chain_budget;
   bool solved_ = false;
+  std::unordered_map<std::vector<double>, bool, KeyHash> handover_verdicts_;
+  std::vector<double> key_;
 };
 
 TaskConflictDetector::TaskConflictDetector(TransitionSampler& sampler, TaskSpace& space, const TaskHypergraph& graph,
