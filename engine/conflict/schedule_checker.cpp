@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstring>
 
 #include "engine/collision/segment_queries.h"
+#include "engine/core/value_hash.h"
 
 namespace dash {
 
@@ -198,15 +198,7 @@ bool ScheduleChecker::piecesApart(Lane& lane, const RobotTimeline& timeline, con
   return theirs && !mine->intersects(*theirs);
 }
 
-std::size_t ScheduleChecker::StillKeyHash::operator()(const StillKey& key) const {
-  std::size_t h = 1469598103934665603ull;
-  for (const double x : key.values) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &x, sizeof bits);
-    h = (h ^ bits) * 1099511628211ull;
-  }
-  return h;
-}
+std::size_t ScheduleChecker::StillKeyHash::operator()(const StillKey& key) const { return DoublesHash()(key.values); }
 
 bool ScheduleChecker::standingFreeOfSegment(Lane& lane, const RobotState& self, const RobotTimeline& other, double u,
                                             double v, PieceRecord& record) const {

@@ -1,12 +1,11 @@
 #include "engine/task/task_conflict_detection.h"
 
 #include <algorithm>
-#include <cstdint>
-#include <cstring>
 #include <unordered_map>
 #include <vector>
 
 #include "engine/collision/collision_queries.h"
+#include "engine/core/value_hash.h"
 #include "engine/placement/placement_region.h"
 #include "engine/task/move_out_sampler.h"
 
@@ -95,19 +94,6 @@ class ChainSearch {
     return collides;
   }
 
-  /// FNV-1a over the values' bits.
-  struct KeyHash {
-    std::size_t operator()(const std::vector<double>& key) const {
-      std::size_t h = 1469598103934665603ull;
-      for (const double x : key) {
-        std::uint64_t bits;
-        std::memcpy(&bits, &x, sizeof bits);
-        h = (h ^ bits) * 1099511628211ull;
-      }
-      return h;
-    }
-  };
-
   bool solve(std::size_t i, const Pose& X_TO) {
     if (i == steps_.size()) return true;
     deepest_ = std::max(deepest_, i);
@@ -180,7 +166,7 @@ class ChainSearch {
   std::size_t deepest_ = 0;
   int budget_ = params_.chain_budget;
   bool solved_ = false;
-  std::unordered_map<std::vector<double>, bool, KeyHash> handover_verdicts_;
+  std::unordered_map<std::vector<double>, bool, DoublesHash> handover_verdicts_;
   std::vector<double> key_;
 };
 
