@@ -9,7 +9,7 @@ from dash_batch_runs / dash_batch_skipped). Sizes count as solved by a planner w
 size solved; a skipped size counts as failed. Ratios are DaSH over Lazy-DaSH of the medians over
 seeds, per size where both planners solved every seed; where DaSH solved no seed of a size that
 Lazy-DaSH solved on every seed, the time ratio is at least the time limit over Lazy-DaSH's median
-(written with ">="). The paper's numbers: ../shared/guides/references.md, "What the paper reports".
+(written with ">="). The paper's numbers are those its results section reports, written in each row below.
 """
 import json
 import sqlite3

@@ -34,6 +34,16 @@ async function main() {
     page.setDefaultTimeout(30000);
     const consoleErrors = watchConsole(page);
     const api = async (p) => (await page.request.get(`${url}${p}`)).json();
+    // Launches `spec` with one worker and waits (2 minutes at most) until the batch has finished; its id.
+    const runBatch = async (spec) => {
+      const res = await page.request.post(`${url}/api/batches`, { data: { spec, workers: 1 }, headers: { Authorization: `Bearer ${token}` } });
+      expect(res.ok(), `launch: ${res.status()} ${await res.text()}`);
+      const batch = (await res.json()).batch_id;
+      let status = '';
+      for (let i = 0; i < 1200 && (status = (await api(`/api/batches/${batch}`)).status) !== 'finished'; i++) await sleep(100);
+      expect(status === 'finished', `the batch ended ${status}`);
+      return batch;
+    };
     await page.goto(`${url}/#token=${token}`);
     await page.waitForFunction(() => location.hash === '#/runs');
     // Let the Runs page finish loading: a page still loading when the route changes may write its
@@ -80,12 +90,7 @@ async function main() {
     await step('"Compare this batch" opens on the axis the batch varies (robots), as report picks it', async () => {
       // Two quick task-only runs that differ in robots only (objects fixed at 2).
       const spec = { name: 'robots-only', time_limit: 60, memory_limit: 2048, scenarios: [{ family: 'sorting', params: { robots: [2, 3], objects: 2 } }], planners: [{ name: 'lazy-dash', settings: { task_only: true }, label: 'lazy-task' }], seeds: [1] };
-      const res = await page.request.post(`${url}/api/batches`, { data: { spec, workers: 1 }, headers: { Authorization: `Bearer ${token}` } });
-      expect(res.ok(), `launch: ${res.status()} ${await res.text()}`);
-      const batch = (await res.json()).batch_id;
-      let status = '';
-      for (let i = 0; i < 1200 && (status = (await api(`/api/batches/${batch}`)).status) !== 'finished'; i++) await sleep(100);
-      expect(status === 'finished', `the batch ended ${status}`);
+      const batch = await runBatch(spec);
       // The link the Launch page's batch table gives (launch.js: "#/compare?batch=ID"), in a fresh
       // load: the Runs page open while the batch ran has a debounced reload pending, which would
       // write its own state over the next page's URL (runs.js: not cancelled when the page is left).
@@ -118,12 +123,7 @@ async function main() {
       // The same planner under --profile paper and --profile default, unlabelled (task-only: quick).
       const planners = ['paper', 'default'].map((profile) => ({ name: 'lazy-dash', profile, settings: { task_only: true } }));
       const spec = { name: 'two-profiles', time_limit: 60, memory_limit: 2048, scenarios: [{ family: 'sorting', params: { robots: 2, objects: [2, 3] } }], planners, seeds: [1] };
-      const res = await page.request.post(`${url}/api/batches`, { data: { spec, workers: 1 }, headers: { Authorization: `Bearer ${token}` } });
-      expect(res.ok(), `launch: ${res.status()} ${await res.text()}`);
-      const batch = (await res.json()).batch_id;
-      let status = '';
-      for (let i = 0; i < 1200 && (status = (await api(`/api/batches/${batch}`)).status) !== 'finished'; i++) await sleep(100);
-      expect(status === 'finished', `the batch ended ${status}`);
+      const batch = await runBatch(spec);
       await page.goto('about:blank');
       await page.goto(`${url}/#/compare?batch=${encodeURIComponent(batch)}`);
       await page.waitForSelector('[data-testid=compare-info][data-runs="4"]');
